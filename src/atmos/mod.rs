@@ -1,0 +1,1 @@
+//! atmos submodel (see DESIGN.md).

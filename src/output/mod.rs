@@ -1,0 +1,1 @@
+//! output submodel (see DESIGN.md).

@@ -1,0 +1,1 @@
+//! radiometry submodel (see DESIGN.md).

@@ -1,0 +1,1 @@
+//! render submodel (see DESIGN.md).

@@ -1,0 +1,1 @@
+//! scene submodel (see DESIGN.md).

@@ -1,0 +1,1 @@
+//! sensor submodel (see DESIGN.md).

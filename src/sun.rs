@@ -1,0 +1,1 @@
+//! Sun ephemeris (NREL SPA).

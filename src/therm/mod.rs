@@ -1,0 +1,9 @@
+//! THERM-style transient 1-D heat flow per (material, orientation, sun/shadow
+//! history), driven by weather and the sun ephemeris (DESIGN.md §4).
+//!
+//! Data flow: [`weather::WeatherHistory`] + [`crate::sun`] →
+//! [`forcing::Forcing`] (one per thermal time step, everything the surface
+//! energy balance needs, in SI units) → the slab solver → surface temperature.
+
+pub mod forcing;
+pub mod weather;
