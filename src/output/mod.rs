@@ -1,1 +1,99 @@
-//! output submodel (see DESIGN.md).
+//! The output submodel: OpenEXR with named layers, ENVI BSQ cubes with
+//! `.hdr` headers, PNG quicklooks. Every file is written atomically: into a
+//! temporary file in the destination folder, flushed, then renamed over the
+//! destination, so an interrupted run never leaves a half-written file that
+//! looks complete.
+
+pub mod envi;
+pub mod exr;
+pub mod quicklook;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// One image plane (an "AOV"): name, unit, row-major f32 samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plane {
+    pub name: String,
+    pub unit: String,
+    pub data: Vec<f32>,
+}
+
+/// A set of planes of the same size.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Planes {
+    pub width: u32,
+    pub height: u32,
+    pub planes: Vec<Plane>,
+}
+
+impl Planes {
+    pub fn new(width: u32, height: u32) -> Self {
+        Planes {
+            width,
+            height,
+            planes: Vec::new(),
+        }
+    }
+
+    /// Adds a plane; `data.len()` must equal `width·height`.
+    pub fn push(&mut self, name: &str, unit: &str, data: Vec<f32>) {
+        assert_eq!(
+            data.len(),
+            self.width as usize * self.height as usize,
+            "plane {name} has the wrong size"
+        );
+        self.planes.push(Plane {
+            name: name.into(),
+            unit: unit.into(),
+            data,
+        });
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Plane> {
+        self.planes.iter().find(|p| p.name == name)
+    }
+}
+
+/// Errors while writing outputs.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: cannot encode: {msg}")]
+    Encode { path: PathBuf, msg: String },
+}
+
+/// Writes `path` atomically: `fill` writes into a temporary file in the same
+/// folder, which is synced and renamed over `path` only if `fill` succeeds.
+pub fn write_atomic<F>(path: &Path, fill: F) -> Result<(), OutputError>
+where
+    F: FnOnce(&mut std::io::BufWriter<&mut std::fs::File>) -> Result<(), String>,
+{
+    let io = |source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".irsig-partial-")
+        .tempfile_in(&dir)
+        .map_err(io)?;
+    {
+        let mut w = std::io::BufWriter::new(tmp.as_file_mut());
+        fill(&mut w).map_err(|msg| OutputError::Encode {
+            path: path.to_path_buf(),
+            msg,
+        })?;
+        w.flush().map_err(io)?;
+    }
+    tmp.as_file().sync_all().map_err(io)?;
+    tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}

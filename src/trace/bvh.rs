@@ -1,0 +1,132 @@
+//! The obvhs backend of [`Tracer`]: a pure-Rust BVH2 (PLOC build) with
+//! obvhs's Möller–Trumbore triangle test, one ray at a time. It has no
+//! packets and its triangle test is not watertight (shared edges can be
+//! missed or resolved to the neighbour at equal `t`); the cross-check
+//! ([`super::crosscheck`]) tells such ties from real disagreements.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use glam::Vec3A;
+use obvhs::{
+    BvhBuildParams, bvh2::Bvh2, bvh2::builder::build_bvh2_from_tris, ray::RayHit,
+    triangle::Triangle,
+};
+
+use super::{Backend, Geometry, Hit, Ray, Tracer};
+
+/// obvhs-based tracer.
+pub struct BvhTracer {
+    geometry: Arc<Geometry>,
+    /// Traced triangles, in `geometry.traced` order.
+    tris: Vec<Triangle>,
+    bvh: Option<Bvh2>,
+}
+
+impl BvhTracer {
+    /// Builds the BVH over the traced triangles of `geometry`.
+    pub fn new(geometry: Arc<Geometry>) -> Self {
+        let tris: Vec<Triangle> = geometry
+            .traced
+            .iter()
+            .map(|&t| {
+                let [v0, v1, v2] = geometry.vertices(t).map(Vec3A::from);
+                Triangle { v0, v1, v2 }
+            })
+            .collect();
+        let bvh = (!tris.is_empty()).then(|| {
+            build_bvh2_from_tris(
+                &tris,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        });
+        BvhTracer {
+            geometry,
+            tris,
+            bvh,
+        }
+    }
+
+    fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
+        obvhs::ray::Ray::new(
+            Vec3A::from(ray.org),
+            Vec3A::from(ray.dir),
+            ray.tnear.max(0.0),
+            ray.tfar,
+        )
+    }
+
+    /// Closest hit of one ray.
+    pub fn intersect1(&self, ray: &Ray) -> Option<Hit> {
+        let bvh = self.bvh.as_ref()?;
+        if !ray.is_valid() || ray.tfar < ray.tnear {
+            return None;
+        }
+        let r = Self::to_obvhs(ray);
+        let mut hit = RayHit::none();
+        let found = bvh.ray_traverse(r, &mut hit, |ray, id| {
+            self.tris[bvh.primitive_indices[id] as usize].intersect(ray)
+        });
+        if !found {
+            return None;
+        }
+        let local = bvh.primitive_indices[hit.primitive_id as usize] as usize;
+        let (u, v) = barycentrics(&self.tris[local], ray);
+        Some(Hit {
+            t: hit.t,
+            prim: self.geometry.traced[local],
+            u,
+            v,
+        })
+    }
+
+    /// Whether anything blocks one ray.
+    pub fn occluded1(&self, ray: &Ray) -> bool {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
+        if !ray.is_valid() || ray.tfar < ray.tnear {
+            return false;
+        }
+        !bvh.ray_traverse_miss(Self::to_obvhs(ray), |ray, id| {
+            self.tris[bvh.primitive_indices[id] as usize].intersect(ray)
+        })
+    }
+}
+
+/// Embree-convention barycentrics `(u, v)` of the ray's crossing of the
+/// triangle's plane (weights of v1 and v2), Möller & Trumbore (1997).
+fn barycentrics(tri: &Triangle, ray: &Ray) -> (f32, f32) {
+    let (o, d) = (Vec3A::from(ray.org), Vec3A::from(ray.dir));
+    let e1 = tri.v1 - tri.v0;
+    let e2 = tri.v2 - tri.v0;
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det == 0.0 {
+        return (0.0, 0.0);
+    }
+    let s = o - tri.v0;
+    let q = s.cross(e1);
+    (s.dot(p) / det, d.dot(q) / det)
+}
+
+impl Tracer for BvhTracer {
+    fn backend(&self) -> Backend {
+        Backend::Bvh
+    }
+
+    fn intersect(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        assert_eq!(rays.len(), hits.len(), "one hit slot per ray");
+        for (r, h) in rays.iter().zip(hits.iter_mut()) {
+            *h = self.intersect1(r);
+        }
+    }
+
+    fn occluded(&self, rays: &[Ray], blocked: &mut [bool]) {
+        assert_eq!(rays.len(), blocked.len(), "one slot per ray");
+        for (r, b) in rays.iter().zip(blocked.iter_mut()) {
+            *b = self.occluded1(r);
+        }
+    }
+}

@@ -1,0 +1,382 @@
+//! Cross-check of the two tracer backends. Primary rays from a camera,
+//! specular-bounce rays and solar-history rays from the primary hits are
+//! traced with Embree and obvhs and every pair of answers is classified:
+//!
+//! * identical — both miss, or the same triangle at the same `t`
+//!   (|Δt| ≤ `t_rel_tol`·(t + scale));
+//! * explained — a tie (different triangles at the same `t`: shared edges,
+//!   coplanar overlaps), an edge graze (one backend hits within `edge_eps`
+//!   barycentric of an edge where the other goes through), `t` within the
+//!   tolerance widened by 1/|cos θ| for grazing incidence, or a hit at the
+//!   very start/end of the ray interval (ray starting on a surface);
+//! * unexplained — anything else; a non-zero count is a failure.
+
+use glam::Vec3;
+use serde::Serialize;
+
+use super::offset::offset_origin;
+use super::{Geometry, Hit, Ray, Tracer};
+
+/// Tolerances of the classification.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Tolerances {
+    /// Relative `t` tolerance (times `t + scene scale`).
+    pub t_rel_tol: f32,
+    /// Barycentric distance to an edge that counts as "on the edge".
+    pub edge_eps: f32,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances {
+            t_rel_tol: 1e-5,
+            edge_eps: 1e-5,
+        }
+    }
+}
+
+/// Kind of ray compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RayKind {
+    Primary,
+    Specular,
+    Solar,
+}
+
+/// How a pair of answers compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Identical,
+    Tie,
+    EdgeGraze,
+    GrazingT,
+    SurfaceStart,
+    Unexplained,
+}
+
+/// One unexplained difference, for the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Example {
+    pub kind: RayKind,
+    /// Pixel of the primary ray the ray derives from, when there is one.
+    pub pixel: Option<(u32, u32)>,
+    pub origin: [f32; 3],
+    pub direction: [f32; 3],
+    pub embree: Option<HitJson>,
+    pub bvh: Option<HitJson>,
+}
+
+/// A hit, for JSON.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct HitJson {
+    pub t: f32,
+    pub prim: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl From<Hit> for HitJson {
+    fn from(h: Hit) -> Self {
+        HitJson {
+            t: h.t,
+            prim: h.prim,
+            u: h.u,
+            v: h.v,
+        }
+    }
+}
+
+/// Counts per ray kind.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Counts {
+    pub compared: u64,
+    pub identical: u64,
+    pub tie: u64,
+    pub edge_graze: u64,
+    pub grazing_t: u64,
+    pub surface_start: u64,
+    pub unexplained: u64,
+}
+
+impl Counts {
+    fn add(&mut self, v: Verdict) {
+        self.compared += 1;
+        match v {
+            Verdict::Identical => self.identical += 1,
+            Verdict::Tie => self.tie += 1,
+            Verdict::EdgeGraze => self.edge_graze += 1,
+            Verdict::GrazingT => self.grazing_t += 1,
+            Verdict::SurfaceStart => self.surface_start += 1,
+            Verdict::Unexplained => self.unexplained += 1,
+        }
+    }
+    /// Explained differences (not identical, not unexplained).
+    pub fn explained(&self) -> u64 {
+        self.tie + self.edge_graze + self.grazing_t + self.surface_start
+    }
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Report {
+    pub triangles: usize,
+    pub skipped_degenerate: usize,
+    pub primary: Counts,
+    pub specular: Counts,
+    pub solar: Counts,
+    /// Occlusion answers (`occluded` queries) compared for solar rays.
+    pub occlusion: Counts,
+    /// Up to `max_examples` unexplained differences.
+    pub examples: Vec<Example>,
+}
+
+impl Report {
+    pub fn unexplained(&self) -> u64 {
+        self.primary.unexplained
+            + self.specular.unexplained
+            + self.solar.unexplained
+            + self.occlusion.unexplained
+    }
+
+    /// Human-readable summary.
+    pub fn to_text(&self) -> String {
+        let mut s = format!(
+            "cross-check embree vs bvh: {} triangles ({} degenerate skipped)\n{:<10} {:>10} {:>10} {:>8} {:>8} {:>8} {:>8} {:>8} {:>12}\n",
+            self.triangles,
+            self.skipped_degenerate,
+            "rays",
+            "compared",
+            "identical",
+            "tie",
+            "edge",
+            "grazing",
+            "start",
+            "explained",
+            "UNEXPLAINED"
+        );
+        for (name, c) in [
+            ("primary", &self.primary),
+            ("specular", &self.specular),
+            ("solar", &self.solar),
+            ("occlusion", &self.occlusion),
+        ] {
+            s += &format!(
+                "{:<10} {:>10} {:>10} {:>8} {:>8} {:>8} {:>8} {:>8} {:>12}\n",
+                name,
+                c.compared,
+                c.identical,
+                c.tie,
+                c.edge_graze,
+                c.grazing_t,
+                c.surface_start,
+                c.explained(),
+                c.unexplained
+            );
+        }
+        for e in &self.examples {
+            s += &format!(
+                "unexplained {:?} pixel {:?}: org {:?} dir {:?}\n  embree {:?}\n  bvh    {:?}\n",
+                e.kind, e.pixel, e.origin, e.direction, e.embree, e.bvh
+            );
+        }
+        s += &format!("result: {} unexplained differences\n", self.unexplained());
+        s
+    }
+}
+
+/// Classifies the answers `a` (Embree) and `b` (obvhs) for `ray`.
+pub fn classify(
+    geometry: &Geometry,
+    ray: &Ray,
+    a: Option<Hit>,
+    b: Option<Hit>,
+    tol: Tolerances,
+) -> Verdict {
+    let scale = geometry
+        .max_abs_coord
+        .max(ray.org.abs().max_element())
+        .max(1.0);
+    let dir_len = ray.dir.length().max(f32::MIN_POSITIVE);
+    let base = |t: f32| tol.t_rel_tol * (t.abs() * dir_len + scale) / dir_len;
+    let cos = |h: &Hit| {
+        (geometry.normals[h.prim as usize].dot(ray.dir) / dir_len)
+            .abs()
+            .max(1e-4)
+    };
+    let at_start = |h: &Hit| (h.t - ray.tnear.max(0.0)).abs() <= base(0.0) / cos(h);
+    match (a, b) {
+        (None, None) => Verdict::Identical,
+        (Some(h), None) | (None, Some(h)) => {
+            if h.edge_distance() <= tol.edge_eps {
+                Verdict::EdgeGraze
+            } else if at_start(&h) {
+                Verdict::SurfaceStart
+            } else {
+                Verdict::Unexplained
+            }
+        }
+        (Some(ha), Some(hb)) => {
+            let dt = (ha.t - hb.t).abs();
+            let t = ha.t.min(hb.t);
+            if ha.prim == hb.prim {
+                if dt <= base(t) {
+                    Verdict::Identical
+                } else if dt <= base(t) / cos(&ha) {
+                    Verdict::GrazingT
+                } else {
+                    Verdict::Unexplained
+                }
+            } else if dt <= base(t) / cos(&ha).min(cos(&hb)) {
+                Verdict::Tie
+            } else {
+                let nearer = if ha.t < hb.t { ha } else { hb };
+                if nearer.edge_distance() <= tol.edge_eps {
+                    Verdict::EdgeGraze
+                } else if at_start(&nearer) {
+                    Verdict::SurfaceStart
+                } else {
+                    Verdict::Unexplained
+                }
+            }
+        }
+    }
+}
+
+/// Rays to compare, with the pixel they derive from.
+#[derive(Clone, Debug, Default)]
+pub struct RaySet {
+    pub kind: Vec<RayKind>,
+    pub pixel: Vec<Option<(u32, u32)>>,
+    pub rays: Vec<Ray>,
+}
+
+impl RaySet {
+    pub fn push(&mut self, kind: RayKind, pixel: Option<(u32, u32)>, ray: Ray) {
+        self.kind.push(kind);
+        self.pixel.push(pixel);
+        self.rays.push(ray);
+    }
+}
+
+/// Secondary rays from primary hits: the mirror bounce of every hit, and one
+/// ray towards each sun direction for hits whose facet faces the sun. The
+/// origin is offset along the normal on the side of the outgoing ray.
+pub fn secondary_rays(
+    geometry: &Geometry,
+    primary: &RaySet,
+    hits: &[Option<Hit>],
+    sun_dirs: &[Vec3],
+) -> RaySet {
+    let mut out = RaySet::default();
+    for ((ray, pixel), hit) in primary.rays.iter().zip(&primary.pixel).zip(hits) {
+        let Some(h) = hit else { continue };
+        let n = geometry.normals[h.prim as usize];
+        let p = geometry.point(h.prim, h.u, h.v);
+        let d = ray.dir.normalize();
+        // Face the normal towards the viewer.
+        let nf = if n.dot(d) > 0.0 { -n } else { n };
+        let refl = d - 2.0 * d.dot(nf) * nf;
+        out.push(
+            RayKind::Specular,
+            *pixel,
+            Ray::new(offset_origin(p, nf), refl),
+        );
+        for s in sun_dirs {
+            if s.dot(nf) > 0.0 {
+                out.push(RayKind::Solar, *pixel, Ray::new(offset_origin(p, nf), *s));
+            }
+        }
+    }
+    out
+}
+
+/// Traces `set` with both tracers (closest hit, and occlusion for solar
+/// rays) and adds the verdicts to `report`.
+pub fn compare(
+    geometry: &Geometry,
+    embree: &dyn Tracer,
+    bvh: &dyn Tracer,
+    set: &RaySet,
+    tol: Tolerances,
+    max_examples: usize,
+    report: &mut Report,
+) -> Vec<Option<Hit>> {
+    let n = set.rays.len();
+    let mut ha = vec![None; n];
+    let mut hb = vec![None; n];
+    embree.intersect(&set.rays, &mut ha);
+    bvh.intersect(&set.rays, &mut hb);
+    let mut oa = vec![false; n];
+    let mut ob = vec![false; n];
+    embree.occluded(&set.rays, &mut oa);
+    bvh.occluded(&set.rays, &mut ob);
+    for i in 0..n {
+        let ray = &set.rays[i];
+        let v = classify(geometry, ray, ha[i], hb[i], tol);
+        let counts = match set.kind[i] {
+            RayKind::Primary => &mut report.primary,
+            RayKind::Specular => &mut report.specular,
+            RayKind::Solar => &mut report.solar,
+        };
+        counts.add(v);
+        let mut bad = v == Verdict::Unexplained;
+        if set.kind[i] == RayKind::Solar {
+            // Occlusion must agree with each backend's own closest hit, and
+            // across backends up to the same explanations.
+            let ov = if oa[i] == ob[i] && oa[i] == ha[i].is_some() && ob[i] == hb[i].is_some() {
+                Verdict::Identical
+            } else {
+                let h = ha[i].or(hb[i]);
+                match h {
+                    Some(h) if h.edge_distance() <= tol.edge_eps => Verdict::EdgeGraze,
+                    _ if v != Verdict::Identical && v != Verdict::Unexplained => v,
+                    _ => Verdict::Unexplained,
+                }
+            };
+            report.occlusion.add(ov);
+            bad |= ov == Verdict::Unexplained;
+        }
+        if bad && report.examples.len() < max_examples {
+            report.examples.push(Example {
+                kind: set.kind[i],
+                pixel: set.pixel[i],
+                origin: ray.org.to_array(),
+                direction: ray.dir.to_array(),
+                embree: ha[i].map(Into::into),
+                bvh: hb[i].map(Into::into),
+            });
+        }
+    }
+    ha
+}
+
+/// Full cross-check: primary rays for every pixel of `camera` (4x4 tile
+/// order), then specular and solar rays from Embree's primary hits.
+pub fn run(
+    geometry: &Geometry,
+    embree: &dyn Tracer,
+    bvh: &dyn Tracer,
+    camera: &crate::sensor::camera::Camera,
+    sun_dirs: &[Vec3],
+    tol: Tolerances,
+) -> Report {
+    let mut report = Report {
+        triangles: geometry.triangles.len(),
+        skipped_degenerate: geometry.skipped(),
+        ..Default::default()
+    };
+    let mut primary = RaySet::default();
+    for (x, y) in camera.tile_order() {
+        primary.push(
+            RayKind::Primary,
+            Some((x, y)),
+            camera.ray(x as f64 + 0.5, y as f64 + 0.5),
+        );
+    }
+    let hits = compare(geometry, embree, bvh, &primary, tol, 10, &mut report);
+    let secondary = secondary_rays(geometry, &primary, &hits, sun_dirs);
+    compare(geometry, embree, bvh, &secondary, tol, 10, &mut report);
+    report
+}
