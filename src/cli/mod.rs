@@ -3,6 +3,7 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod check;
 pub mod crosscheck;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
@@ -18,11 +19,15 @@ pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.
     Crosscheck(crosscheck::Args),
+    /// Load and validate a scene; print a summary (objects, facets,
+    /// materials, bounds, sensor footprint, what the render will need).
+    Check(check::Args),
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
+        Command::Check(a) => check::run(a),
     }
 }
