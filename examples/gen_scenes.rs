@@ -435,12 +435,12 @@ fn airfield(root: &Path) -> usize {
     // Grass field 700 m × 600 m.
     let mut g = Mesh::default();
     g.part("grass", "grass");
-    g.grid([-350.0, -300.0], [350.0, 300.0], 0.0, 20, 16);
+    g.grid([-350.0, -300.0], [350.0, 300.0], 0.0, 22, 16);
     w("grass", g);
     // Runway (east-west) 600 m × 45 m asphalt, 0.15 m above the grass.
     let mut r = Mesh::default();
     r.part("runway", "asphalt");
-    r.slab([-300.0, -172.5], [300.0, -127.5], 0.15, 30, 3);
+    r.slab([-300.0, -172.5], [300.0, -127.5], 0.15, 32, 3);
     w("runway", r);
     // Taxiway north from the runway to the apron, 20 m wide.
     let mut t = Mesh::default();
@@ -561,7 +561,7 @@ fn terrain(root: &Path) {
          [time]\nlocal = 2001-08-08T14:00:00\n\n\
          [weather.constant]\nwind_m_s = 3.0\nair_min_c = 17.0\nair_max_c = 29.0\ndew_point_c = 14.0\ncloud_fraction = 0.1\n\n\
          [atmosphere]\nmodel = \"mid-latitude-summer\"\nvisibility_km = 23.0\n\n\
-         [sensor]\nwidth_px = 1024\nheight_px = 1024\nfov_h_deg = 40.0\nband = \"lwir\"\n\n\
+         [sensor]\nwidth_px = 1024\nheight_px = 1024\nfov_h_deg = 30.0\nband = \"lwir\"\n\n\
          [sensor.pose.altitude]\naltitude_m = 5000.0\nview_zenith_deg = 20.0\nazimuth_deg = 200.0\ntarget_m = [0.0, 0.0, 0.0]\n\n\
          [render]\nshadow_interval_min = 30.0\nhistory_hours = 24.0\n\n\
          [[object]]\nname = \"terrain\"\nfile = \"obj/terrain.obj\"\n",

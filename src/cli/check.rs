@@ -241,7 +241,7 @@ pub fn render_text(s: &Summary) -> String {
         c.fov_h_deg,
         c.fov_v_deg,
         fmt3(c.position_m),
-        fmt3(c.forward).replace(".0", "")
+        format!("({:.3}, {:.3}, {:.3})", c.forward[0], c.forward[1], c.forward[2])
     );
     let corners: Vec<String> = s
         .footprint_m
