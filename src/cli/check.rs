@@ -292,3 +292,52 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     }
     Ok(0)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Against NREL SPA (pvlib 0.16, `spa_python`, geometric elevation
+    /// without refraction): tests/data/sun_elevation_pvlib.csv, generated
+    /// by tools/sun_elevation_ref.py. Tolerance 0.5° (the NOAA series is
+    /// good to ~0.3°; day/night only needs the sign away from the horizon).
+    #[test]
+    fn approximate_sun_elevation_matches_spa() {
+        let text = include_str!("../../tests/data/sun_elevation_pvlib.csv");
+        let mut n = 0;
+        for line in text.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            let t = chrono::NaiveDateTime::parse_from_str(f[0], "%Y-%m-%dT%H:%M:%S")
+                .unwrap()
+                .and_utc();
+            let (lat, lon, want): (f64, f64, f64) = (f[1].parse().unwrap(), f[2].parse().unwrap(), f[3].parse().unwrap());
+            let got = approx_sun_elevation_deg(t, lat, lon);
+            assert!((got - want).abs() < 0.5, "{line}: got {got}");
+            n += 1;
+        }
+        assert_eq!(n, 10);
+    }
+
+    #[test]
+    fn summary_of_the_airfield() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let s = scene::load(&root.join("scenes/airfield/scene.toml")).unwrap();
+        let sum = summarize(&s);
+        assert_eq!(sum.objects, 24);
+        assert_eq!(sum.triangles, s.triangles.len());
+        assert_eq!(sum.materials.iter().map(|m| m.triangles).sum::<usize>(), sum.triangles);
+        // MWIR at noon: solar reflection needed; specular roof present
+        assert!(sum.needs.solar_reflection && sum.needs.solar_heating && sum.needs.specular_rays);
+        assert!(sum.needs.specular_materials.contains(&"painted_steel_roof".to_string()));
+        assert_eq!(sum.needs.heated_materials, vec!["vehicle_engine".to_string()]);
+        // 3-5 µm = 2000-3333.3 cm⁻¹ at 10 cm⁻¹ steps: 134 samples
+        assert_eq!(sum.needs.spectral_samples, 134);
+        assert_eq!((sum.needs.thermal_steps, sum.needs.shadow_samples), (96, 48));
+        // footprint contains the target; JSON serialises
+        let fp = sum.footprint_m.map(|p| p.unwrap());
+        assert!(fp[0][1] > 20.0 && fp[2][1] < 20.0 && fp[0][0] < 0.0 && fp[1][0] > 0.0);
+        let json = serde_json::to_string(&sum).unwrap();
+        assert!(json.contains("\"solar_reflection\":true"));
+        assert!(render_text(&sum).contains("specular bounce rays    yes"));
+    }
+}

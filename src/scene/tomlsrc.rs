@@ -199,7 +199,7 @@ mod tests {
         assert_eq!(loc(t, &[k("object"), Seg::Index(1), k("v"), Seg::Index(1)]), "t.toml:9:9");
         assert_eq!(
             loc(t, &[k("object"), Seg::Index(1), k("v"), Seg::Index(2), k("q")]),
-            "t.toml:9:17"
+            "t.toml:9:18"
         );
         // a missing key falls back to its table
         assert_eq!(loc(t, &[k("site"), k("nothing")]), "t.toml:2:1");
