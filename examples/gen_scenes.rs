@@ -22,7 +22,8 @@ struct Mesh {
 
 impl Mesh {
     fn part(&mut self, name: &str, mat: &str) {
-        self.parts.push((name.to_string(), mat.to_string(), Vec::new()));
+        self.parts
+            .push((name.to_string(), mat.to_string(), Vec::new()));
     }
     fn vert(&mut self, p: V3) -> usize {
         self.v.push(p);
@@ -36,7 +37,11 @@ impl Mesh {
         self.face(i.to_vec());
     }
     fn tris(&self) -> usize {
-        self.parts.iter().flat_map(|p| &p.2).map(|f| f.len() - 2).sum()
+        self.parts
+            .iter()
+            .flat_map(|p| &p.2)
+            .map(|f| f.len() - 2)
+            .sum()
     }
 
     /// Axis-aligned box; `bottom`: include the bottom face.
@@ -148,7 +153,16 @@ impl Mesh {
     /// A thin tapered plate (wing, stabiliser) from root to tip: root
     /// leading/trailing edge y, tip offset, span along ±x, thickness t.
     #[allow(clippy::too_many_arguments)]
-    fn wing(&mut self, root_x: f64, tip_x: f64, z_root: f64, z_tip: f64, root: [f64; 2], tip: [f64; 2], t: f64) {
+    fn wing(
+        &mut self,
+        root_x: f64,
+        tip_x: f64,
+        z_root: f64,
+        z_tip: f64,
+        root: [f64; 2],
+        tip: [f64; 2],
+        t: f64,
+    ) {
         // root: [y_trailing, y_leading]; tip likewise
         let h = t / 2.0;
         let p = [
@@ -184,7 +198,14 @@ impl Mesh {
     /// chord [y2, y3] at z1, thickness t.
     fn fin(&mut self, x0: f64, root: [f64; 2], tip: [f64; 2], z0: f64, z1: f64, t: f64) {
         let h = t / 2.0;
-        let pts = |x: f64| [[x, root[0], z0], [x, root[1], z0], [x, tip[1], z1], [x, tip[0], z1]];
+        let pts = |x: f64| {
+            [
+                [x, root[0], z0],
+                [x, root[1], z0],
+                [x, tip[1], z1],
+                [x, tip[0], z1],
+            ]
+        };
         let w: Vec<usize> = pts(x0 - h).iter().map(|&q| self.vert(q)).collect();
         let e: Vec<usize> = pts(x0 + h).iter().map(|&q| self.vert(q)).collect();
         self.face(vec![e[0], e[1], e[2], e[3]]); // east side
@@ -206,7 +227,13 @@ impl Mesh {
         for l in header.lines() {
             let _ = writeln!(s, "# {l}");
         }
-        let _ = writeln!(s, "# {} vertices, {} faces, {} triangles", self.v.len(), self.parts.iter().map(|p| p.2.len()).sum::<usize>(), self.tris());
+        let _ = writeln!(
+            s,
+            "# {} vertices, {} faces, {} triangles",
+            self.v.len(),
+            self.parts.iter().map(|p| p.2.len()).sum::<usize>(),
+            self.tris()
+        );
         for p in &self.v {
             let _ = writeln!(s, "v {} {} {}", fmt(p[0]), fmt(p[1]), fmt(p[2]));
         }
@@ -265,17 +292,45 @@ fn large_aircraft() -> Mesh {
     m.loft_y(0.0, zc + 0.2, &[(20.0, 0.5), (21.2, 0.0)], 12);
     m.part("wings", "aircraft_skin");
     for s in [1.0, -1.0] {
-        m.wing(s * 2.5, s * 20.0, zc - 1.6, zc - 0.8, [-4.0, 3.5], [-6.0, -3.5], 0.45);
+        m.wing(
+            s * 2.5,
+            s * 20.0,
+            zc - 1.6,
+            zc - 0.8,
+            [-4.0, 3.5],
+            [-6.0, -3.5],
+            0.45,
+        );
     }
     m.part("horizontal_tail", "aircraft_skin");
     for s in [1.0, -1.0] {
-        m.wing(s * 0.8, s * 8.0, zc + 0.5, zc + 0.9, [-21.5, -17.5], [-22.5, -20.5], 0.25);
+        m.wing(
+            s * 0.8,
+            s * 8.0,
+            zc + 0.5,
+            zc + 0.9,
+            [-21.5, -17.5],
+            [-22.5, -20.5],
+            0.25,
+        );
     }
     m.part("vertical_tail", "aircraft_skin");
-    m.fin(0.0, [-21.5, -15.0], [-23.0, -20.5], zc + 2.0, zc + 10.0, 0.35);
+    m.fin(
+        0.0,
+        [-21.5, -15.0],
+        [-23.0, -20.5],
+        zc + 2.0,
+        zc + 10.0,
+        0.35,
+    );
     m.part("engines", "aircraft_skin");
     for x in [-12.0, -6.5, 6.5, 12.0] {
-        m.loft_y(x, zc - 2.4, &[(-2.5, 0.6), (-1.0, 0.9), (1.5, 0.95), (2.5, 0.95)], 8);
+        m.loft_y(
+            x,
+            zc - 2.4,
+            &[(-2.5, 0.6), (-1.0, 0.9), (1.5, 0.95), (2.5, 0.95)],
+            8,
+        );
     }
     m.part("engine_inlets", "bare_aluminium");
     for x in [-12.0, -6.5, 6.5, 12.0] {
@@ -296,18 +351,48 @@ fn small_aircraft() -> Mesh {
     m.loft_y(
         0.0,
         zc,
-        &[(-7.5, 0.25), (-6.0, 0.6), (-3.0, 0.9), (0.0, 1.0), (3.0, 1.0), (5.0, 0.8), (6.5, 0.45), (7.5, 0.0)],
+        &[
+            (-7.5, 0.25),
+            (-6.0, 0.6),
+            (-3.0, 0.9),
+            (0.0, 1.0),
+            (3.0, 1.0),
+            (5.0, 0.8),
+            (6.5, 0.45),
+            (7.5, 0.0),
+        ],
         12,
     );
     m.part("canopy", "glass");
-    m.loft_y(0.0, zc + 0.8, &[(1.5, 0.0), (2.5, 0.45), (4.0, 0.4), (5.0, 0.0)], 8);
+    m.loft_y(
+        0.0,
+        zc + 0.8,
+        &[(1.5, 0.0), (2.5, 0.45), (4.0, 0.4), (5.0, 0.0)],
+        8,
+    );
     m.part("wings", "aircraft_skin");
     for s in [1.0, -1.0] {
-        m.wing(s * 0.8, s * 5.6, zc - 0.5, zc - 0.3, [-1.5, 1.5], [-1.8, -0.2], 0.2);
+        m.wing(
+            s * 0.8,
+            s * 5.6,
+            zc - 0.5,
+            zc - 0.3,
+            [-1.5, 1.5],
+            [-1.8, -0.2],
+            0.2,
+        );
     }
     m.part("tail", "aircraft_skin");
     for s in [1.0, -1.0] {
-        m.wing(s * 0.3, s * 2.4, zc + 0.3, zc + 0.35, [-7.3, -5.8], [-7.6, -6.8], 0.1);
+        m.wing(
+            s * 0.3,
+            s * 2.4,
+            zc + 0.3,
+            zc + 0.35,
+            [-7.3, -5.8],
+            [-7.6, -6.8],
+            0.1,
+        );
     }
     m.fin(0.0, [-7.3, -5.5], [-7.8, -7.0], zc + 0.6, zc + 3.0, 0.15);
     m.part("wheels", "rubber");
@@ -349,8 +434,18 @@ fn hangar() -> Mesh {
         }
         m.face(f);
     }
-    m.quad([hx, -hy, 0.0], [hx, hy, 0.0], [hx, hy, wall], [hx, -hy, wall]);
-    m.quad([-hx, hy, 0.0], [-hx, -hy, 0.0], [-hx, -hy, wall], [-hx, hy, wall]);
+    m.quad(
+        [hx, -hy, 0.0],
+        [hx, hy, 0.0],
+        [hx, hy, wall],
+        [hx, -hy, wall],
+    );
+    m.quad(
+        [-hx, hy, 0.0],
+        [-hx, -hy, 0.0],
+        [-hx, -hy, wall],
+        [-hx, hy, wall],
+    );
     m.part("roof", "painted_steel_roof");
     let ny = 6;
     for j in 0..ny {
@@ -382,7 +477,12 @@ fn vehicle() -> Mesh {
     m.part("hood", "vehicle_engine");
     m.boxx([-1.1, 3.2, 0.8], [1.1, 4.2, 1.9], true);
     m.part("windscreen", "glass");
-    m.quad([1.0, 3.21, 2.0], [-1.0, 3.21, 2.0], [-1.0, 3.21, 2.7], [1.0, 3.21, 2.7]);
+    m.quad(
+        [1.0, 3.21, 2.0],
+        [-1.0, 3.21, 2.0],
+        [-1.0, 3.21, 2.7],
+        [1.0, 3.21, 2.7],
+    );
     m.part("wheels", "rubber");
     for (x, y) in [(-1.05, 3.0), (1.05, 3.0), (-1.05, -2.5), (1.05, -2.5)] {
         m.boxx([x - 0.2, y - 0.5, 0.0], [x + 0.2, y + 0.5, 1.0], false);
@@ -408,7 +508,12 @@ fn office() -> Mesh {
     m.part("windows", "glass");
     for k in 0..5 {
         let x = -12.0 + 6.0 * k as f64;
-        m.quad([x, -8.02, 2.0], [x + 3.0, -8.02, 2.0], [x + 3.0, -8.02, 5.0], [x, -8.02, 5.0]);
+        m.quad(
+            [x, -8.02, 2.0],
+            [x + 3.0, -8.02, 2.0],
+            [x + 3.0, -8.02, 5.0],
+            [x, -8.02, 5.0],
+        );
     }
     m
 }
@@ -508,7 +613,9 @@ fn plate(root: &Path) {
 
 /// Terrain height (m) at (x, y): a few gentle long-wavelength undulations.
 fn terrain_z(x: f64, y: f64) -> f64 {
-    6.0 * (x / 700.0).sin() * (y / 900.0).cos() + 4.0 * ((x + 2.0 * y) / 1300.0).sin() + 2.5 * ((x - y) / 420.0).cos()
+    6.0 * (x / 700.0).sin() * (y / 900.0).cos()
+        + 4.0 * ((x + 2.0 * y) / 1300.0).sin()
+        + 2.5 * ((x - y) / 420.0).cos()
 }
 
 fn terrain(root: &Path) {
@@ -585,19 +692,35 @@ fn terrain(root: &Path) {
         &mut s,
         "building",
         "obj/building.obj",
-        &[(-1500.0, 1200.0, 0.0), (-300.0, 250.0, 30.0), (400.0, -700.0, 90.0), (1250.0, 900.0, 15.0), (1700.0, -1600.0, 45.0), (-900.0, -1300.0, 60.0)],
+        &[
+            (-1500.0, 1200.0, 0.0),
+            (-300.0, 250.0, 30.0),
+            (400.0, -700.0, 90.0),
+            (1250.0, 900.0, 15.0),
+            (1700.0, -1600.0, 45.0),
+            (-900.0, -1300.0, 60.0),
+        ],
     );
     place(
         &mut s,
         "fuel_tank",
         "../airfield/obj/fuel_tank.obj",
-        &[(600.0, 500.0, 0.0), (630.0, 520.0, 0.0), (-1100.0, 300.0, 0.0)],
+        &[
+            (600.0, 500.0, 0.0),
+            (630.0, 520.0, 0.0),
+            (-1100.0, 300.0, 0.0),
+        ],
     );
     place(
         &mut s,
         "vehicle",
         "../airfield/obj/vehicle.obj",
-        &[(10.0, 20.0, 0.0), (35.0, -40.0, 90.0), (-800.0, 900.0, 135.0), (1500.0, -200.0, 270.0)],
+        &[
+            (10.0, 20.0, 0.0),
+            (35.0, -40.0, 90.0),
+            (-800.0, 900.0, 135.0),
+            (1500.0, -200.0, 270.0),
+        ],
     );
     std::fs::write(root.join("scene.toml"), s).expect("write scene");
 }

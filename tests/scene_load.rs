@@ -27,9 +27,18 @@ fn sample_scenes_load_with_consistent_arrays() {
         assert_eq!(s.tri_material.len(), n);
         assert_eq!(s.tri_object.len(), n);
         assert_eq!(s.tri_facet.len(), n);
-        assert!(s.tri_material.iter().all(|&m| (m as usize) < s.materials.len()));
+        assert!(
+            s.tri_material
+                .iter()
+                .all(|&m| (m as usize) < s.materials.len())
+        );
         assert!(s.tri_object.iter().all(|&o| (o as usize) < s.objects.len()));
-        assert!(s.triangles.iter().flatten().all(|&i| (i as usize) < s.positions.len()));
+        assert!(
+            s.triangles
+                .iter()
+                .flatten()
+                .all(|&i| (i as usize) < s.positions.len())
+        );
         assert!(s.positions.iter().flatten().all(|c| c.is_finite()));
         // objects own contiguous triangle ranges, in order
         let mut next = 0;
@@ -110,8 +119,14 @@ fn generated_meshes_have_outward_normals() {
         if height < 0.5 {
             assert_eq!(down, 0, "{}: faces pointing down", o.name);
         } else {
-            let bbox: f64 = (0..3).map(|i| (o.bounds_max_m[i] - o.bounds_min_m[i]) as f64).product();
-            assert!(vol > 0.0 && vol < 1.5 * bbox, "{}: volume {vol} (bbox {bbox})", o.name);
+            let bbox: f64 = (0..3)
+                .map(|i| (o.bounds_max_m[i] - o.bounds_min_m[i]) as f64)
+                .product();
+            assert!(
+                vol > 0.0 && vol < 1.5 * bbox,
+                "{}: volume {vol} (bbox {bbox})",
+                o.name
+            );
         }
     }
 }
@@ -127,7 +142,8 @@ fn round_trip_through_toml_is_identical() {
         let path = root().join(file);
         let s = scene::load(&path).unwrap();
         let text = toml::to_string(&s.scene).unwrap();
-        let back = scene::parse_scene(&path, &text).unwrap_or_else(|e| panic!("{file}: {e}\n{text}"));
+        let back =
+            scene::parse_scene(&path, &text).unwrap_or_else(|e| panic!("{file}: {e}\n{text}"));
         assert_eq!(back, s.scene, "{file}");
         // and the full load from the written text gives the same geometry
         let tmp = path.with_file_name(".roundtrip-test.toml");
@@ -221,7 +237,10 @@ impl Fixture {
     }
     /// The error message with the temp dir replaced by `D`.
     fn err(&self) -> String {
-        let e = self.load().err().expect("expected an error").to_string();
+        let Err(e) = self.load() else {
+            panic!("expected an error")
+        };
+        let e = e.to_string();
         e.replace(&format!("{}/", self.dir.path().display()), "D/")
     }
 }
@@ -238,30 +257,52 @@ fn fixture_loads() {
 
 #[test]
 fn toml_syntax_error_names_line_and_column() {
-    let f = Fixture::new(&SCENE.replace("latitude_deg = 43.0", "latitude_deg = = 43.0"), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude_deg = = 43.0"),
+        MATS,
+        OBJ,
+    );
     let e = f.err();
     assert!(e.starts_with("D/scene.toml:4:16: "), "{e}");
 }
 
 #[test]
 fn unknown_key_is_rejected_with_a_suggestion() {
-    let f = Fixture::new(&SCENE.replace("latitude_deg = 43.0", "latitude = 43.0"), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude = 43.0"),
+        MATS,
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/scene.toml:4:1: unknown field `latitude`, expected one of `name`, `latitude_deg`, `longitude_deg`, \
          `elevation_m`, `utc_offset_h`; did you mean `latitude_deg`?"
     );
-    let f = Fixture::new(SCENE, &MATS.replace("thickness_m = 0.3", "thicknes_m = 0.3"), OBJ);
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("thickness_m = 0.3", "thicknes_m = 0.3"),
+        OBJ,
+    );
     let e = f.err();
-    assert!(e.starts_with("D/mats.toml:14:1: unknown field `thicknes_m`, expected one of "), "{e}");
+    assert!(
+        e.starts_with("D/mats.toml:14:1: unknown field `thicknes_m`, expected one of "),
+        "{e}"
+    );
     assert!(e.ends_with("; did you mean `thickness_m`?"), "{e}");
 }
 
 #[test]
 fn unknown_variant_is_rejected_with_a_suggestion() {
-    let f = Fixture::new(&SCENE.replace("band = \"lwir\"", "band = \"lwirr\""), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("band = \"lwir\"", "band = \"lwirr\""),
+        MATS,
+        OBJ,
+    );
     let e = f.err();
-    assert!(e.starts_with("D/scene.toml:21:8: unknown variant `lwirr`, expected one of `lwir`, `mwir`"), "{e}");
+    assert!(
+        e.starts_with("D/scene.toml:21:8: unknown variant `lwirr`, expected one of `lwir`, `mwir`"),
+        "{e}"
+    );
     assert!(e.ends_with("; did you mean `lwir`?"), "{e}");
 }
 
@@ -273,19 +314,34 @@ fn missing_key_names_the_table() {
 
 #[test]
 fn wrong_type_names_what_is_expected() {
-    let f = Fixture::new(&SCENE.replace("width_px = 16", "width_px = \"wide\""), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("width_px = 16", "width_px = \"wide\""),
+        MATS,
+        OBJ,
+    );
     let e = f.err();
-    assert!(e.starts_with("D/scene.toml:18:12: invalid type: string \"wide\", expected u32"), "{e}");
+    assert!(
+        e.starts_with("D/scene.toml:18:12: invalid type: string \"wide\", expected u32"),
+        "{e}"
+    );
 }
 
 #[test]
 fn out_of_range_scene_value_names_its_line() {
-    let f = Fixture::new(&SCENE.replace("latitude_deg = 43.0", "latitude_deg = 95.0"), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude_deg = 95.0"),
+        MATS,
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/scene.toml:4:16: `latitude_deg` = 95 is out of range: expected -90 <= latitude_deg <= 90 degrees"
     );
-    let f = Fixture::new(&SCENE.replace("dew_point_c = 10.0", "dew_point_c = 18.0"), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("dew_point_c = 10.0", "dew_point_c = 18.0"),
+        MATS,
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/scene.toml:15:15: `dew_point_c` = 18 is out of range: expected -100 <= dew_point_c <= 15 °C \
@@ -295,17 +351,32 @@ fn out_of_range_scene_value_names_its_line() {
 
 #[test]
 fn out_of_range_material_value_names_the_library_line() {
-    let f = Fixture::new(SCENE, &MATS.replace("thermal_emissivity = 0.93\nback", "thermal_emissivity = 1.3\nback"), OBJ);
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace(
+            "thermal_emissivity = 0.93\nback",
+            "thermal_emissivity = 1.3\nback",
+        ),
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/mats.toml:7:22: `thermal_emissivity` = 1.3 is out of range: expected 0 <= thermal_emissivity <= 1"
     );
-    let f = Fixture::new(SCENE, &MATS.replace("thickness_m = 0.5", "thickness_m = 0.0"), OBJ);
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("thickness_m = 0.5", "thickness_m = 0.0"),
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/mats.toml:5:15: `thickness_m` = 0 is out of range: expected a finite number > 0 m"
     );
-    let f = Fixture::new(SCENE, &MATS.replace("density_kg_m3 = 2120.0", "density_kg_m3 = -1.0"), OBJ);
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("density_kg_m3 = 2120.0", "density_kg_m3 = -1.0"),
+        OBJ,
+    );
     assert_eq!(
         f.err(),
         "D/mats.toml:11:17: `density_kg_m3` = -1 is out of range: expected a finite number > 0 kg/m³"
@@ -335,7 +406,10 @@ fn nan_and_infinite_vertices_are_rejected_with_their_line() {
          finite number"
     );
     let f = Fixture::new(SCENE, MATS, &OBJ.replace("v 10 10 0", "v 10 inf 0"));
-    assert!(f.err().starts_with("D/g.obj:4: vertex: coordinate `inf` is NaN or infinite"));
+    assert!(
+        f.err()
+            .starts_with("D/g.obj:4: vertex: coordinate `inf` is NaN or infinite")
+    );
 }
 
 #[test]
@@ -347,7 +421,11 @@ fn bad_face_and_garbage_lines_are_rejected_with_their_line() {
          or -1..=-4)"
     );
     let f = Fixture::new(SCENE, MATS, &OBJ.replace("o ground", "\u{1}\u{2}garbage"));
-    assert!(f.err().starts_with("D/g.obj:1: unknown OBJ statement"), "{}", f.err());
+    assert!(
+        f.err().starts_with("D/g.obj:1: unknown OBJ statement"),
+        "{}",
+        f.err()
+    );
     let f = Fixture::new(SCENE, MATS, &OBJ.replace("v 0 10 0", "v 0 ten 0"));
     assert_eq!(f.err(), "D/g.obj:5: vertex: `ten` is not a number");
 }
@@ -361,7 +439,10 @@ fn face_without_material_names_the_object() {
     );
     // an object default material fixes it
     let f = Fixture::new(
-        &SCENE.replace("file = \"g.obj\"", "file = \"g.obj\"\nmaterial = \"asphalt\""),
+        &SCENE.replace(
+            "file = \"g.obj\"",
+            "file = \"g.obj\"\nmaterial = \"asphalt\"",
+        ),
         MATS,
         &OBJ.replace("usemtl grass\n", ""),
     );
@@ -371,12 +452,26 @@ fn face_without_material_names_the_object() {
 
 #[test]
 fn missing_files_are_reported_at_their_scene_key() {
-    let f = Fixture::new(&SCENE.replace("file = \"g.obj\"", "file = \"nope.obj\""), MATS, OBJ);
+    let f = Fixture::new(
+        &SCENE.replace("file = \"g.obj\"", "file = \"nope.obj\""),
+        MATS,
+        OBJ,
+    );
     let e = f.err();
-    assert!(e.starts_with("D/scene.toml:29:8: OBJ file `nope.obj` not found"), "{e}");
-    let f = Fixture::new(&SCENE.replace("[\"mats.toml\"]", "[\"mats.toml\", \"other.toml\"]"), MATS, OBJ);
+    assert!(
+        e.starts_with("D/scene.toml:29:8: OBJ file `nope.obj` not found"),
+        "{e}"
+    );
+    let f = Fixture::new(
+        &SCENE.replace("[\"mats.toml\"]", "[\"mats.toml\", \"other.toml\"]"),
+        MATS,
+        OBJ,
+    );
     let e = f.err();
-    assert!(e.starts_with("D/scene.toml:1:27: material library `other.toml` not found"), "{e}");
+    assert!(
+        e.starts_with("D/scene.toml:1:27: material library `other.toml` not found"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -404,10 +499,16 @@ fn instances_and_transforms_place_geometry() {
     // instance 1: rotate +90° about z (x -> y), then translate by 100 east
     let b = (s.objects[0].bounds_min_m, s.objects[0].bounds_max_m);
     let close = |a: [f32; 3], e: [f32; 3]| (0..3).all(|i| (a[i] - e[i]).abs() < 1e-4);
-    assert!(close(b.0, [90.0, 0.0, 0.0]) && close(b.1, [100.0, 10.0, 0.0]), "{b:?}");
+    assert!(
+        close(b.0, [90.0, 0.0, 0.0]) && close(b.1, [100.0, 10.0, 0.0]),
+        "{b:?}"
+    );
     // instance 2: scale 2, lift 1 m, then translate
     let b = (s.objects[1].bounds_min_m, s.objects[1].bounds_max_m);
-    assert!(close(b.0, [100.0, 0.0, 1.0]) && close(b.1, [120.0, 20.0, 1.0]), "{b:?}");
+    assert!(
+        close(b.0, [100.0, 0.0, 1.0]) && close(b.1, [120.0, 20.0, 1.0]),
+        "{b:?}"
+    );
 }
 
 #[test]
@@ -424,7 +525,9 @@ fn emissivity_table_is_read_and_validated() {
     .unwrap();
     let s = f.load().unwrap();
     let g = &s.materials[s.material_index("grass").unwrap()];
-    let scene::Emissivity::Table(t) = &g.emissivity else { panic!() };
+    let scene::Emissivity::Table(t) = &g.emissivity else {
+        panic!()
+    };
     // bilinear: midway in both angle (30°) and wavelength (10 µm)
     assert!((t.eval(30.0, 10.0) - 0.96).abs() < 1e-12);
     assert!((t.eval(0.0, 8.0) - 0.96).abs() < 1e-12);
@@ -434,13 +537,21 @@ fn emissivity_table_is_read_and_validated() {
         "wavelength_um, 0, 60, 85\n8.0, 0.96, 0.94, 0.80\n12.0, 0.98, 1.2, 0.84\n",
     )
     .unwrap();
-    assert_eq!(f.err(), "D/eps.csv:3: emissivity 1.2 is out of range: expected 0 <= ε <= 1");
+    assert_eq!(
+        f.err(),
+        "D/eps.csv:3: emissivity 1.2 is out of range: expected 0 <= ε <= 1"
+    );
 }
 
 #[test]
 fn io_errors_name_the_file() {
-    let e = scene::load(Path::new("/nonexistent/scene.toml")).unwrap_err().to_string();
-    assert!(e.starts_with("/nonexistent/scene.toml: cannot read file: "), "{e}");
+    let e = scene::load(Path::new("/nonexistent/scene.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("/nonexistent/scene.toml: cannot read file: "),
+        "{e}"
+    );
 }
 
 // ------------------------------------------------------------ property test
@@ -459,27 +570,48 @@ mod fuzz {
             }
             let i = ((pos * b.len() as f64) as usize).min(b.len() - 1);
             match kind % 6 {
-                0 => b[i] = byte,                      // replace
-                1 => b.insert(i, byte),                // insert
+                0 => b[i] = byte,       // replace
+                1 => b.insert(i, byte), // insert
                 2 => {
-                    b.remove(i);                       // delete
+                    b.remove(i); // delete
                 }
                 3 => {
                     // duplicate a line
-                    let s = b[..i].iter().rposition(|&c| c == b'\n').map_or(0, |k| k + 1);
-                    let e = b[i..].iter().position(|&c| c == b'\n').map_or(b.len(), |k| i + k + 1);
+                    let s = b[..i]
+                        .iter()
+                        .rposition(|&c| c == b'\n')
+                        .map_or(0, |k| k + 1);
+                    let e = b[i..]
+                        .iter()
+                        .position(|&c| c == b'\n')
+                        .map_or(b.len(), |k| i + k + 1);
                     let line = b[s..e].to_vec();
                     b.splice(e..e, line);
                 }
                 4 => {
                     // delete a line
-                    let s = b[..i].iter().rposition(|&c| c == b'\n').map_or(0, |k| k + 1);
-                    let e = b[i..].iter().position(|&c| c == b'\n').map_or(b.len(), |k| i + k + 1);
+                    let s = b[..i]
+                        .iter()
+                        .rposition(|&c| c == b'\n')
+                        .map_or(0, |k| k + 1);
+                    let e = b[i..]
+                        .iter()
+                        .position(|&c| c == b'\n')
+                        .map_or(b.len(), |k| i + k + 1);
                     b.drain(s..e);
                 }
                 _ => {
                     // insert a token that stresses parsers
-                    let toks: [&[u8]; 8] = [b"nan", b"-1e39", b"\"", b"[", b"=", b"-0", b"99999999999", b"\xff"];
+                    let toks: [&[u8]; 8] = [
+                        b"nan",
+                        b"-1e39",
+                        b"\"",
+                        b"[",
+                        b"=",
+                        b"-0",
+                        b"99999999999",
+                        b"\xff",
+                    ];
                     b.splice(i..i, toks[byte as usize % 8].iter().copied());
                 }
             }

@@ -122,11 +122,7 @@ pub fn summarize(s: &LoadedScene) -> Summary {
     });
     let (wn_lo, wn_hi) = (1e4 / band_um.1, 1e4 / band_um.0);
     let spectral_samples = ((wn_hi - wn_lo) / sc.render.spectral_step_cm1).floor() as usize + 1;
-    let faces = s
-        .objects
-        .iter()
-        .map(|o| o.face_count as usize)
-        .sum();
+    let faces = s.objects.iter().map(|o| o.face_count as usize).sum();
     Summary {
         scene: s.path.clone(),
         site: sc.site.clone(),
@@ -145,13 +141,18 @@ pub fn summarize(s: &LoadedScene) -> Summary {
         centre_gsd_m: s.camera.centre_gsd_m(ground_z),
         band_um,
         weather: match &sc.weather {
-            WeatherSpec::File { path, format } => format!("{format:?} file {}", s.resolve(path).display()),
+            WeatherSpec::File { path, format } => {
+                format!("{format:?} file {}", s.resolve(path).display())
+            }
             WeatherSpec::Constant(w) => format!(
                 "constant: wind {} m/s, air {}..{} °C, dew point {} °C, cloud {}",
                 w.wind_m_s, w.air_min_c, w.air_max_c, w.dew_point_c, w.cloud_fraction
             ),
         },
-        atmosphere: format!("{:?}, visibility {} km", sc.atmosphere.model, sc.atmosphere.visibility_km),
+        atmosphere: format!(
+            "{:?}, visibility {} km",
+            sc.atmosphere.model, sc.atmosphere.visibility_km
+        ),
         needs: Needs {
             solar_reflection: band_um.0 < 5.0 && sun_el > 0.0,
             solar_heating,
@@ -160,8 +161,10 @@ pub fn summarize(s: &LoadedScene) -> Summary {
             specular_materials,
             heated_materials,
             spectral_samples,
-            thermal_steps: (sc.render.history_hours * 60.0 / sc.render.thermal_step_min).ceil() as usize,
-            shadow_samples: (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil() as usize,
+            thermal_steps: (sc.render.history_hours * 60.0 / sc.render.thermal_step_min).ceil()
+                as usize,
+            shadow_samples: (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil()
+                as usize,
         },
     }
 }
@@ -171,13 +174,23 @@ pub fn summarize(s: &LoadedScene) -> Summary {
 /// for the declination and the equation of time, Spencer 1971), good to
 /// about 0.3°. Only used to tell day from night in this summary; the
 /// renderer uses `crate::sun` (NREL SPA).
-pub fn approx_sun_elevation_deg(t: chrono::DateTime<chrono::Utc>, lat_deg: f64, lon_deg: f64) -> f64 {
+pub fn approx_sun_elevation_deg(
+    t: chrono::DateTime<chrono::Utc>,
+    lat_deg: f64,
+    lon_deg: f64,
+) -> f64 {
     use chrono::{Datelike, Timelike};
     let hour = t.hour() as f64 + t.minute() as f64 / 60.0 + t.second() as f64 / 3600.0;
-    let days = if t.date_naive().leap_year() { 366.0 } else { 365.0 };
+    let days = if t.date_naive().leap_year() {
+        366.0
+    } else {
+        365.0
+    };
     let g = 2.0 * std::f64::consts::PI / days * (t.ordinal() as f64 - 1.0 + (hour - 12.0) / 24.0);
     let eqtime_min = 229.18
-        * (0.000075 + 0.001868 * g.cos() - 0.032077 * g.sin() - 0.014615 * (2.0 * g).cos()
+        * (0.000075 + 0.001868 * g.cos()
+            - 0.032077 * g.sin()
+            - 0.014615 * (2.0 * g).cos()
             - 0.040849 * (2.0 * g).sin());
     let decl = 0.006918 - 0.399912 * g.cos() + 0.070257 * g.sin() - 0.006758 * (2.0 * g).cos()
         + 0.000907 * (2.0 * g).sin()
@@ -220,7 +233,10 @@ pub fn render_text(s: &Summary) -> String {
         fmt3(s.bounds_min_m.map(f64::from)),
         fmt3(s.bounds_max_m.map(f64::from))
     );
-    let _ = writeln!(o, "materials  (triangles, specularity, internal power W/m²)");
+    let _ = writeln!(
+        o,
+        "materials  (triangles, specularity, internal power W/m²)"
+    );
     for m in &s.materials {
         let _ = writeln!(
             o,
@@ -235,24 +251,38 @@ pub fn render_text(s: &Summary) -> String {
     let c = &s.camera;
     let _ = writeln!(
         o,
-        "sensor     {}x{} px, FOV {:.3}°x{:.3}°, at {} m looking {}",
+        "sensor     {}x{} px, FOV {:.3}°x{:.3}°, at {} m looking ({:.3}, {:.3}, {:.3})",
         c.width_px,
         c.height_px,
         c.fov_h_deg,
         c.fov_v_deg,
         fmt3(c.position_m),
-        format!("({:.3}, {:.3}, {:.3})", c.forward[0], c.forward[1], c.forward[2])
+        c.forward[0],
+        c.forward[1],
+        c.forward[2]
     );
     let corners: Vec<String> = s
         .footprint_m
         .iter()
-        .map(|p| p.map_or("above horizon".to_string(), |p| format!("({:.1}, {:.1})", p[0], p[1])))
+        .map(|p| {
+            p.map_or("above horizon".to_string(), |p| {
+                format!("({:.1}, {:.1})", p[0], p[1])
+            })
+        })
         .collect();
     let _ = writeln!(o, "footprint  {} m", corners.join(" "));
     if let Some(g) = s.centre_gsd_m {
-        let _ = writeln!(o, "GSD        {:.3} x {:.3} m at the image centre", g[0], g[1]);
+        let _ = writeln!(
+            o,
+            "GSD        {:.3} x {:.3} m at the image centre",
+            g[0], g[1]
+        );
     }
-    let _ = writeln!(o, "band       {:.3}-{:.3} µm, {} spectral samples", s.band_um.0, s.band_um.1, s.needs.spectral_samples);
+    let _ = writeln!(
+        o,
+        "band       {:.3}-{:.3} µm, {} spectral samples",
+        s.band_um.0, s.band_um.1, s.needs.spectral_samples
+    );
     let _ = writeln!(o, "weather    {}", s.weather);
     let _ = writeln!(o, "atmosphere {}", s.atmosphere);
     let yn = |b: bool| if b { "yes" } else { "no" };
@@ -265,18 +295,31 @@ pub fn render_text(s: &Summary) -> String {
         s.band_um.0,
         n.sun_elevation_deg
     );
-    let _ = writeln!(o, "  solar heating/shadows   {} ({} shadow samples)", yn(n.solar_heating), n.shadow_samples);
+    let _ = writeln!(
+        o,
+        "  solar heating/shadows   {} ({} shadow samples)",
+        yn(n.solar_heating),
+        n.shadow_samples
+    );
     let _ = writeln!(
         o,
         "  specular bounce rays    {}{}",
         yn(n.specular_rays),
-        if n.specular_rays { format!(" ({})", n.specular_materials.join(", ")) } else { String::new() }
+        if n.specular_rays {
+            format!(" ({})", n.specular_materials.join(", "))
+        } else {
+            String::new()
+        }
     );
     let _ = writeln!(
         o,
         "  internal heat sources   {}{}",
         yn(!n.heated_materials.is_empty()),
-        if n.heated_materials.is_empty() { String::new() } else { format!(" ({})", n.heated_materials.join(", ")) }
+        if n.heated_materials.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", n.heated_materials.join(", "))
+        }
     );
     let _ = writeln!(o, "  thermal steps           {}", n.thermal_steps);
     o
@@ -310,7 +353,11 @@ mod tests {
             let t = chrono::NaiveDateTime::parse_from_str(f[0], "%Y-%m-%dT%H:%M:%S")
                 .unwrap()
                 .and_utc();
-            let (lat, lon, want): (f64, f64, f64) = (f[1].parse().unwrap(), f[2].parse().unwrap(), f[3].parse().unwrap());
+            let (lat, lon, want): (f64, f64, f64) = (
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+            );
             let got = approx_sun_elevation_deg(t, lat, lon);
             assert!((got - want).abs() < 0.5, "{line}: got {got}");
             n += 1;
@@ -325,14 +372,27 @@ mod tests {
         let sum = summarize(&s);
         assert_eq!(sum.objects, 24);
         assert_eq!(sum.triangles, s.triangles.len());
-        assert_eq!(sum.materials.iter().map(|m| m.triangles).sum::<usize>(), sum.triangles);
+        assert_eq!(
+            sum.materials.iter().map(|m| m.triangles).sum::<usize>(),
+            sum.triangles
+        );
         // MWIR at noon: solar reflection needed; specular roof present
         assert!(sum.needs.solar_reflection && sum.needs.solar_heating && sum.needs.specular_rays);
-        assert!(sum.needs.specular_materials.contains(&"painted_steel_roof".to_string()));
-        assert_eq!(sum.needs.heated_materials, vec!["vehicle_engine".to_string()]);
+        assert!(
+            sum.needs
+                .specular_materials
+                .contains(&"painted_steel_roof".to_string())
+        );
+        assert_eq!(
+            sum.needs.heated_materials,
+            vec!["vehicle_engine".to_string()]
+        );
         // 3-5 µm = 2000-3333.3 cm⁻¹ at 10 cm⁻¹ steps: 134 samples
         assert_eq!(sum.needs.spectral_samples, 134);
-        assert_eq!((sum.needs.thermal_steps, sum.needs.shadow_samples), (96, 48));
+        assert_eq!(
+            (sum.needs.thermal_steps, sum.needs.shadow_samples),
+            (96, 48)
+        );
         // footprint contains the target; JSON serialises
         let fp = sum.footprint_m.map(|p| p.unwrap());
         assert!(fp[0][1] > 20.0 && fp[2][1] < 20.0 && fp[0][0] < 0.0 && fp[1][0] > 0.0);

@@ -42,7 +42,11 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
             position_m,
             target_m,
             up,
-        } => (DVec3::from(*position_m), DVec3::from(*target_m), up.map(DVec3::from)),
+        } => (
+            DVec3::from(*position_m),
+            DVec3::from(*target_m),
+            up.map(DVec3::from),
+        ),
         SensorPose::Altitude {
             altitude_m,
             view_zenith_deg,
@@ -52,7 +56,10 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
             let t = DVec3::from(*target_m);
             let h = altitude_m - t.z;
             if h <= 0.0 {
-                return Err(format!("altitude {altitude_m} m is not above the target (z = {} m)", t.z));
+                return Err(format!(
+                    "altitude {altitude_m} m is not above the target (z = {} m)",
+                    t.z
+                ));
             }
             let range = h / view_zenith_deg.to_radians().cos();
             let d = DVec3::from(direction_from_angles(*view_zenith_deg, *azimuth_deg));
@@ -70,7 +77,7 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
         }
     };
     let f = target - pos;
-    if !(f.length() > 0.0) || !f.is_finite() {
+    if f.length().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !f.is_finite() {
         return Err("the sensor position coincides with its target".into());
     }
     let forward = f.normalize();
@@ -81,7 +88,8 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
                 // Straight down or up: image top towards the far side of the
                 // pose's azimuth (north for look_at).
                 match &s.pose {
-                    SensorPose::Altitude { azimuth_deg, .. } | SensorPose::SlantRange { azimuth_deg, .. } => {
+                    SensorPose::Altitude { azimuth_deg, .. }
+                    | SensorPose::SlantRange { azimuth_deg, .. } => {
                         DVec3::from(direction_from_angles(90.0, azimuth_deg + 180.0))
                     }
                     SensorPose::LookAt { .. } => DVec3::Y,
@@ -92,7 +100,7 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
         }
     };
     let right = forward.cross(up_hint);
-    if !(right.length() > 1e-9) {
+    if right.length().is_nan() || right.length() <= 1e-9 {
         return Err("the `up` direction is parallel to the line of sight".into());
     }
     let right = right.normalize();
@@ -130,7 +138,11 @@ impl CameraGeometry {
             return None;
         }
         let t = dz / d[2];
-        Some([self.position_m[0] + t * d[0], self.position_m[1] + t * d[1], ground_z_m])
+        Some([
+            self.position_m[0] + t * d[0],
+            self.position_m[1] + t * d[1],
+            ground_z_m,
+        ])
     }
 
     /// The image corners (top-left, top-right, bottom-right, bottom-left)
@@ -220,7 +232,11 @@ mod tests {
             5.0,
         ))
         .unwrap();
-        assert!(close(c.position_m, [100.0, 200.0 - 10_000.0 * 3f64.sqrt() / 2.0, 5000.0], 1e-6));
+        assert!(close(
+            c.position_m,
+            [100.0, 200.0 - 10_000.0 * 3f64.sqrt() / 2.0, 5000.0],
+            1e-6
+        ));
         // the centre ray hits the target
         let p = c.ground_point(32.0, 16.0, 0.0).unwrap();
         assert!(close(p, [100.0, 200.0, 0.0], 1e-6));
@@ -228,7 +244,11 @@ mod tests {
         let expect_v = 2.0 * ((2.5f64.to_radians()).tan() * 0.5).atan().to_degrees();
         assert!((c.fov_v_deg - expect_v).abs() < 1e-12);
         // orthonormal, right-handed (right = forward × up)
-        let (f, r, u) = (DVec3::from(c.forward), DVec3::from(c.right), DVec3::from(c.up));
+        let (f, r, u) = (
+            DVec3::from(c.forward),
+            DVec3::from(c.right),
+            DVec3::from(c.up),
+        );
         assert!(f.dot(r).abs() < 1e-12 && f.dot(u).abs() < 1e-12 && r.dot(u).abs() < 1e-12);
         assert!((f.cross(u) - r).length() < 1e-12);
         // looking north and down: image up tilts north and up

@@ -164,7 +164,15 @@ pub(crate) struct Check<'a> {
 
 impl Check<'_> {
     /// Requires `lo <= v <= hi` (and finite).
-    pub fn range(&self, path: &[Seg], name: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SceneError> {
+    pub fn range(
+        &self,
+        path: &[Seg],
+        name: &str,
+        v: f64,
+        lo: f64,
+        hi: f64,
+        unit: &str,
+    ) -> Result<(), SceneError> {
         if v.is_finite() && v >= lo && v <= hi {
             return Ok(());
         }
@@ -188,7 +196,9 @@ impl Check<'_> {
         if v.is_finite() {
             return Ok(());
         }
-        Err(self.src.invalid(path, format!("`{name}` = {v}: expected a finite number")))
+        Err(self
+            .src
+            .invalid(path, format!("`{name}` = {v}: expected a finite number")))
     }
 }
 
@@ -199,15 +209,61 @@ pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
     let c = Check { src: &src };
     let mut out = Vec::with_capacity(lib.material.len());
     for (name, m) in lib.material {
-        let p = |k: &'static str| [Seg::Key("material".into()), Seg::Key(name.clone()), Seg::Key(k.into())];
-        c.positive(&p("density_kg_m3"), "density_kg_m3", m.density_kg_m3, " kg/m³")?;
-        c.positive(&p("specific_heat_j_kgk"), "specific_heat_j_kgk", m.specific_heat_j_kgk, " J/(kg·K)")?;
-        c.positive(&p("conductivity_w_mk"), "conductivity_w_mk", m.conductivity_w_mk, " W/(m·K)")?;
+        let p = |k: &'static str| {
+            [
+                Seg::Key("material".into()),
+                Seg::Key(name.clone()),
+                Seg::Key(k.into()),
+            ]
+        };
+        c.positive(
+            &p("density_kg_m3"),
+            "density_kg_m3",
+            m.density_kg_m3,
+            " kg/m³",
+        )?;
+        c.positive(
+            &p("specific_heat_j_kgk"),
+            "specific_heat_j_kgk",
+            m.specific_heat_j_kgk,
+            " J/(kg·K)",
+        )?;
+        c.positive(
+            &p("conductivity_w_mk"),
+            "conductivity_w_mk",
+            m.conductivity_w_mk,
+            " W/(m·K)",
+        )?;
         c.positive(&p("thickness_m"), "thickness_m", m.thickness_m, " m")?;
-        c.range(&p("solar_absorptivity"), "solar_absorptivity", m.solar_absorptivity, 0.0, 1.0, "")?;
-        c.range(&p("thermal_emissivity"), "thermal_emissivity", m.thermal_emissivity, 0.0, 1.0, "")?;
-        c.finite(&p("internal_power_w_m2"), "internal_power_w_m2", m.internal_power_w_m2)?;
-        c.range(&p("specularity"), "specularity", m.specularity, 0.0, 1.0, "")?;
+        c.range(
+            &p("solar_absorptivity"),
+            "solar_absorptivity",
+            m.solar_absorptivity,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.range(
+            &p("thermal_emissivity"),
+            "thermal_emissivity",
+            m.thermal_emissivity,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.finite(
+            &p("internal_power_w_m2"),
+            "internal_power_w_m2",
+            m.internal_power_w_m2,
+        )?;
+        c.range(
+            &p("specularity"),
+            "specularity",
+            m.specularity,
+            0.0,
+            1.0,
+            "",
+        )?;
         match &m.back {
             BackBoundary::Insulated => {}
             BackBoundary::Air { exposed_area } => {
@@ -302,14 +358,22 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
                 if first != "wavelength_um" {
                     return Err(data_err(
                         ln,
-                        format!("expected the header `wavelength_um, angle_deg, ...`, found `{first}`"),
+                        format!(
+                            "expected the header `wavelength_um, angle_deg, ...`, found `{first}`"
+                        ),
                     ));
                 }
                 let rest: Vec<&str> = it.collect();
                 let a = parse_csv_numbers(&rest.join(",")).map_err(|(c, f)| {
-                    data_err(ln, format!("column {}: `{f}` is not an angle in degrees", c + 1))
+                    data_err(
+                        ln,
+                        format!("column {}: `{f}` is not an angle in degrees", c + 1),
+                    )
                 })?;
-                if a.is_empty() || a.iter().any(|x| !(0.0..=90.0).contains(x)) || a.windows(2).any(|w| w[1] <= w[0]) {
+                if a.is_empty()
+                    || a.iter().any(|x| !(0.0..=90.0).contains(x))
+                    || a.windows(2).any(|w| w[1] <= w[0])
+                {
                     return Err(data_err(
                         ln,
                         "angles must be strictly increasing degrees in [0, 90]".to_string(),
@@ -318,22 +382,34 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
                 angles = Some(a);
             }
             Some(a) => {
-                let row = parse_csv_numbers(line)
-                    .map_err(|(c, f)| data_err(ln, format!("column {c}: `{f}` is not a finite number")))?;
+                let row = parse_csv_numbers(line).map_err(|(c, f)| {
+                    data_err(ln, format!("column {c}: `{f}` is not a finite number"))
+                })?;
                 if row.len() != a.len() + 1 {
                     return Err(data_err(
                         ln,
-                        format!("expected {} columns (wavelength + {} angles), found {}", a.len() + 1, a.len(), row.len()),
+                        format!(
+                            "expected {} columns (wavelength + {} angles), found {}",
+                            a.len() + 1,
+                            a.len(),
+                            row.len()
+                        ),
                     ));
                 }
                 if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
                     return Err(data_err(
                         ln,
-                        format!("wavelength {} µm: wavelengths must be > 0 and strictly increasing", row[0]),
+                        format!(
+                            "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                            row[0]
+                        ),
                     ));
                 }
                 if let Some(e) = row[1..].iter().find(|e| !(0.0..=1.0).contains(*e)) {
-                    return Err(data_err(ln, format!("emissivity {e} is out of range: expected 0 <= ε <= 1")));
+                    return Err(data_err(
+                        ln,
+                        format!("emissivity {e} is out of range: expected 0 <= ε <= 1"),
+                    ));
                 }
                 wl.push(row[0]);
                 values.extend_from_slice(&row[1..]);
@@ -341,10 +417,16 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
         }
     }
     let Some(angles_deg) = angles else {
-        return Err(data_err(0, "empty table: expected a header and at least one row".to_string()));
+        return Err(data_err(
+            0,
+            "empty table: expected a header and at least one row".to_string(),
+        ));
     };
     if wl.is_empty() {
-        return Err(data_err(0, "no data rows: expected at least one wavelength row".to_string()));
+        return Err(data_err(
+            0,
+            "no data rows: expected at least one wavelength row".to_string(),
+        ));
     }
     Ok(EmissivityTable {
         wavelengths_um: wl,

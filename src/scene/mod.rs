@@ -22,7 +22,9 @@ use serde::Serialize;
 
 pub use camera::{CameraGeometry, camera_geometry};
 pub use error::{Location, SceneError};
-pub use material::{BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec};
+pub use material::{
+    BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec,
+};
 pub use spec::*;
 
 use material::{Check, parse_csv_numbers};
@@ -64,9 +66,13 @@ pub struct SpectralResponse {
 impl SpectralResponse {
     /// Lowest and highest wavelength with non-zero response, µm.
     pub fn support_um(&self) -> (f64, f64) {
-        let nz: Vec<usize> = (0..self.response.len()).filter(|&i| self.response[i] > 0.0).collect();
+        let nz: Vec<usize> = (0..self.response.len())
+            .filter(|&i| self.response[i] > 0.0)
+            .collect();
         let lo = nz.first().map_or(0, |&i| i.saturating_sub(1));
-        let hi = nz.last().map_or(0, |&i| (i + 1).min(self.response.len() - 1));
+        let hi = nz
+            .last()
+            .map_or(0, |&i| (i + 1).min(self.response.len() - 1));
         (self.wavelength_um[lo], self.wavelength_um[hi])
     }
 }
@@ -118,7 +124,12 @@ impl LoadedScene {
     }
     /// World-space bounds of all triangles (min, max), metres.
     pub fn bounds_m(&self) -> ([f32; 3], [f32; 3]) {
-        bounds(self.triangles.iter().flatten().map(|&i| self.positions[i as usize]))
+        bounds(
+            self.triangles
+                .iter()
+                .flatten()
+                .map(|&i| self.positions[i as usize]),
+        )
     }
     /// Index of a material by name.
     pub fn material_index(&self, name: &str) -> Option<usize> {
@@ -160,7 +171,8 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
     let src = TomlSource::read(path)?;
     let scene: Scene = src.parse()?;
     validate(&src, &scene)?;
-    let camera = camera_geometry(&scene.sensor).map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
+    let camera = camera_geometry(&scene.sensor)
+        .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
 
     // Referenced files must exist: report them at their scene-file key.
     let must_exist = |p: &Path, at: &[Seg], what: &str| -> Result<PathBuf, SceneError> {
@@ -168,7 +180,14 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
         if r.is_file() {
             Ok(r)
         } else {
-            Err(src.invalid(at, format!("{what} `{}` not found (looked for {})", p.display(), r.display())))
+            Err(src.invalid(
+                at,
+                format!(
+                    "{what} `{}` not found (looked for {})",
+                    p.display(),
+                    r.display()
+                ),
+            ))
         }
     };
 
@@ -198,23 +217,39 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
     };
 
     if let spec::WeatherSpec::File { path: w, .. } = &scene.weather {
-        must_exist(w, &[key("weather"), key("file"), key("path")], "weather file")?;
+        must_exist(
+            w,
+            &[key("weather"), key("file"), key("path")],
+            "weather file",
+        )?;
     }
     if let spec::AtmosphereModel::TableFile(t) = &scene.atmosphere.model {
-        must_exist(t, &[key("atmosphere"), key("model"), key("table_file")], "atmosphere table")?;
+        must_exist(
+            t,
+            &[key("atmosphere"), key("model"), key("table_file")],
+            "atmosphere table",
+        )?;
     }
     let response = match &scene.sensor.band {
         Band::Lwir => boxcar(8.0, 14.0),
         Band::Mwir => boxcar(3.0, 5.0),
         Band::RangeUm([lo, hi]) => boxcar(*lo, *hi),
         Band::ResponseFile(f) => {
-            let file = must_exist(f, &[key("sensor"), key("band"), key("response_file")], "response file")?;
+            let file = must_exist(
+                f,
+                &[key("sensor"), key("band"), key("response_file")],
+                "response file",
+            )?;
             read_response(&file)?
         }
     };
     let psf_kernel = match &scene.sensor.psf {
         Psf::KernelFile(f) => {
-            let file = must_exist(f, &[key("sensor"), key("psf"), key("kernel_file")], "PSF kernel file")?;
+            let file = must_exist(
+                f,
+                &[key("sensor"), key("psf"), key("kernel_file")],
+                "PSF kernel file",
+            )?;
             Some(read_kernel(&file)?)
         }
         _ => None,
@@ -226,7 +261,11 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
     let mut objects = Vec::new();
     for (oi, o) in scene.objects.iter().enumerate() {
         let at = [key("object"), Seg::Index(oi)];
-        let file = must_exist(&o.file, &[key("object"), Seg::Index(oi), key("file")], "OBJ file")?;
+        let file = must_exist(
+            &o.file,
+            &[key("object"), Seg::Index(oi), key("file")],
+            "OBJ file",
+        )?;
         if !cache.contains_key(&file) {
             let m = obj::load_obj(&file)?;
             cache.insert(file.clone(), m);
@@ -243,11 +282,12 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
             let _ = line;
         }
         let default_id = match &o.material {
-            Some(n) => Some(
-                *by_name
-                    .get(n)
-                    .ok_or_else(|| undefined(src.loc_of(&[key("object"), Seg::Index(oi), key("material")]), n))?,
-            ),
+            Some(n) => Some(*by_name.get(n).ok_or_else(|| {
+                undefined(
+                    src.loc_of(&[key("object"), Seg::Index(oi), key("material")]),
+                    n,
+                )
+            })?),
             None => None,
         };
         let mut face_mat = Vec::with_capacity(mesh.faces.len());
@@ -301,7 +341,11 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
                     .map(|&i| out.positions[i as usize]),
             );
             objects.push(ObjectInfo {
-                name: if n_inst > 1 { format!("{base_name}#{}", k + 1) } else { base_name.clone() },
+                name: if n_inst > 1 {
+                    format!("{base_name}#{}", k + 1)
+                } else {
+                    base_name.clone()
+                },
                 file: file.clone(),
                 spec_index: oi,
                 instance: k,
@@ -348,7 +392,13 @@ const MAX_COORD_M: f64 = 1e7;
 impl Geometry {
     /// Appends one instance; returns the number of zero-area triangles
     /// skipped, or `Err(obj line)` of a face whose vertex leaves the range.
-    fn add(&mut self, mesh: &obj::ObjMesh, xf: &glam::DAffine3, face_mat: &[u32], object: u32) -> Result<u32, usize> {
+    fn add(
+        &mut self,
+        mesh: &obj::ObjMesh,
+        xf: &glam::DAffine3,
+        face_mat: &[u32],
+        object: u32,
+    ) -> Result<u32, usize> {
         let base = self.positions.len() as u32;
         let mut world = Vec::with_capacity(mesh.positions.len());
         for p in &mesh.positions {
@@ -368,7 +418,7 @@ impl Geometry {
                 let t = [f.verts[0], f.verts[j], f.verts[j + 1]];
                 let q = t.map(|i| world[i as usize].as_vec3().as_dvec3());
                 let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
-                if !(area2 > 0.0) {
+                if area2.is_nan() || area2 <= 0.0 {
                     skipped += 1;
                     continue;
                 }
@@ -378,7 +428,8 @@ impl Geometry {
                 self.tri_facet.push(fi as u32);
             }
         }
-        self.positions.extend(world.iter().map(|w| w.as_vec3().to_array()));
+        self.positions
+            .extend(world.iter().map(|w| w.as_vec3().to_array()));
         Ok(skipped)
     }
 }
@@ -413,25 +464,42 @@ pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
         let row = match parse_csv_numbers(line) {
             Ok(row) => row,
             Err(_) if is_first => continue, // header
-            Err((c, f)) => return Err(err(ln, format!("column {c}: `{f}` is not a finite number"))),
+            Err((c, f)) => {
+                return Err(err(ln, format!("column {c}: `{f}` is not a finite number")));
+            }
         };
         if row.len() != 2 {
-            return Err(err(ln, format!("expected 2 columns (wavelength_um, response), found {}", row.len())));
+            return Err(err(
+                ln,
+                format!(
+                    "expected 2 columns (wavelength_um, response), found {}",
+                    row.len()
+                ),
+            ));
         }
         if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
             return Err(err(
                 ln,
-                format!("wavelength {} µm: wavelengths must be > 0 and strictly increasing", row[0]),
+                format!(
+                    "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                    row[0]
+                ),
             ));
         }
         if row[1] < 0.0 {
-            return Err(err(ln, format!("response {} is negative: expected >= 0", row[1])));
+            return Err(err(
+                ln,
+                format!("response {} is negative: expected >= 0", row[1]),
+            ));
         }
         wl.push(row[0]);
         r.push(row[1]);
     }
     if wl.len() < 2 || !r.iter().any(|&x| x > 0.0) {
-        return Err(err(0, "expected at least 2 rows and a non-zero response".into()));
+        return Err(err(
+            0,
+            "expected at least 2 rows and a non-zero response".into(),
+        ));
     }
     Ok(SpectralResponse {
         wavelength_um: wl,
@@ -455,21 +523,38 @@ pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
-        let row = parse_csv_numbers(line).map_err(|(c, f)| err(i + 1, format!("column {c}: `{f}` is not a finite number")))?;
-        if let Some(r0) = rows.first() {
-            if row.len() != r0.len() {
-                return Err(err(i + 1, format!("expected {} weights as on the first row, found {}", r0.len(), row.len())));
-            }
+        let row = parse_csv_numbers(line)
+            .map_err(|(c, f)| err(i + 1, format!("column {c}: `{f}` is not a finite number")))?;
+        if let Some(r0) = rows.first()
+            && row.len() != r0.len()
+        {
+            return Err(err(
+                i + 1,
+                format!(
+                    "expected {} weights as on the first row, found {}",
+                    r0.len(),
+                    row.len()
+                ),
+            ));
         }
         rows.push(row);
     }
     let n = rows.len();
-    if n == 0 || n % 2 == 0 || rows[0].len() != n {
-        return Err(err(0, format!("expected a square kernel with an odd size, found {n} rows of {} weights", rows.first().map_or(0, Vec::len))));
+    if n == 0 || n.is_multiple_of(2) || rows[0].len() != n {
+        return Err(err(
+            0,
+            format!(
+                "expected a square kernel with an odd size, found {n} rows of {} weights",
+                rows.first().map_or(0, Vec::len)
+            ),
+        ));
     }
     let sum: f64 = rows.iter().flatten().sum();
-    if !(sum > 0.0) {
-        return Err(err(0, "the kernel weights must sum to a positive number".into()));
+    if sum.is_nan() || sum <= 0.0 {
+        return Err(err(
+            0,
+            "the kernel weights must sum to a positive number".into(),
+        ));
     }
     Ok(PsfKernel {
         size: n,
@@ -481,10 +566,38 @@ pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
 fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     let c = Check { src };
     let p = |a: &[&str]| a.iter().map(|k| key(k)).collect::<Vec<_>>();
-    c.range(&p(&["site", "latitude_deg"]), "latitude_deg", s.site.latitude_deg, -90.0, 90.0, " degrees")?;
-    c.range(&p(&["site", "longitude_deg"]), "longitude_deg", s.site.longitude_deg, -180.0, 180.0, " degrees")?;
-    c.range(&p(&["site", "elevation_m"]), "elevation_m", s.site.elevation_m, -500.0, 9000.0, " m")?;
-    c.range(&p(&["site", "utc_offset_h"]), "utc_offset_h", s.site.utc_offset_h, -14.0, 14.0, " hours")?;
+    c.range(
+        &p(&["site", "latitude_deg"]),
+        "latitude_deg",
+        s.site.latitude_deg,
+        -90.0,
+        90.0,
+        " degrees",
+    )?;
+    c.range(
+        &p(&["site", "longitude_deg"]),
+        "longitude_deg",
+        s.site.longitude_deg,
+        -180.0,
+        180.0,
+        " degrees",
+    )?;
+    c.range(
+        &p(&["site", "elevation_m"]),
+        "elevation_m",
+        s.site.elevation_m,
+        -500.0,
+        9000.0,
+        " m",
+    )?;
+    c.range(
+        &p(&["site", "utc_offset_h"]),
+        "utc_offset_h",
+        s.site.utc_offset_h,
+        -14.0,
+        14.0,
+        " hours",
+    )?;
     if s.objects.is_empty() {
         return Err(SceneError::Invalid {
             loc: Location::file(&src.path),
@@ -521,23 +634,101 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     if let WeatherSpec::Constant(w) = &s.weather {
         let q = |k: &str| p(&["weather", "constant", k]);
         c.range(&q("wind_m_s"), "wind_m_s", w.wind_m_s, 0.0, 100.0, " m/s")?;
-        c.range(&q("air_min_c"), "air_min_c", w.air_min_c, -90.0, 60.0, " °C")?;
-        c.range(&q("air_max_c"), "air_max_c", w.air_max_c, w.air_min_c, 60.0, " °C (air_min_c <= air_max_c)")?;
-        c.range(&q("dew_point_c"), "dew_point_c", w.dew_point_c, -100.0, w.air_min_c, " °C (the dew point cannot exceed the air temperature)")?;
-        c.range(&q("cloud_fraction"), "cloud_fraction", w.cloud_fraction, 0.0, 1.0, "")?;
-        c.range(&q("pressure_pa"), "pressure_pa", w.pressure_pa, 30_000.0, 110_000.0, " Pa")?;
+        c.range(
+            &q("air_min_c"),
+            "air_min_c",
+            w.air_min_c,
+            -90.0,
+            60.0,
+            " °C",
+        )?;
+        c.range(
+            &q("air_max_c"),
+            "air_max_c",
+            w.air_max_c,
+            w.air_min_c,
+            60.0,
+            " °C (air_min_c <= air_max_c)",
+        )?;
+        c.range(
+            &q("dew_point_c"),
+            "dew_point_c",
+            w.dew_point_c,
+            -100.0,
+            w.air_min_c,
+            " °C (the dew point cannot exceed the air temperature)",
+        )?;
+        c.range(
+            &q("cloud_fraction"),
+            "cloud_fraction",
+            w.cloud_fraction,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.range(
+            &q("pressure_pa"),
+            "pressure_pa",
+            w.pressure_pa,
+            30_000.0,
+            110_000.0,
+            " Pa",
+        )?;
     }
-    c.range(&p(&["atmosphere", "visibility_km"]), "visibility_km", s.atmosphere.visibility_km, 0.05, 1000.0, " km")?;
+    c.range(
+        &p(&["atmosphere", "visibility_km"]),
+        "visibility_km",
+        s.atmosphere.visibility_km,
+        0.05,
+        1000.0,
+        " km",
+    )?;
     let sn = &s.sensor;
-    c.range(&p(&["sensor", "width_px"]), "width_px", sn.width_px as f64, 1.0, 65536.0, " pixels")?;
-    c.range(&p(&["sensor", "height_px"]), "height_px", sn.height_px as f64, 1.0, 65536.0, " pixels")?;
-    c.range(&p(&["sensor", "fov_h_deg"]), "fov_h_deg", sn.fov_h_deg, 1e-6, 170.0, " degrees")?;
+    c.range(
+        &p(&["sensor", "width_px"]),
+        "width_px",
+        sn.width_px as f64,
+        1.0,
+        65536.0,
+        " pixels",
+    )?;
+    c.range(
+        &p(&["sensor", "height_px"]),
+        "height_px",
+        sn.height_px as f64,
+        1.0,
+        65536.0,
+        " pixels",
+    )?;
+    c.range(
+        &p(&["sensor", "fov_h_deg"]),
+        "fov_h_deg",
+        sn.fov_h_deg,
+        1e-6,
+        170.0,
+        " degrees",
+    )?;
     if let Some(v) = sn.fov_v_deg {
-        c.range(&p(&["sensor", "fov_v_deg"]), "fov_v_deg", v, 1e-6, 170.0, " degrees")?;
+        c.range(
+            &p(&["sensor", "fov_v_deg"]),
+            "fov_v_deg",
+            v,
+            1e-6,
+            170.0,
+            " degrees",
+        )?;
     }
     match &sn.pose {
-        SensorPose::LookAt { position_m, target_m, up } => {
-            for (k, v) in [("position_m", Some(position_m)), ("target_m", Some(target_m)), ("up", up.as_ref())] {
+        SensorPose::LookAt {
+            position_m,
+            target_m,
+            up,
+        } => {
+            for (k, v) in [
+                ("position_m", Some(position_m)),
+                ("target_m", Some(target_m)),
+                ("up", up.as_ref()),
+            ] {
                 if let Some(v) = v {
                     for (i, x) in v.iter().enumerate() {
                         let mut at = p(&["sensor", "pose", "look_at", k]);
@@ -547,23 +738,68 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
                 }
             }
         }
-        SensorPose::Altitude { altitude_m, view_zenith_deg, azimuth_deg, target_m } => {
+        SensorPose::Altitude {
+            altitude_m,
+            view_zenith_deg,
+            azimuth_deg,
+            target_m,
+        } => {
             let q = |k: &str| p(&["sensor", "pose", "altitude", k]);
             c.range(&q("altitude_m"), "altitude_m", *altitude_m, -1e3, 1e8, " m")?;
-            c.range(&q("view_zenith_deg"), "view_zenith_deg", *view_zenith_deg, 0.0, 89.0, " degrees")?;
-            c.range(&q("azimuth_deg"), "azimuth_deg", *azimuth_deg, -360.0, 360.0, " degrees")?;
+            c.range(
+                &q("view_zenith_deg"),
+                "view_zenith_deg",
+                *view_zenith_deg,
+                0.0,
+                89.0,
+                " degrees",
+            )?;
+            c.range(
+                &q("azimuth_deg"),
+                "azimuth_deg",
+                *azimuth_deg,
+                -360.0,
+                360.0,
+                " degrees",
+            )?;
             for (i, x) in target_m.iter().enumerate() {
                 let mut at = q("target_m");
                 at.push(Seg::Index(i));
                 c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
             }
         }
-        SensorPose::SlantRange { slant_range_m, view_zenith_deg, azimuth_deg, target_m } => {
+        SensorPose::SlantRange {
+            slant_range_m,
+            view_zenith_deg,
+            azimuth_deg,
+            target_m,
+        } => {
             let q = |k: &str| p(&["sensor", "pose", "slant_range", k]);
             c.positive(&q("slant_range_m"), "slant_range_m", *slant_range_m, " m")?;
-            c.range(&q("slant_range_m"), "slant_range_m", *slant_range_m, 0.0, 1e8, " m")?;
-            c.range(&q("view_zenith_deg"), "view_zenith_deg", *view_zenith_deg, 0.0, 89.999, " degrees")?;
-            c.range(&q("azimuth_deg"), "azimuth_deg", *azimuth_deg, -360.0, 360.0, " degrees")?;
+            c.range(
+                &q("slant_range_m"),
+                "slant_range_m",
+                *slant_range_m,
+                0.0,
+                1e8,
+                " m",
+            )?;
+            c.range(
+                &q("view_zenith_deg"),
+                "view_zenith_deg",
+                *view_zenith_deg,
+                0.0,
+                89.999,
+                " degrees",
+            )?;
+            c.range(
+                &q("azimuth_deg"),
+                "azimuth_deg",
+                *azimuth_deg,
+                -360.0,
+                360.0,
+                " degrees",
+            )?;
             for (i, x) in target_m.iter().enumerate() {
                 let mut at = q("target_m");
                 at.push(Seg::Index(i));
@@ -575,23 +811,63 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     if let Band::RangeUm([lo, hi]) = sn.band {
         let at = p(&["sensor", "band", "range_um"]);
         c.range(&at, "range_um[0]", lo, 0.2, 100.0, " µm")?;
-        c.range(&at, "range_um[1]", hi, lo + 1e-6, 100.0, " µm (above range_um[0])")?;
+        c.range(
+            &at,
+            "range_um[1]",
+            hi,
+            lo + 1e-6,
+            100.0,
+            " µm (above range_um[0])",
+        )?;
     }
     if let Psf::Gaussian { sigma_px } = sn.psf {
-        c.range(&p(&["sensor", "psf", "gaussian", "sigma_px"]), "sigma_px", sigma_px, 1e-6, 100.0, " pixels")?;
+        c.range(
+            &p(&["sensor", "psf", "gaussian", "sigma_px"]),
+            "sigma_px",
+            sigma_px,
+            1e-6,
+            100.0,
+            " pixels",
+        )?;
     }
-    c.range(&p(&["sensor", "noise", "random_sigma_w_m2_sr_um"]), "random_sigma_w_m2_sr_um", sn.noise.random_sigma_w_m2_sr_um, 0.0, 1e6, " W m⁻² sr⁻¹ µm⁻¹")?;
+    c.range(
+        &p(&["sensor", "noise", "random_sigma_w_m2_sr_um"]),
+        "random_sigma_w_m2_sr_um",
+        sn.noise.random_sigma_w_m2_sr_um,
+        0.0,
+        1e6,
+        " W m⁻² sr⁻¹ µm⁻¹",
+    )?;
     if let Some(pn) = &sn.noise.periodic {
         let q = |k: &str| p(&["sensor", "noise", "periodic", k]);
-        c.range(&q("amplitude_w_m2_sr_um"), "amplitude_w_m2_sr_um", pn.amplitude_w_m2_sr_um, 0.0, 1e6, " W m⁻² sr⁻¹ µm⁻¹")?;
-        c.range(&q("period_px"), "period_px", pn.period_px, 2.0, 1e6, " pixels")?;
+        c.range(
+            &q("amplitude_w_m2_sr_um"),
+            "amplitude_w_m2_sr_um",
+            pn.amplitude_w_m2_sr_um,
+            0.0,
+            1e6,
+            " W m⁻² sr⁻¹ µm⁻¹",
+        )?;
+        c.range(
+            &q("period_px"),
+            "period_px",
+            pn.period_px,
+            2.0,
+            1e6,
+            " pixels",
+        )?;
         c.finite(&q("phase_deg"), "phase_deg", pn.phase_deg)?;
     }
     if let Some(qz) = &sn.quantisation {
         let q = |k: &str| p(&["sensor", "quantisation", k]);
         c.range(&q("bits"), "bits", qz.bits as f64, 1.0, 16.0, "")?;
         if let Some(g) = qz.gain_counts_per_w_m2_sr_um {
-            c.positive(&q("gain_counts_per_w_m2_sr_um"), "gain_counts_per_w_m2_sr_um", g, "")?;
+            c.positive(
+                &q("gain_counts_per_w_m2_sr_um"),
+                "gain_counts_per_w_m2_sr_um",
+                g,
+                "",
+            )?;
         }
         if let Some(o) = qz.offset_counts {
             c.finite(&q("offset_counts"), "offset_counts", o)?;
@@ -599,10 +875,45 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     }
     let r = &s.render;
     let q = |k: &str| p(&["render", k]);
-    c.range(&q("supersample"), "supersample", r.supersample as f64, 1.0, 16.0, "")?;
-    c.range(&q("spectral_step_cm1"), "spectral_step_cm1", r.spectral_step_cm1, 0.1, 100.0, " cm⁻¹")?;
-    c.range(&q("thermal_step_min"), "thermal_step_min", r.thermal_step_min, 1.0 / 60.0, 60.0, " minutes")?;
-    c.range(&q("shadow_interval_min"), "shadow_interval_min", r.shadow_interval_min, 1.0, 120.0, " minutes")?;
-    c.range(&q("history_hours"), "history_hours", r.history_hours, 1.0, 240.0, " hours")?;
+    c.range(
+        &q("supersample"),
+        "supersample",
+        r.supersample as f64,
+        1.0,
+        16.0,
+        "",
+    )?;
+    c.range(
+        &q("spectral_step_cm1"),
+        "spectral_step_cm1",
+        r.spectral_step_cm1,
+        0.1,
+        100.0,
+        " cm⁻¹",
+    )?;
+    c.range(
+        &q("thermal_step_min"),
+        "thermal_step_min",
+        r.thermal_step_min,
+        1.0 / 60.0,
+        60.0,
+        " minutes",
+    )?;
+    c.range(
+        &q("shadow_interval_min"),
+        "shadow_interval_min",
+        r.shadow_interval_min,
+        1.0,
+        120.0,
+        " minutes",
+    )?;
+    c.range(
+        &q("history_hours"),
+        "history_hours",
+        r.history_hours,
+        1.0,
+        240.0,
+        " hours",
+    )?;
     Ok(())
 }

@@ -37,9 +37,38 @@ pub struct ObjMesh {
 
 /// Keywords accepted and ignored (not geometry irsig uses).
 const IGNORED: &[&str] = &[
-    "s", "p", "l", "mtllib", "vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
-    "scrv", "sp", "end", "con", "mg", "bevel", "c_interp", "d_interp", "lod", "usemap", "maplib", "shadow_obj",
-    "trace_obj", "ctech", "stech", "call", "csh",
+    "s",
+    "p",
+    "l",
+    "mtllib",
+    "vp",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "mg",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "lod",
+    "usemap",
+    "maplib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "call",
+    "csh",
 ];
 
 struct Scan {
@@ -82,7 +111,11 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<ObjMesh, SceneError> {
         .lines()
         .map(|l| {
             let kw = l.split_whitespace().next();
-            if kw == Some("l") || kw == Some("p") { "" } else { l }
+            if kw == Some("l") || kw == Some("p") {
+                ""
+            } else {
+                l
+            }
         })
         .collect::<Vec<_>>()
         .join("\n");
@@ -94,10 +127,13 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<ObjMesh, SceneError> {
     };
     let internal = |what: String| SceneError::Obj {
         loc: Location::file(path),
-        msg: format!("internal error: the OBJ pre-scan accepted this file but {what}; please report it"),
+        msg: format!(
+            "internal error: the OBJ pre-scan accepted this file but {what}; please report it"
+        ),
     };
-    let (models, _) = tobj::load_obj_buf(&mut sanitized.as_bytes(), &opts, |_| Ok(Default::default()))
-        .map_err(|e| internal(format!("tobj failed: {e}")))?;
+    let (models, _) =
+        tobj::load_obj_buf(&mut sanitized.as_bytes(), &opts, |_| Ok(Default::default()))
+            .map_err(|e| internal(format!("tobj failed: {e}")))?;
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut faces_out: Vec<ObjFace> = Vec::with_capacity(scan.faces.len());
     let mut scanned = scan.faces.into_iter();
@@ -208,8 +244,13 @@ fn prescan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                 s.n_v += 1;
             }
             "vt" => {
-                if args.len() < 2 || args.len() > 3 || args.iter().any(|a| num(a).is_none_or(|v| !v.is_finite())) {
-                    return Err(err("texture coordinate: expected `vt u v [w]` with finite numbers".into()));
+                if args.len() < 2
+                    || args.len() > 3
+                    || args.iter().any(|a| num(a).is_none_or(|v| !v.is_finite()))
+                {
+                    return Err(err(
+                        "texture coordinate: expected `vt u v [w]` with finite numbers".into(),
+                    ));
                 }
                 s.n_vt += 1;
             }
@@ -237,7 +278,11 @@ fn prescan(path: &Path, text: &str) -> Result<Scan, SceneError> {
             }
             "o" | "g" => {}
             "usemtl" => {
-                let name = line.trim_start().strip_prefix("usemtl").unwrap_or("").trim();
+                let name = line
+                    .trim_start()
+                    .strip_prefix("usemtl")
+                    .unwrap_or("")
+                    .trim();
                 if name.is_empty() {
                     return Err(err("usemtl: expected a material name".into()));
                 }
@@ -325,15 +370,25 @@ mod tests {
              usemtl asphalt\nf 1//1 2//1 3//1 4//1\ns off\nusemtl grass\nf -4 -3 -2\nl 1 2 3\nusemtl asphalt\nf 1 3 4\n",
         )
         .unwrap();
-        assert_eq!(m.positions.len() >= 4, true);
+        assert!(m.positions.len() >= 4);
         assert_eq!(m.faces.len(), 3);
         assert_eq!(m.faces[0].verts.len(), 4);
         assert_eq!(m.faces[0].line, 10);
         assert_eq!(m.faces[1].line, 13);
-        assert_eq!(m.material_names, vec![("asphalt".to_string(), 9), ("grass".to_string(), 12)]);
-        assert_eq!(m.faces.iter().map(|f| f.material).collect::<Vec<_>>(), vec![Some(0), Some(1), Some(0)]);
+        assert_eq!(
+            m.material_names,
+            vec![("asphalt".to_string(), 9), ("grass".to_string(), 12)]
+        );
+        assert_eq!(
+            m.faces.iter().map(|f| f.material).collect::<Vec<_>>(),
+            vec![Some(0), Some(1), Some(0)]
+        );
         // face 2 (-4 -3 -2) is vertices 1 2 3 -> positions (0,0,0) (1,0,0) (1,1,0)
-        let p: Vec<[f32; 3]> = m.faces[1].verts.iter().map(|&i| m.positions[i as usize]).collect();
+        let p: Vec<[f32; 3]> = m.faces[1]
+            .verts
+            .iter()
+            .map(|&i| m.positions[i as usize])
+            .collect();
         assert_eq!(p, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]);
     }
 
@@ -358,13 +413,22 @@ mod tests {
             parse("v 0 0 0\nv 1 0 0\nf 1 2 3\n").unwrap_err(),
             "m.obj:3: face vertex `3`: vertex index 3 is out of range: 2 vertices defined so far (indices are 1..=2 or -1..=-2)"
         );
-        assert_eq!(parse("v 0 0\n").unwrap_err(), "m.obj:1: vertex: expected `v x y z` (optionally a weight w, or a colour r g b), found 2 numbers");
+        assert_eq!(
+            parse("v 0 0\n").unwrap_err(),
+            "m.obj:1: vertex: expected `v x y z` (optionally a weight w, or a colour r g b), found 2 numbers"
+        );
         assert_eq!(
             parse("v 0 0 0\nhello world\n").unwrap_err(),
             "m.obj:2: unknown OBJ statement `hello`: expected v, vt, vn, f, o, g, usemtl, mtllib, s, l or a comment"
         );
-        assert_eq!(parse("usemtl   \n").unwrap_err(), "m.obj:1: usemtl: expected a material name");
-        assert_eq!(parse("v 0 0 0\nf 1 1\n").unwrap_err(), "m.obj:2: face: expected at least 3 vertices, found 2");
+        assert_eq!(
+            parse("usemtl   \n").unwrap_err(),
+            "m.obj:1: usemtl: expected a material name"
+        );
+        assert_eq!(
+            parse("v 0 0 0\nf 1 1\n").unwrap_err(),
+            "m.obj:2: face: expected at least 3 vertices, found 2"
+        );
         assert_eq!(
             parse("v 0 0 0 1 1 1\nv 0 0 0\n").unwrap_err(),
             "m.obj:2: vertex colours (`v x y z r g b`) must be given on every vertex or on none"

@@ -95,12 +95,19 @@ fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Erro
                           the site's utc_offset_h applies)";
     fn parse<E: serde::de::Error>(s: &str) -> Result<NaiveDateTime, E> {
         let s = s.trim();
-        for fmt in ["%Y-%m-%dT%H:%M:%S%.f", "%Y-%m-%d %H:%M:%S%.f", "%Y-%m-%dT%H:%M", "%Y-%m-%d %H:%M"] {
+        for fmt in [
+            "%Y-%m-%dT%H:%M:%S%.f",
+            "%Y-%m-%d %H:%M:%S%.f",
+            "%Y-%m-%dT%H:%M",
+            "%Y-%m-%d %H:%M",
+        ] {
             if let Ok(t) = NaiveDateTime::parse_from_str(s, fmt) {
                 return Ok(t);
             }
         }
-        Err(E::custom(format!("invalid date-time `{s}`: expected {EXPECT}")))
+        Err(E::custom(format!(
+            "invalid date-time `{s}`: expected {EXPECT}"
+        )))
     }
     impl<'de> serde::de::Visitor<'de> for V {
         type Value = NaiveDateTime;
@@ -110,8 +117,13 @@ fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Erro
         fn visit_str<E: serde::de::Error>(self, s: &str) -> Result<NaiveDateTime, E> {
             parse(s)
         }
-        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<NaiveDateTime, A::Error> {
-            let dt = toml::value::Datetime::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            map: A,
+        ) -> Result<NaiveDateTime, A::Error> {
+            let dt = toml::value::Datetime::deserialize(
+                serde::de::value::MapAccessDeserializer::new(map),
+            )?;
             if dt.offset.is_some() {
                 return Err(serde::de::Error::custom(format!(
                     "date-time `{dt}` has a time-zone offset: expected {EXPECT}"
@@ -253,7 +265,10 @@ impl<'de> Deserialize<'de> for Scale {
             fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Scale, E> {
                 Ok(Scale::Uniform(v as f64))
             }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Scale, A::Error> {
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Scale, A::Error> {
                 let mut v = [0.0; 3];
                 for (i, slot) in v.iter_mut().enumerate() {
                     *slot = seq

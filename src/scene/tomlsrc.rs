@@ -105,14 +105,18 @@ fn find_span(text: &str, path: &[Seg]) -> Option<Range<usize>> {
         let next = match (seg, node) {
             (Seg::Key(k), Node::Item(it)) => {
                 let Some(tbl) = it.as_table_like() else { break };
-                let Some((key, item)) = tbl.get_key_value(k) else { break };
+                let Some((key, item)) = tbl.get_key_value(k) else {
+                    break;
+                };
                 if let Some(s) = key.span() {
                     best = Some(s);
                 }
                 Node::Item(item)
             }
             (Seg::Key(k), Node::Table(t)) => {
-                let Some((key, item)) = t.get_key_value(k) else { break };
+                let Some((key, item)) = t.get_key_value(k) else {
+                    break;
+                };
                 if let Some(s) = key.span() {
                     best = Some(s);
                 }
@@ -120,7 +124,9 @@ fn find_span(text: &str, path: &[Seg]) -> Option<Range<usize>> {
             }
             (Seg::Key(k), Node::Value(v)) => {
                 let Some(t) = v.as_inline_table() else { break };
-                let Some((key, item)) = toml_edit::TableLike::get_key_value(t, k) else { break };
+                let Some((key, item)) = toml_edit::TableLike::get_key_value(t, k) else {
+                    break;
+                };
                 if let Some(s) = key.span() {
                     best = Some(s);
                 }
@@ -195,10 +201,19 @@ mod tests {
         let t = "a = 1\n[site]\nlat = 43.1\n\n[[object]]\nfile = \"x\"\n[[object]]\nfile = \"y\"\nv = [1, 2, { q = 3 }]\n";
         assert_eq!(loc(t, &[k("a")]), "t.toml:1:5");
         assert_eq!(loc(t, &[k("site"), k("lat")]), "t.toml:3:7");
-        assert_eq!(loc(t, &[k("object"), Seg::Index(1), k("file")]), "t.toml:8:8");
-        assert_eq!(loc(t, &[k("object"), Seg::Index(1), k("v"), Seg::Index(1)]), "t.toml:9:9");
         assert_eq!(
-            loc(t, &[k("object"), Seg::Index(1), k("v"), Seg::Index(2), k("q")]),
+            loc(t, &[k("object"), Seg::Index(1), k("file")]),
+            "t.toml:8:8"
+        );
+        assert_eq!(
+            loc(t, &[k("object"), Seg::Index(1), k("v"), Seg::Index(1)]),
+            "t.toml:9:9"
+        );
+        assert_eq!(
+            loc(
+                t,
+                &[k("object"), Seg::Index(1), k("v"), Seg::Index(2), k("q")]
+            ),
             "t.toml:9:18"
         );
         // a missing key falls back to its table
@@ -209,7 +224,8 @@ mod tests {
     #[test]
     fn unknown_key_messages_get_a_suggestion() {
         assert_eq!(
-            suggestion("unknown field `latitude`, expected one of `latitude_deg`, `longitude_deg`").as_deref(),
+            suggestion("unknown field `latitude`, expected one of `latitude_deg`, `longitude_deg`")
+                .as_deref(),
             Some("latitude_deg")
         );
         assert_eq!(
