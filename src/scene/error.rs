@@ -67,11 +67,12 @@ impl fmt::Display for Location {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// A file could not be read.
-    #[error("{}: cannot read file: {source}", path.display())]
+    #[error("{}: cannot read file: {error}", path.display())]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        /// The I/O error (kept out of `source()` so that error chains do
+        /// not print it twice).
+        error: std::io::Error,
     },
     /// TOML syntax, a wrong type, a missing or unknown key (scene or
     /// material file).

@@ -336,7 +336,7 @@ pub(crate) fn parse_csv_numbers(line: &str) -> Result<Vec<f64>, (usize, String)>
 pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError> {
     let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
         path: file.to_path_buf(),
-        source: e,
+        error: e,
     })?;
     let data_err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),

@@ -446,7 +446,7 @@ fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
 pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
     let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
         path: file.to_path_buf(),
-        source: e,
+        error: e,
     })?;
     let err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),
@@ -511,7 +511,7 @@ pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
 pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
     let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
         path: file.to_path_buf(),
-        source: e,
+        error: e,
     })?;
     let err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),

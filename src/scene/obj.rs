@@ -86,7 +86,7 @@ struct Scan {
 pub fn load_obj(path: &Path) -> Result<ObjMesh, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
         path: path.to_path_buf(),
-        source: e,
+        error: e,
     })?;
     let text = match String::from_utf8(bytes) {
         Ok(t) => t,

@@ -26,7 +26,7 @@ impl TomlSource {
     pub fn read(path: &Path) -> Result<Self, SceneError> {
         let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
             path: path.to_path_buf(),
-            source: e,
+            error: e,
         })?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let off = e.utf8_error().valid_up_to();
