@@ -4,6 +4,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod bench;
+pub mod check;
 pub mod crosscheck;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
@@ -22,6 +23,9 @@ pub enum Command {
     /// Benchmarks (ray throughput).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Load and validate a scene; print a summary (objects, facets,
+    /// materials, bounds, sensor footprint, what the render will need).
+    Check(check::Args),
 }
 
 /// Runs the parsed command line.
@@ -29,5 +33,6 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
         Command::Bench(c) => bench::run(c),
+        Command::Check(a) => check::run(a),
     }
 }

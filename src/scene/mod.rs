@@ -1,1 +1,919 @@
-//! scene submodel (see DESIGN.md).
+//! Scene description: the scene file (TOML), material libraries, OBJ
+//! geometry, and the loaded, world-space triangle soup the tracer builds
+//! from. Reference: docs/scene-format.md.
+//!
+//! ```no_run
+//! let s = irsig::scene::load(std::path::Path::new("scenes/airfield/scene.toml"))?;
+//! println!("{} triangles, {} materials", s.triangles.len(), s.materials.len());
+//! # Ok::<(), irsig::scene::SceneError>(())
+//! ```
+
+pub mod camera;
+pub mod error;
+pub mod material;
+pub mod obj;
+pub mod spec;
+pub mod tomlsrc;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+pub use camera::{CameraGeometry, camera_geometry};
+pub use error::{Location, SceneError};
+pub use material::{
+    BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec,
+};
+pub use spec::*;
+
+use material::{Check, parse_csv_numbers};
+use tomlsrc::{Seg, TomlSource};
+
+/// Per-object facts after loading (one per instance of each `[[object]]`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ObjectInfo {
+    /// Object name; instances get `name#k` (k = 1, 2, ...).
+    pub name: String,
+    /// The OBJ file (as resolved from the scene file's folder).
+    pub file: PathBuf,
+    /// Index of the `[[object]]` entry in the scene file.
+    pub spec_index: usize,
+    /// Instance number within that entry (0 without `instance` tables).
+    pub instance: usize,
+    /// Its triangles are `first_triangle .. first_triangle + triangle_count`.
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+    /// OBJ faces (polygons) of the object.
+    pub face_count: u32,
+    /// Zero-area triangles skipped.
+    pub degenerate_skipped: u32,
+    /// World-space axis-aligned bounds, metres.
+    pub bounds_min_m: [f32; 3],
+    pub bounds_max_m: [f32; 3],
+}
+
+/// A relative spectral response R(λ): piecewise linear between the
+/// samples, zero outside them. The ideal bands are two samples of 1.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SpectralResponse {
+    /// Strictly increasing wavelengths, µm.
+    pub wavelength_um: Vec<f64>,
+    /// Relative response (>= 0, maximum > 0).
+    pub response: Vec<f64>,
+}
+
+impl SpectralResponse {
+    /// Lowest and highest wavelength with non-zero response, µm.
+    pub fn support_um(&self) -> (f64, f64) {
+        let nz: Vec<usize> = (0..self.response.len())
+            .filter(|&i| self.response[i] > 0.0)
+            .collect();
+        let lo = nz.first().map_or(0, |&i| i.saturating_sub(1));
+        let hi = nz
+            .last()
+            .map_or(0, |&i| (i + 1).min(self.response.len() - 1));
+        (self.wavelength_um[lo], self.wavelength_um[hi])
+    }
+}
+
+/// A square convolution kernel (odd size), weights normalised to sum 1.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PsfKernel {
+    pub size: usize,
+    /// Row-major weights.
+    pub weights: Vec<f64>,
+}
+
+/// A scene ready to render: options, materials and one world-space
+/// triangle soup with per-triangle material, object and facet.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LoadedScene {
+    /// The scene file.
+    pub path: PathBuf,
+    /// The parsed options.
+    pub scene: Scene,
+    /// All materials of the libraries (index = material id).
+    pub materials: Vec<Material>,
+    /// World-space vertices, metres (local ENU).
+    pub positions: Vec<[f32; 3]>,
+    /// Triangles (indices into `positions`), counter-clockwise as in the OBJ.
+    pub triangles: Vec<[u32; 3]>,
+    /// Material id of each triangle.
+    pub tri_material: Vec<u32>,
+    /// Object id (index into `objects`) of each triangle.
+    pub tri_object: Vec<u32>,
+    /// Facet id of each triangle: the index of its OBJ face within its
+    /// object (a polygon split into a fan keeps one facet id).
+    pub tri_facet: Vec<u32>,
+    pub objects: Vec<ObjectInfo>,
+    /// The sensor camera.
+    pub camera: CameraGeometry,
+    /// The sensor's relative spectral response.
+    pub response: SpectralResponse,
+    /// The PSF kernel when `psf = { kernel_file = ... }`.
+    pub psf_kernel: Option<PsfKernel>,
+    /// Zero-area triangles skipped over the whole scene.
+    pub degenerate_skipped: usize,
+}
+
+impl LoadedScene {
+    /// Resolves a path named in the scene file (relative to its folder).
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        resolve(&self.path, p)
+    }
+    /// World-space bounds of all triangles (min, max), metres.
+    pub fn bounds_m(&self) -> ([f32; 3], [f32; 3]) {
+        bounds(
+            self.triangles
+                .iter()
+                .flatten()
+                .map(|&i| self.positions[i as usize]),
+        )
+    }
+    /// Index of a material by name.
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+}
+
+fn resolve(scene_file: &Path, p: &Path) -> PathBuf {
+    scene_file.parent().unwrap_or(Path::new("")).join(p)
+}
+
+fn bounds(points: impl Iterator<Item = [f32; 3]>) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in points {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    (lo, hi)
+}
+
+fn key(s: &str) -> Seg {
+    Seg::Key(s.to_string())
+}
+
+/// Parses a scene file's text into [`Scene`] and validates its values
+/// (ranges, pose); does not read any other file.
+pub fn parse_scene(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    let src = TomlSource::from_text(path, text.to_string());
+    let scene: Scene = src.parse()?;
+    validate(&src, &scene)?;
+    Ok(scene)
+}
+
+/// Loads a scene file, its material libraries and its OBJ files.
+pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
+    let src = TomlSource::read(path)?;
+    let scene: Scene = src.parse()?;
+    validate(&src, &scene)?;
+    let camera = camera_geometry(&scene.sensor)
+        .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
+
+    // Referenced files must exist: report them at their scene-file key.
+    let must_exist = |p: &Path, at: &[Seg], what: &str| -> Result<PathBuf, SceneError> {
+        let r = resolve(path, p);
+        if r.is_file() {
+            Ok(r)
+        } else {
+            Err(src.invalid(
+                at,
+                format!(
+                    "{what} `{}` not found (looked for {})",
+                    p.display(),
+                    r.display()
+                ),
+            ))
+        }
+    };
+
+    // Materials: later libraries override earlier ones of the same name.
+    let mut materials: Vec<Material> = Vec::new();
+    let mut libs = Vec::new();
+    for (i, lib) in scene.materials.iter().enumerate() {
+        let file = must_exist(lib, &[key("materials"), Seg::Index(i)], "material library")?;
+        for m in material::load_library(&file)? {
+            match materials.iter().position(|x| x.name == m.name) {
+                Some(j) => materials[j] = m,
+                None => materials.push(m),
+            }
+        }
+        libs.push(file);
+    }
+    let by_name: HashMap<String, u32> = materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.name.clone(), i as u32))
+        .collect();
+    let undefined = |loc: Location, name: &str| SceneError::UndefinedMaterial {
+        loc,
+        name: name.to_string(),
+        libraries: libs.clone(),
+        suggestion: error::closest(name, materials.iter().map(|m| m.name.as_str())),
+    };
+
+    if let spec::WeatherSpec::File { path: w, .. } = &scene.weather {
+        must_exist(
+            w,
+            &[key("weather"), key("file"), key("path")],
+            "weather file",
+        )?;
+    }
+    if let spec::AtmosphereModel::TableFile(t) = &scene.atmosphere.model {
+        must_exist(
+            t,
+            &[key("atmosphere"), key("model"), key("table_file")],
+            "atmosphere table",
+        )?;
+    }
+    let response = match &scene.sensor.band {
+        Band::Lwir => boxcar(8.0, 14.0),
+        Band::Mwir => boxcar(3.0, 5.0),
+        Band::RangeUm([lo, hi]) => boxcar(*lo, *hi),
+        Band::ResponseFile(f) => {
+            let file = must_exist(
+                f,
+                &[key("sensor"), key("band"), key("response_file")],
+                "response file",
+            )?;
+            read_response(&file)?
+        }
+    };
+    let psf_kernel = match &scene.sensor.psf {
+        Psf::KernelFile(f) => {
+            let file = must_exist(
+                f,
+                &[key("sensor"), key("psf"), key("kernel_file")],
+                "PSF kernel file",
+            )?;
+            Some(read_kernel(&file)?)
+        }
+        _ => None,
+    };
+
+    // Geometry.
+    let mut cache: HashMap<PathBuf, obj::ObjMesh> = HashMap::new();
+    let mut out = Geometry::default();
+    let mut objects = Vec::new();
+    for (oi, o) in scene.objects.iter().enumerate() {
+        let at = [key("object"), Seg::Index(oi)];
+        let file = must_exist(
+            &o.file,
+            &[key("object"), Seg::Index(oi), key("file")],
+            "OBJ file",
+        )?;
+        if !cache.contains_key(&file) {
+            let m = obj::load_obj(&file)?;
+            cache.insert(file.clone(), m);
+        }
+        let mesh = &cache[&file];
+        // Map the OBJ's usemtl names to material ids.
+        let mut ids = Vec::with_capacity(mesh.material_names.len());
+        for (name, line) in &mesh.material_names {
+            match by_name.get(name) {
+                Some(&id) => ids.push(Some(id)),
+                // Only an error if a face uses it (checked below).
+                None => ids.push(None),
+            }
+            let _ = line;
+        }
+        let default_id = match &o.material {
+            Some(n) => Some(*by_name.get(n).ok_or_else(|| {
+                undefined(
+                    src.loc_of(&[key("object"), Seg::Index(oi), key("material")]),
+                    n,
+                )
+            })?),
+            None => None,
+        };
+        let mut face_mat = Vec::with_capacity(mesh.faces.len());
+        for f in &mesh.faces {
+            let id = match f.material {
+                Some(k) => match ids[k as usize] {
+                    Some(id) => id,
+                    None => {
+                        let (name, line) = &mesh.material_names[k as usize];
+                        return Err(undefined(Location::line(&file, *line), name));
+                    }
+                },
+                None => default_id.ok_or_else(|| SceneError::Obj {
+                    loc: Location::line(&file, f.line),
+                    msg: format!(
+                        "face has no material: no `usemtl` before it, and object {} ({}) sets no `material`",
+                        oi + 1,
+                        src.loc_of(&at)
+                    ),
+                })?,
+            };
+            face_mat.push(id);
+        }
+        let base_name = o.name.clone().unwrap_or_else(|| {
+            file.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| format!("object{}", oi + 1))
+        });
+        let transforms = o.world_transforms();
+        let n_inst = transforms.len();
+        for (k, xf) in transforms.iter().enumerate() {
+            let object_id = objects.len() as u32;
+            let first = out.triangles.len() as u32;
+            let skipped = out
+                .add(mesh, xf, &face_mat, object_id)
+                .map_err(|line| {
+                    src.invalid(
+                        &at,
+                        format!(
+                            "the transform of object `{base_name}` maps the vertex of {}:{line} to a non-finite \
+                             or out-of-range position (|x| must stay below 1e7 m)",
+                            file.display()
+                        ),
+                    )
+                })?;
+            let count = out.triangles.len() as u32 - first;
+            let (lo, hi) = bounds(
+                out.triangles[first as usize..]
+                    .iter()
+                    .flatten()
+                    .map(|&i| out.positions[i as usize]),
+            );
+            objects.push(ObjectInfo {
+                name: if n_inst > 1 {
+                    format!("{base_name}#{}", k + 1)
+                } else {
+                    base_name.clone()
+                },
+                file: file.clone(),
+                spec_index: oi,
+                instance: k,
+                first_triangle: first,
+                triangle_count: count,
+                face_count: mesh.faces.len() as u32,
+                degenerate_skipped: skipped,
+                bounds_min_m: lo,
+                bounds_max_m: hi,
+            });
+        }
+    }
+    let degenerate_skipped = objects.iter().map(|o| o.degenerate_skipped as usize).sum();
+    Ok(LoadedScene {
+        path: path.to_path_buf(),
+        scene,
+        materials,
+        positions: out.positions,
+        triangles: out.triangles,
+        tri_material: out.tri_material,
+        tri_object: out.tri_object,
+        tri_facet: out.tri_facet,
+        objects,
+        camera,
+        response,
+        psf_kernel,
+        degenerate_skipped,
+    })
+}
+
+#[derive(Default)]
+struct Geometry {
+    positions: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+    tri_material: Vec<u32>,
+    tri_object: Vec<u32>,
+    tri_facet: Vec<u32>,
+}
+
+/// Coordinates beyond this (metres) are refused: f32 has ~1 m resolution
+/// at 1e7 m, useless for facets.
+const MAX_COORD_M: f64 = 1e7;
+
+impl Geometry {
+    /// Appends one instance; returns the number of zero-area triangles
+    /// skipped, or `Err(obj line)` of a face whose vertex leaves the range.
+    fn add(
+        &mut self,
+        mesh: &obj::ObjMesh,
+        xf: &glam::DAffine3,
+        face_mat: &[u32],
+        object: u32,
+    ) -> Result<u32, usize> {
+        let base = self.positions.len() as u32;
+        let mut world = Vec::with_capacity(mesh.positions.len());
+        for p in &mesh.positions {
+            let w = xf.transform_point3(glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+            world.push(w);
+        }
+        let mut skipped = 0;
+        for (fi, f) in mesh.faces.iter().enumerate() {
+            for &v in &f.verts {
+                let w = world[v as usize];
+                if !w.is_finite() || w.abs().max_element() > MAX_COORD_M {
+                    return Err(f.line);
+                }
+            }
+            // Fan triangulation, as tobj would do.
+            for j in 1..f.verts.len() - 1 {
+                let t = [f.verts[0], f.verts[j], f.verts[j + 1]];
+                let q = t.map(|i| world[i as usize].as_vec3().as_dvec3());
+                let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
+                if area2.is_nan() || area2 <= 0.0 {
+                    skipped += 1;
+                    continue;
+                }
+                self.triangles.push(t.map(|i| base + i));
+                self.tri_material.push(face_mat[fi]);
+                self.tri_object.push(object);
+                self.tri_facet.push(fi as u32);
+            }
+        }
+        self.positions
+            .extend(world.iter().map(|w| w.as_vec3().to_array()));
+        Ok(skipped)
+    }
+}
+
+fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
+    SpectralResponse {
+        wavelength_um: vec![lo, hi],
+        response: vec![1.0, 1.0],
+    }
+}
+
+/// Reads a response CSV: `#` comments; an optional header line
+/// (`wavelength_um,response`); rows `λ_µm, R`.
+pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
+    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
+        path: file.to_path_buf(),
+        error: e,
+    })?;
+    let err = |line: usize, msg: String| SceneError::Data {
+        loc: Location::line(file, line),
+        msg,
+    };
+    let (mut wl, mut r) = (Vec::new(), Vec::new());
+    let mut first = true;
+    for (i, raw) in text.lines().enumerate() {
+        let ln = i + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let is_first = std::mem::replace(&mut first, false);
+        let row = match parse_csv_numbers(line) {
+            Ok(row) => row,
+            Err(_) if is_first => continue, // header
+            Err((c, f)) => {
+                return Err(err(ln, format!("column {c}: `{f}` is not a finite number")));
+            }
+        };
+        if row.len() != 2 {
+            return Err(err(
+                ln,
+                format!(
+                    "expected 2 columns (wavelength_um, response), found {}",
+                    row.len()
+                ),
+            ));
+        }
+        if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
+            return Err(err(
+                ln,
+                format!(
+                    "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                    row[0]
+                ),
+            ));
+        }
+        if row[1] < 0.0 {
+            return Err(err(
+                ln,
+                format!("response {} is negative: expected >= 0", row[1]),
+            ));
+        }
+        wl.push(row[0]);
+        r.push(row[1]);
+    }
+    if wl.len() < 2 || !r.iter().any(|&x| x > 0.0) {
+        return Err(err(
+            0,
+            "expected at least 2 rows and a non-zero response".into(),
+        ));
+    }
+    Ok(SpectralResponse {
+        wavelength_um: wl,
+        response: r,
+    })
+}
+
+/// Reads a PSF kernel CSV: `#` comments; n rows of n weights, n odd.
+pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
+    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
+        path: file.to_path_buf(),
+        error: e,
+    })?;
+    let err = |line: usize, msg: String| SceneError::Data {
+        loc: Location::line(file, line),
+        msg,
+    };
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let row = parse_csv_numbers(line)
+            .map_err(|(c, f)| err(i + 1, format!("column {c}: `{f}` is not a finite number")))?;
+        if let Some(r0) = rows.first()
+            && row.len() != r0.len()
+        {
+            return Err(err(
+                i + 1,
+                format!(
+                    "expected {} weights as on the first row, found {}",
+                    r0.len(),
+                    row.len()
+                ),
+            ));
+        }
+        rows.push(row);
+    }
+    let n = rows.len();
+    if n == 0 || n.is_multiple_of(2) || rows[0].len() != n {
+        return Err(err(
+            0,
+            format!(
+                "expected a square kernel with an odd size, found {n} rows of {} weights",
+                rows.first().map_or(0, Vec::len)
+            ),
+        ));
+    }
+    let sum: f64 = rows.iter().flatten().sum();
+    if sum.is_nan() || sum <= 0.0 {
+        return Err(err(
+            0,
+            "the kernel weights must sum to a positive number".into(),
+        ));
+    }
+    Ok(PsfKernel {
+        size: n,
+        weights: rows.into_iter().flatten().map(|w| w / sum).collect(),
+    })
+}
+
+/// Range checks of every scene value, reported at its TOML location.
+fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
+    let c = Check { src };
+    let p = |a: &[&str]| a.iter().map(|k| key(k)).collect::<Vec<_>>();
+    c.range(
+        &p(&["site", "latitude_deg"]),
+        "latitude_deg",
+        s.site.latitude_deg,
+        -90.0,
+        90.0,
+        " degrees",
+    )?;
+    c.range(
+        &p(&["site", "longitude_deg"]),
+        "longitude_deg",
+        s.site.longitude_deg,
+        -180.0,
+        180.0,
+        " degrees",
+    )?;
+    c.range(
+        &p(&["site", "elevation_m"]),
+        "elevation_m",
+        s.site.elevation_m,
+        -500.0,
+        9000.0,
+        " m",
+    )?;
+    c.range(
+        &p(&["site", "utc_offset_h"]),
+        "utc_offset_h",
+        s.site.utc_offset_h,
+        -14.0,
+        14.0,
+        " hours",
+    )?;
+    if s.objects.is_empty() {
+        return Err(SceneError::Invalid {
+            loc: Location::file(&src.path),
+            msg: "no objects: expected at least one `[[object]]` table".into(),
+        });
+    }
+    let check_xf = |base: Vec<Seg>, t: &Transform| -> Result<(), SceneError> {
+        for (k, v) in [("translate_m", t.translate_m), ("rotate_deg", t.rotate_deg)] {
+            for (i, x) in v.iter().enumerate() {
+                let mut at = base.clone();
+                at.extend([key(k), Seg::Index(i)]);
+                c.range(&at, k, *x, -MAX_COORD_M, MAX_COORD_M, "")?;
+            }
+        }
+        for (i, x) in t.scale.xyz().iter().enumerate() {
+            let mut at = base.clone();
+            at.push(key("scale"));
+            if matches!(t.scale, Scale::PerAxis(_)) {
+                at.push(Seg::Index(i));
+            }
+            c.range(&at, "scale", *x, 1e-9, 1e9, "")?;
+        }
+        Ok(())
+    };
+    for (i, o) in s.objects.iter().enumerate() {
+        let base = vec![key("object"), Seg::Index(i)];
+        check_xf(base.clone(), &o.transform())?;
+        for (k, inst) in o.instances.iter().enumerate() {
+            let mut b = base.clone();
+            b.extend([key("instance"), Seg::Index(k)]);
+            check_xf(b, inst)?;
+        }
+    }
+    if let WeatherSpec::Constant(w) = &s.weather {
+        let q = |k: &str| p(&["weather", "constant", k]);
+        c.range(&q("wind_m_s"), "wind_m_s", w.wind_m_s, 0.0, 100.0, " m/s")?;
+        c.range(
+            &q("air_min_c"),
+            "air_min_c",
+            w.air_min_c,
+            -90.0,
+            60.0,
+            " °C",
+        )?;
+        c.range(
+            &q("air_max_c"),
+            "air_max_c",
+            w.air_max_c,
+            w.air_min_c,
+            60.0,
+            " °C (air_min_c <= air_max_c)",
+        )?;
+        c.range(
+            &q("dew_point_c"),
+            "dew_point_c",
+            w.dew_point_c,
+            -100.0,
+            w.air_min_c,
+            " °C (the dew point cannot exceed the air temperature)",
+        )?;
+        c.range(
+            &q("cloud_fraction"),
+            "cloud_fraction",
+            w.cloud_fraction,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.range(
+            &q("pressure_pa"),
+            "pressure_pa",
+            w.pressure_pa,
+            30_000.0,
+            110_000.0,
+            " Pa",
+        )?;
+    }
+    c.range(
+        &p(&["atmosphere", "visibility_km"]),
+        "visibility_km",
+        s.atmosphere.visibility_km,
+        0.05,
+        1000.0,
+        " km",
+    )?;
+    let sn = &s.sensor;
+    c.range(
+        &p(&["sensor", "width_px"]),
+        "width_px",
+        sn.width_px as f64,
+        1.0,
+        65536.0,
+        " pixels",
+    )?;
+    c.range(
+        &p(&["sensor", "height_px"]),
+        "height_px",
+        sn.height_px as f64,
+        1.0,
+        65536.0,
+        " pixels",
+    )?;
+    c.range(
+        &p(&["sensor", "fov_h_deg"]),
+        "fov_h_deg",
+        sn.fov_h_deg,
+        1e-6,
+        170.0,
+        " degrees",
+    )?;
+    if let Some(v) = sn.fov_v_deg {
+        c.range(
+            &p(&["sensor", "fov_v_deg"]),
+            "fov_v_deg",
+            v,
+            1e-6,
+            170.0,
+            " degrees",
+        )?;
+    }
+    match &sn.pose {
+        SensorPose::LookAt {
+            position_m,
+            target_m,
+            up,
+        } => {
+            for (k, v) in [
+                ("position_m", Some(position_m)),
+                ("target_m", Some(target_m)),
+                ("up", up.as_ref()),
+            ] {
+                if let Some(v) = v {
+                    for (i, x) in v.iter().enumerate() {
+                        let mut at = p(&["sensor", "pose", "look_at", k]);
+                        at.push(Seg::Index(i));
+                        c.range(&at, k, *x, -1e8, 1e8, "")?;
+                    }
+                }
+            }
+        }
+        SensorPose::Altitude {
+            altitude_m,
+            view_zenith_deg,
+            azimuth_deg,
+            target_m,
+        } => {
+            let q = |k: &str| p(&["sensor", "pose", "altitude", k]);
+            c.range(&q("altitude_m"), "altitude_m", *altitude_m, -1e3, 1e8, " m")?;
+            c.range(
+                &q("view_zenith_deg"),
+                "view_zenith_deg",
+                *view_zenith_deg,
+                0.0,
+                89.0,
+                " degrees",
+            )?;
+            c.range(
+                &q("azimuth_deg"),
+                "azimuth_deg",
+                *azimuth_deg,
+                -360.0,
+                360.0,
+                " degrees",
+            )?;
+            for (i, x) in target_m.iter().enumerate() {
+                let mut at = q("target_m");
+                at.push(Seg::Index(i));
+                c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
+            }
+        }
+        SensorPose::SlantRange {
+            slant_range_m,
+            view_zenith_deg,
+            azimuth_deg,
+            target_m,
+        } => {
+            let q = |k: &str| p(&["sensor", "pose", "slant_range", k]);
+            c.positive(&q("slant_range_m"), "slant_range_m", *slant_range_m, " m")?;
+            c.range(
+                &q("slant_range_m"),
+                "slant_range_m",
+                *slant_range_m,
+                0.0,
+                1e8,
+                " m",
+            )?;
+            c.range(
+                &q("view_zenith_deg"),
+                "view_zenith_deg",
+                *view_zenith_deg,
+                0.0,
+                89.999,
+                " degrees",
+            )?;
+            c.range(
+                &q("azimuth_deg"),
+                "azimuth_deg",
+                *azimuth_deg,
+                -360.0,
+                360.0,
+                " degrees",
+            )?;
+            for (i, x) in target_m.iter().enumerate() {
+                let mut at = q("target_m");
+                at.push(Seg::Index(i));
+                c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
+            }
+        }
+    }
+    camera_geometry(sn).map_err(|m| src.invalid(&p(&["sensor", "pose"]), m))?;
+    if let Band::RangeUm([lo, hi]) = sn.band {
+        let at = p(&["sensor", "band", "range_um"]);
+        c.range(&at, "range_um[0]", lo, 0.2, 100.0, " µm")?;
+        c.range(
+            &at,
+            "range_um[1]",
+            hi,
+            lo + 1e-6,
+            100.0,
+            " µm (above range_um[0])",
+        )?;
+    }
+    if let Psf::Gaussian { sigma_px } = sn.psf {
+        c.range(
+            &p(&["sensor", "psf", "gaussian", "sigma_px"]),
+            "sigma_px",
+            sigma_px,
+            1e-6,
+            100.0,
+            " pixels",
+        )?;
+    }
+    c.range(
+        &p(&["sensor", "noise", "random_sigma_w_m2_sr_um"]),
+        "random_sigma_w_m2_sr_um",
+        sn.noise.random_sigma_w_m2_sr_um,
+        0.0,
+        1e6,
+        " W m⁻² sr⁻¹ µm⁻¹",
+    )?;
+    if let Some(pn) = &sn.noise.periodic {
+        let q = |k: &str| p(&["sensor", "noise", "periodic", k]);
+        c.range(
+            &q("amplitude_w_m2_sr_um"),
+            "amplitude_w_m2_sr_um",
+            pn.amplitude_w_m2_sr_um,
+            0.0,
+            1e6,
+            " W m⁻² sr⁻¹ µm⁻¹",
+        )?;
+        c.range(
+            &q("period_px"),
+            "period_px",
+            pn.period_px,
+            2.0,
+            1e6,
+            " pixels",
+        )?;
+        c.finite(&q("phase_deg"), "phase_deg", pn.phase_deg)?;
+    }
+    if let Some(qz) = &sn.quantisation {
+        let q = |k: &str| p(&["sensor", "quantisation", k]);
+        c.range(&q("bits"), "bits", qz.bits as f64, 1.0, 16.0, "")?;
+        if let Some(g) = qz.gain_counts_per_w_m2_sr_um {
+            c.positive(
+                &q("gain_counts_per_w_m2_sr_um"),
+                "gain_counts_per_w_m2_sr_um",
+                g,
+                "",
+            )?;
+        }
+        if let Some(o) = qz.offset_counts {
+            c.finite(&q("offset_counts"), "offset_counts", o)?;
+        }
+    }
+    let r = &s.render;
+    let q = |k: &str| p(&["render", k]);
+    c.range(
+        &q("supersample"),
+        "supersample",
+        r.supersample as f64,
+        1.0,
+        16.0,
+        "",
+    )?;
+    c.range(
+        &q("spectral_step_cm1"),
+        "spectral_step_cm1",
+        r.spectral_step_cm1,
+        0.1,
+        100.0,
+        " cm⁻¹",
+    )?;
+    c.range(
+        &q("thermal_step_min"),
+        "thermal_step_min",
+        r.thermal_step_min,
+        1.0 / 60.0,
+        60.0,
+        " minutes",
+    )?;
+    c.range(
+        &q("shadow_interval_min"),
+        "shadow_interval_min",
+        r.shadow_interval_min,
+        1.0,
+        120.0,
+        " minutes",
+    )?;
+    c.range(
+        &q("history_hours"),
+        "history_hours",
+        r.history_hours,
+        1.0,
+        240.0,
+        " hours",
+    )?;
+    Ok(())
+}

@@ -1,0 +1,463 @@
+//! Materials: the thermal and optical properties of a facet (DESIGN.md §4;
+//! DIRSIG's MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
+//! VISIBLE_EMISSIVITY, THERMAL_EMISSIVITY, EXPOSED_AREA, SPECULARITY and
+//! internal power). Library files hold `[material.NAME]` tables.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::error::{Location, SceneError};
+use super::tomlsrc::{Seg, TomlSource};
+
+/// A material library file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialLibrary {
+    /// Materials by name.
+    pub material: BTreeMap<String, MaterialSpec>,
+}
+
+/// One `[material.NAME]` table as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Free text (what it is, where the values come from).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Mass density ρ, kg/m³ (> 0).
+    pub density_kg_m3: f64,
+    /// Specific heat c, J/(kg·K) (> 0).
+    pub specific_heat_j_kgk: f64,
+    /// Thermal conductivity k, W/(m·K) (> 0).
+    pub conductivity_w_mk: f64,
+    /// Slab thickness L, m (> 0).
+    pub thickness_m: f64,
+    /// Solar (0.3-3 µm) absorptivity α_s, [0, 1] (DIRSIG VISIBLE_EMISSIVITY).
+    pub solar_absorptivity: f64,
+    /// Hemispherical thermal-infrared emissivity ε, [0, 1], used by the
+    /// thermal model (and by the radiometry when `emissivity = "constant"`).
+    pub thermal_emissivity: f64,
+    /// Back-face boundary condition of the slab.
+    #[serde(default)]
+    pub back: BackBoundary,
+    /// Internal heat source, W per m² of facet (>= 0 typical; any finite).
+    #[serde(default)]
+    pub internal_power_w_m2: f64,
+    /// Fraction of the reflectance that is specular, [0, 1] (0 diffuse,
+    /// 1 mirror-like).
+    #[serde(default)]
+    pub specularity: f64,
+    /// Directional spectral emissivity model for the radiometry.
+    #[serde(default)]
+    pub emissivity: EmissivitySpec,
+}
+
+/// Back-face boundary of the slab.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum BackBoundary {
+    /// No heat flow through the back face (`back = "insulated"`).
+    #[default]
+    Insulated,
+    /// The back face exchanges heat with the ambient air (thin plates,
+    /// skins, roofs): `back = { air = { exposed_area = 1.0 } }`.
+    Air {
+        /// Back area in contact with air per unit front area (DIRSIG
+        /// EXPOSED_AREA), dimensionless, (0, 10].
+        #[serde(default = "one")]
+        exposed_area: f64,
+    },
+    /// The back node is held at a deep-ground temperature:
+    /// `back = { deep_ground = {} }` or `{ deep_ground = { temp_c = 12.0 } }`.
+    DeepGround {
+        /// Fixed temperature at depth, °C; absent: the mean air temperature
+        /// of the history (the solver decides).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        temp_c: Option<f64>,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Emissivity model as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum EmissivitySpec {
+    /// ε(θ, λ) = thermal_emissivity.
+    #[default]
+    Constant,
+    /// A CSV table of ε(θ, λ) (relative to the library file).
+    TableFile(PathBuf),
+    /// Fresnel reflectance of a smooth surface with complex refractive index
+    /// n + ik (wavelength-independent), ε = 1 − R(θ).
+    Fresnel {
+        /// Real part of the refractive index (> 0).
+        n: f64,
+        /// Imaginary part (extinction coefficient, >= 0).
+        k: f64,
+    },
+}
+
+/// Emissivity model, resolved (table files read).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Emissivity {
+    Constant,
+    Table(EmissivityTable),
+    Fresnel { n: f64, k: f64 },
+}
+
+/// ε(θ, λ) on a grid: `values[i_wavelength * angles_deg.len() + i_angle]`.
+/// Bilinear interpolation inside, clamped at the edges.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EmissivityTable {
+    /// Strictly increasing wavelengths, µm.
+    pub wavelengths_um: Vec<f64>,
+    /// Strictly increasing angles from the surface normal, degrees, in [0, 90].
+    pub angles_deg: Vec<f64>,
+    /// Emissivities in [0, 1], row-major by wavelength.
+    pub values: Vec<f64>,
+}
+
+/// A material ready for the model (name, properties, resolved emissivity).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Material {
+    pub name: String,
+    pub description: Option<String>,
+    pub density_kg_m3: f64,
+    pub specific_heat_j_kgk: f64,
+    pub conductivity_w_mk: f64,
+    pub thickness_m: f64,
+    pub solar_absorptivity: f64,
+    pub thermal_emissivity: f64,
+    pub back: BackBoundary,
+    pub internal_power_w_m2: f64,
+    pub specularity: f64,
+    pub emissivity: Emissivity,
+    /// The library file that defined it.
+    pub library: PathBuf,
+}
+
+impl Material {
+    /// Thermal diffusivity k/(ρc), m²/s.
+    pub fn diffusivity_m2_s(&self) -> f64 {
+        self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)
+    }
+    /// Areal heat capacity ρ·c·L, J/(m²·K).
+    pub fn heat_capacity_j_m2k(&self) -> f64 {
+        self.density_kg_m3 * self.specific_heat_j_kgk * self.thickness_m
+    }
+    /// Whether any of its reflectance is specular.
+    pub fn is_specular(&self) -> bool {
+        self.specularity > 0.0
+    }
+}
+
+/// Checks a value and reports it at its TOML location.
+pub(crate) struct Check<'a> {
+    pub src: &'a TomlSource,
+}
+
+impl Check<'_> {
+    /// Requires `lo <= v <= hi` (and finite).
+    pub fn range(
+        &self,
+        path: &[Seg],
+        name: &str,
+        v: f64,
+        lo: f64,
+        hi: f64,
+        unit: &str,
+    ) -> Result<(), SceneError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            return Ok(());
+        }
+        Err(self.src.invalid(
+            path,
+            format!("`{name}` = {v} is out of range: expected {lo} <= {name} <= {hi}{unit}"),
+        ))
+    }
+    /// Requires `v > 0` (and finite).
+    pub fn positive(&self, path: &[Seg], name: &str, v: f64, unit: &str) -> Result<(), SceneError> {
+        if v.is_finite() && v > 0.0 {
+            return Ok(());
+        }
+        Err(self.src.invalid(
+            path,
+            format!("`{name}` = {v} is out of range: expected a finite number > 0{unit}"),
+        ))
+    }
+    /// Requires a finite number.
+    pub fn finite(&self, path: &[Seg], name: &str, v: f64) -> Result<(), SceneError> {
+        if v.is_finite() {
+            return Ok(());
+        }
+        Err(self
+            .src
+            .invalid(path, format!("`{name}` = {v}: expected a finite number")))
+    }
+}
+
+/// Reads and validates one material library file.
+pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
+    let src = TomlSource::read(path)?;
+    let lib: MaterialLibrary = src.parse()?;
+    let c = Check { src: &src };
+    let mut out = Vec::with_capacity(lib.material.len());
+    for (name, m) in lib.material {
+        let p = |k: &'static str| {
+            [
+                Seg::Key("material".into()),
+                Seg::Key(name.clone()),
+                Seg::Key(k.into()),
+            ]
+        };
+        c.positive(
+            &p("density_kg_m3"),
+            "density_kg_m3",
+            m.density_kg_m3,
+            " kg/m³",
+        )?;
+        c.positive(
+            &p("specific_heat_j_kgk"),
+            "specific_heat_j_kgk",
+            m.specific_heat_j_kgk,
+            " J/(kg·K)",
+        )?;
+        c.positive(
+            &p("conductivity_w_mk"),
+            "conductivity_w_mk",
+            m.conductivity_w_mk,
+            " W/(m·K)",
+        )?;
+        c.positive(&p("thickness_m"), "thickness_m", m.thickness_m, " m")?;
+        c.range(
+            &p("solar_absorptivity"),
+            "solar_absorptivity",
+            m.solar_absorptivity,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.range(
+            &p("thermal_emissivity"),
+            "thermal_emissivity",
+            m.thermal_emissivity,
+            0.0,
+            1.0,
+            "",
+        )?;
+        c.finite(
+            &p("internal_power_w_m2"),
+            "internal_power_w_m2",
+            m.internal_power_w_m2,
+        )?;
+        c.range(
+            &p("specularity"),
+            "specularity",
+            m.specularity,
+            0.0,
+            1.0,
+            "",
+        )?;
+        match &m.back {
+            BackBoundary::Insulated => {}
+            BackBoundary::Air { exposed_area } => {
+                let mut bp = p("back").to_vec();
+                bp.extend([Seg::Key("air".into()), Seg::Key("exposed_area".into())]);
+                c.range(&bp, "exposed_area", *exposed_area, 1e-6, 10.0, "")?;
+            }
+            BackBoundary::DeepGround { temp_c } => {
+                if let Some(t) = temp_c {
+                    let mut bp = p("back").to_vec();
+                    bp.extend([Seg::Key("deep_ground".into()), Seg::Key("temp_c".into())]);
+                    c.range(&bp, "temp_c", *t, -90.0, 100.0, " °C")?;
+                }
+            }
+        }
+        let emissivity = match &m.emissivity {
+            EmissivitySpec::Constant => Emissivity::Constant,
+            EmissivitySpec::Fresnel { n, k } => {
+                let mut bp = p("emissivity").to_vec();
+                bp.push(Seg::Key("fresnel".into()));
+                let mut np = bp.clone();
+                np.push(Seg::Key("n".into()));
+                c.range(&np, "n", *n, 1e-6, 1e4, "")?;
+                let mut kp = bp;
+                kp.push(Seg::Key("k".into()));
+                c.range(&kp, "k", *k, 0.0, 1e4, "")?;
+                Emissivity::Fresnel { n: *n, k: *k }
+            }
+            EmissivitySpec::TableFile(f) => {
+                let file = path.parent().unwrap_or(Path::new("")).join(f);
+                Emissivity::Table(read_emissivity_table(&file)?)
+            }
+        };
+        out.push(Material {
+            name: name.clone(),
+            description: m.description.clone(),
+            density_kg_m3: m.density_kg_m3,
+            specific_heat_j_kgk: m.specific_heat_j_kgk,
+            conductivity_w_mk: m.conductivity_w_mk,
+            thickness_m: m.thickness_m,
+            solar_absorptivity: m.solar_absorptivity,
+            thermal_emissivity: m.thermal_emissivity,
+            back: m.back.clone(),
+            internal_power_w_m2: m.internal_power_w_m2,
+            specularity: m.specularity,
+            emissivity,
+            library: path.to_path_buf(),
+        });
+    }
+    Ok(out)
+}
+
+/// Splits a CSV data line into numbers; `Err(column)` (1-based) on a bad field.
+pub(crate) fn parse_csv_numbers(line: &str) -> Result<Vec<f64>, (usize, String)> {
+    line.split(',')
+        .enumerate()
+        .map(|(i, f)| {
+            let f = f.trim();
+            match f.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err((i + 1, f.to_string())),
+            }
+        })
+        .collect()
+}
+
+/// Reads an ε(θ, λ) table: `#` comments and blank lines ignored; the first
+/// data line is `wavelength_um, θ1, θ2, ...` (angles from the normal,
+/// degrees); then one line per wavelength: `λ, ε(θ1), ε(θ2), ...`.
+pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError> {
+    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
+        path: file.to_path_buf(),
+        error: e,
+    })?;
+    let data_err = |line: usize, msg: String| SceneError::Data {
+        loc: Location::line(file, line),
+        msg,
+    };
+    let mut angles: Option<Vec<f64>> = None;
+    let mut wl = Vec::new();
+    let mut values = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let ln = i + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        match &angles {
+            None => {
+                let mut it = line.split(',');
+                let first = it.next().unwrap_or("").trim();
+                if first != "wavelength_um" {
+                    return Err(data_err(
+                        ln,
+                        format!(
+                            "expected the header `wavelength_um, angle_deg, ...`, found `{first}`"
+                        ),
+                    ));
+                }
+                let rest: Vec<&str> = it.collect();
+                let a = parse_csv_numbers(&rest.join(",")).map_err(|(c, f)| {
+                    data_err(
+                        ln,
+                        format!("column {}: `{f}` is not an angle in degrees", c + 1),
+                    )
+                })?;
+                if a.is_empty()
+                    || a.iter().any(|x| !(0.0..=90.0).contains(x))
+                    || a.windows(2).any(|w| w[1] <= w[0])
+                {
+                    return Err(data_err(
+                        ln,
+                        "angles must be strictly increasing degrees in [0, 90]".to_string(),
+                    ));
+                }
+                angles = Some(a);
+            }
+            Some(a) => {
+                let row = parse_csv_numbers(line).map_err(|(c, f)| {
+                    data_err(ln, format!("column {c}: `{f}` is not a finite number"))
+                })?;
+                if row.len() != a.len() + 1 {
+                    return Err(data_err(
+                        ln,
+                        format!(
+                            "expected {} columns (wavelength + {} angles), found {}",
+                            a.len() + 1,
+                            a.len(),
+                            row.len()
+                        ),
+                    ));
+                }
+                if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
+                    return Err(data_err(
+                        ln,
+                        format!(
+                            "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                            row[0]
+                        ),
+                    ));
+                }
+                if let Some(e) = row[1..].iter().find(|e| !(0.0..=1.0).contains(*e)) {
+                    return Err(data_err(
+                        ln,
+                        format!("emissivity {e} is out of range: expected 0 <= ε <= 1"),
+                    ));
+                }
+                wl.push(row[0]);
+                values.extend_from_slice(&row[1..]);
+            }
+        }
+    }
+    let Some(angles_deg) = angles else {
+        return Err(data_err(
+            0,
+            "empty table: expected a header and at least one row".to_string(),
+        ));
+    };
+    if wl.is_empty() {
+        return Err(data_err(
+            0,
+            "no data rows: expected at least one wavelength row".to_string(),
+        ));
+    }
+    Ok(EmissivityTable {
+        wavelengths_um: wl,
+        angles_deg,
+        values,
+    })
+}
+
+impl EmissivityTable {
+    /// ε at (angle from normal, wavelength), bilinear, clamped at the edges.
+    pub fn eval(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
+        let (i0, i1, fa) = bracket(&self.angles_deg, angle_deg);
+        let (j0, j1, fw) = bracket(&self.wavelengths_um, wavelength_um);
+        let n = self.angles_deg.len();
+        let v = |j: usize, i: usize| self.values[j * n + i];
+        let a = v(j0, i0) * (1.0 - fa) + v(j0, i1) * fa;
+        let b = v(j1, i0) * (1.0 - fa) + v(j1, i1) * fa;
+        a * (1.0 - fw) + b * fw
+    }
+}
+
+/// Indices and fraction for linear interpolation in a sorted grid (clamped).
+fn bracket(grid: &[f64], x: f64) -> (usize, usize, f64) {
+    let n = grid.len();
+    if n == 1 || x <= grid[0] {
+        return (0, 0, 0.0);
+    }
+    if x >= grid[n - 1] {
+        return (n - 1, n - 1, 0.0);
+    }
+    let hi = grid.partition_point(|&g| g <= x).min(n - 1);
+    let lo = hi - 1;
+    (lo, hi, (x - grid[lo]) / (grid[hi] - grid[lo]))
+}

@@ -1,0 +1,618 @@
+//! The scene file as plain data: what `scene.toml` says, after defaults.
+//! The TOML keys are the field names; docs/scene-format.md is the
+//! reference page (every key, its unit and its default).
+
+use std::path::PathBuf;
+
+use chrono::{NaiveDateTime, TimeZone};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Material library files (TOML), relative to the scene file. A material
+    /// defined in a later file replaces one of the same name in an earlier.
+    pub materials: Vec<PathBuf>,
+    /// Geographic site; local ENU frame origin (x east, y north, z up).
+    pub site: Site,
+    /// Image acquisition time.
+    pub time: TimeSpec,
+    /// Weather history driving the thermal model.
+    pub weather: WeatherSpec,
+    /// Atmosphere for the radiative-transfer tables.
+    #[serde(default)]
+    pub atmosphere: AtmosphereSpec,
+    /// Sensor: pose, field of view, pixels, band, PSF, noise, quantisation.
+    pub sensor: SensorSpec,
+    /// Render (accuracy/speed) options.
+    #[serde(default)]
+    pub render: RenderOptions,
+    /// Objects placed in the scene (`[[object]]` tables).
+    #[serde(rename = "object")]
+    pub objects: Vec<ObjectSpec>,
+}
+
+/// `[site]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Site {
+    /// Free-text site name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Geodetic latitude, degrees, north positive, [-90, 90].
+    pub latitude_deg: f64,
+    /// Longitude, degrees, east positive, [-180, 180].
+    pub longitude_deg: f64,
+    /// Elevation of the local frame origin (z = 0) above sea level, metres.
+    #[serde(default)]
+    pub elevation_m: f64,
+    /// Offset of the local clock from UTC, hours (e.g. -4 for EDT), [-14, 14].
+    pub utc_offset_h: f64,
+}
+
+/// `[time]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// Local clock date and time of the image (TOML local date-time,
+    /// e.g. `2001-08-08T12:00:00`, or the same as a string).
+    #[serde(serialize_with = "ser_datetime", deserialize_with = "de_datetime")]
+    pub local: NaiveDateTime,
+}
+
+impl TimeSpec {
+    /// The image time in UTC for a site's clock offset.
+    pub fn utc(&self, site: &Site) -> chrono::DateTime<chrono::Utc> {
+        let offset_s = (site.utc_offset_h * 3600.0).round() as i64;
+        let utc_naive = self.local - chrono::Duration::seconds(offset_s);
+        chrono::Utc.from_utc_datetime(&utc_naive)
+    }
+}
+
+fn ser_datetime<S: Serializer>(t: &NaiveDateTime, s: S) -> Result<S::Ok, S::Error> {
+    use chrono::{Datelike, Timelike};
+    let dt = toml::value::Datetime {
+        date: Some(toml::value::Date {
+            year: t.year() as u16,
+            month: t.month() as u8,
+            day: t.day() as u8,
+        }),
+        time: Some(toml::value::Time {
+            hour: t.hour() as u8,
+            minute: t.minute() as u8,
+            second: t.second() as u8,
+            nanosecond: t.nanosecond(),
+        }),
+        offset: None,
+    };
+    dt.serialize(s)
+}
+
+fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Error> {
+    struct V;
+    const EXPECT: &str = "a local date-time such as 2001-08-08T12:00:00 (no time-zone offset: \
+                          the site's utc_offset_h applies)";
+    fn parse<E: serde::de::Error>(s: &str) -> Result<NaiveDateTime, E> {
+        let s = s.trim();
+        for fmt in [
+            "%Y-%m-%dT%H:%M:%S%.f",
+            "%Y-%m-%d %H:%M:%S%.f",
+            "%Y-%m-%dT%H:%M",
+            "%Y-%m-%d %H:%M",
+        ] {
+            if let Ok(t) = NaiveDateTime::parse_from_str(s, fmt) {
+                return Ok(t);
+            }
+        }
+        Err(E::custom(format!(
+            "invalid date-time `{s}`: expected {EXPECT}"
+        )))
+    }
+    impl<'de> serde::de::Visitor<'de> for V {
+        type Value = NaiveDateTime;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str(EXPECT)
+        }
+        fn visit_str<E: serde::de::Error>(self, s: &str) -> Result<NaiveDateTime, E> {
+            parse(s)
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            map: A,
+        ) -> Result<NaiveDateTime, A::Error> {
+            let dt = toml::value::Datetime::deserialize(
+                serde::de::value::MapAccessDeserializer::new(map),
+            )?;
+            if dt.offset.is_some() {
+                return Err(serde::de::Error::custom(format!(
+                    "date-time `{dt}` has a time-zone offset: expected {EXPECT}"
+                )));
+            }
+            if dt.date.is_none() || dt.time.is_none() {
+                return Err(serde::de::Error::custom(format!(
+                    "`{dt}` is not a full date and time: expected {EXPECT}"
+                )));
+            }
+            parse(&dt.to_string())
+        }
+    }
+    d.deserialize_any(V)
+}
+
+/// One `[[object]]`: an OBJ file placed by a transform, once or several
+/// times (`instances`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectSpec {
+    /// Object name (default: the OBJ file stem).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// OBJ file, relative to the scene file.
+    pub file: PathBuf,
+    /// Material for faces that come before any `usemtl` in the OBJ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// Object transform: scale, then rotate, then translate.
+    #[serde(default)]
+    pub translate_m: [f64; 3],
+    /// Rotation angles about the x, then y, then z axes (world axes,
+    /// right-handed: +90 about z turns east into north), degrees.
+    #[serde(default)]
+    pub rotate_deg: [f64; 3],
+    /// Scale factor, one number or [sx, sy, sz] (dimensionless, > 0).
+    #[serde(default)]
+    pub scale: Scale,
+    /// Repeated placements; each instance transform is applied first, then
+    /// the object transform above. Empty: one instance (identity).
+    #[serde(default, skip_serializing_if = "Vec::is_empty", rename = "instance")]
+    pub instances: Vec<Transform>,
+}
+
+/// A placement: scale, then rotate (x, y, z world axes), then translate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    /// Translation, metres (x east, y north, z up).
+    #[serde(default)]
+    pub translate_m: [f64; 3],
+    /// Rotation about x, then y, then z, degrees.
+    #[serde(default)]
+    pub rotate_deg: [f64; 3],
+    /// Scale factor (uniform or per axis), > 0.
+    #[serde(default)]
+    pub scale: Scale,
+}
+
+impl Transform {
+    /// The affine map (scale, rotate x→y→z, translate) in double precision.
+    pub fn affine(&self) -> glam::DAffine3 {
+        let [rx, ry, rz] = self.rotate_deg.map(f64::to_radians);
+        let rot = glam::DQuat::from_euler(glam::EulerRot::ZYX, rz, ry, rx);
+        glam::DAffine3::from_scale_rotation_translation(
+            glam::DVec3::from_array(self.scale.xyz()),
+            rot,
+            glam::DVec3::from_array(self.translate_m),
+        )
+    }
+}
+
+impl ObjectSpec {
+    /// The object-level transform (without instances).
+    pub fn transform(&self) -> Transform {
+        Transform {
+            translate_m: self.translate_m,
+            rotate_deg: self.rotate_deg,
+            scale: self.scale,
+        }
+    }
+    /// World transforms of every instance (object ∘ instance).
+    pub fn world_transforms(&self) -> Vec<glam::DAffine3> {
+        let obj = self.transform().affine();
+        if self.instances.is_empty() {
+            vec![obj]
+        } else {
+            self.instances.iter().map(|i| obj * i.affine()).collect()
+        }
+    }
+}
+
+/// Scale: uniform (one number) or per axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+impl Scale {
+    pub fn xyz(&self) -> [f64; 3] {
+        match *self {
+            Scale::Uniform(s) => [s; 3],
+            Scale::PerAxis(v) => v,
+        }
+    }
+}
+
+impl Serialize for Scale {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Scale::Uniform(v) => v.serialize(s),
+            Scale::PerAxis(v) => v.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Scale;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a scale factor: one number, or [sx, sy, sz]")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Scale, A::Error> {
+                let mut v = [0.0; 3];
+                for (i, slot) in v.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<f64>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(4, &self));
+                }
+                Ok(Scale::PerAxis(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `[weather]`: one of `[weather.file]` or `[weather.constant]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum WeatherSpec {
+    /// A weather record file.
+    File {
+        /// Path, relative to the scene file.
+        path: PathBuf,
+        /// File format.
+        format: WeatherFormat,
+    },
+    /// Constant conditions repeated every day of the history.
+    Constant(ConstantWeather),
+}
+
+/// Weather file formats (readers in `therm::weather`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WeatherFormat {
+    /// irsig's plain CSV (see docs/scene-format.md).
+    Csv,
+    /// NREL TMY3 CSV.
+    Tmy3,
+    /// EnergyPlus EPW.
+    Epw,
+}
+
+/// Constant weather: the same diurnal cycle every day (air temperature a
+/// smooth cycle between the daily minimum near sunrise and the maximum in
+/// mid-afternoon; everything else constant).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstantWeather {
+    /// Wind speed, m/s (>= 0).
+    pub wind_m_s: f64,
+    /// Daily minimum air temperature, °C.
+    pub air_min_c: f64,
+    /// Daily maximum air temperature, °C (>= air_min_c).
+    pub air_max_c: f64,
+    /// Dew point, °C (<= air_min_c).
+    pub dew_point_c: f64,
+    /// Total cloud cover, 0 (clear) to 1 (overcast).
+    #[serde(default)]
+    pub cloud_fraction: f64,
+    /// Surface air pressure, Pa.
+    #[serde(default = "default_pressure_pa")]
+    pub pressure_pa: f64,
+}
+
+fn default_pressure_pa() -> f64 {
+    101_325.0
+}
+
+/// `[atmosphere]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AtmosphereSpec {
+    /// A standard model atmosphere, or `{ table_file = "..." }`.
+    #[serde(default)]
+    pub model: AtmosphereModel,
+    /// Meteorological range (surface visibility), km (> 0). Rural aerosol.
+    #[serde(default = "default_visibility_km")]
+    pub visibility_km: f64,
+}
+
+impl Default for AtmosphereSpec {
+    fn default() -> Self {
+        Self {
+            model: AtmosphereModel::default(),
+            visibility_km: default_visibility_km(),
+        }
+    }
+}
+
+fn default_visibility_km() -> f64 {
+    23.0
+}
+
+/// LOWTRAN-7 model atmospheres, or a precomputed table file.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum AtmosphereModel {
+    Tropical,
+    #[default]
+    MidLatitudeSummer,
+    MidLatitudeWinter,
+    SubarcticSummer,
+    SubarcticWinter,
+    UsStandard1976,
+    /// A table file (relative to the scene file).
+    #[serde(rename = "table_file")]
+    TableFile(PathBuf),
+}
+
+/// `[sensor]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Image width, pixels (>= 1).
+    pub width_px: u32,
+    /// Image height, pixels (>= 1).
+    pub height_px: u32,
+    /// Full horizontal field of view, degrees, (0, 170].
+    pub fov_h_deg: f64,
+    /// Full vertical field of view, degrees; default: square pixels,
+    /// 2·atan(tan(fov_h/2)·height/width).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_v_deg: Option<f64>,
+    /// Spectral band.
+    pub band: Band,
+    /// Point-spread function.
+    #[serde(default)]
+    pub psf: Psf,
+    /// Detector noise.
+    #[serde(default)]
+    pub noise: NoiseSpec,
+    /// Quantisation to digital counts; absent: floating-point radiance out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quantisation: Option<Quantisation>,
+    /// Where the sensor is and where it looks.
+    pub pose: SensorPose,
+}
+
+impl SensorSpec {
+    /// Vertical FOV, degrees (given, or from square pixels).
+    pub fn fov_v_deg(&self) -> f64 {
+        self.fov_v_deg.unwrap_or_else(|| {
+            let half = (self.fov_h_deg.to_radians() / 2.0).tan() * self.height_px as f64
+                / self.width_px.max(1) as f64;
+            2.0 * half.atan().to_degrees()
+        })
+    }
+}
+
+/// Sensor pose: exactly one of `[sensor.pose.look_at]`,
+/// `[sensor.pose.altitude]`, `[sensor.pose.slant_range]`.
+///
+/// `azimuth_deg` is the direction from the target to the sensor, clockwise
+/// from north (180: the sensor is south of the target, looking north).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum SensorPose {
+    LookAt {
+        /// Sensor position, metres (local ENU).
+        position_m: [f64; 3],
+        /// Point the optical axis goes through, metres.
+        target_m: [f64; 3],
+        /// Direction that is "up" in the image (default: +z, or north
+        /// when looking straight down or up).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        up: Option<[f64; 3]>,
+    },
+    Altitude {
+        /// Sensor height above z = 0, metres (> target z).
+        altitude_m: f64,
+        /// Angle of the line of sight from the vertical at the target,
+        /// degrees, [0, 89].
+        view_zenith_deg: f64,
+        /// Direction target→sensor, clockwise from north, degrees.
+        azimuth_deg: f64,
+        /// Target point, metres.
+        #[serde(default)]
+        target_m: [f64; 3],
+    },
+    SlantRange {
+        /// Distance sensor→target, metres (> 0).
+        slant_range_m: f64,
+        /// Angle of the line of sight from the vertical at the target,
+        /// degrees, [0, 90).
+        view_zenith_deg: f64,
+        /// Direction target→sensor, clockwise from north, degrees.
+        azimuth_deg: f64,
+        /// Target point, metres.
+        #[serde(default)]
+        target_m: [f64; 3],
+    },
+}
+
+/// Spectral band: `"lwir"` (ideal 8-14 µm), `"mwir"` (ideal 3-5 µm),
+/// `{ range_um = [lo, hi] }` (ideal), or `{ response_file = "r.csv" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Band {
+    Lwir,
+    Mwir,
+    RangeUm([f64; 2]),
+    ResponseFile(PathBuf),
+}
+
+/// Point-spread function: `"none"`, `{ gaussian = { sigma_px = 0.7 } }`,
+/// or `{ kernel_file = "k.csv" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Psf {
+    #[default]
+    None,
+    Gaussian {
+        /// Standard deviation, output pixels (> 0).
+        sigma_px: f64,
+    },
+    /// A square, odd-sized kernel of weights (CSV rows), normalised to sum 1.
+    KernelFile(PathBuf),
+}
+
+/// `[sensor.noise]`: detector noise in band-averaged radiance units.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseSpec {
+    /// Standard deviation of white Gaussian noise, W m⁻² sr⁻¹ µm⁻¹ (>= 0).
+    #[serde(default)]
+    pub random_sigma_w_m2_sr_um: f64,
+    /// Periodic (banding) noise, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub periodic: Option<PeriodicNoise>,
+    /// Random seed (the same seed gives the same noise).
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl Default for NoiseSpec {
+    fn default() -> Self {
+        Self {
+            random_sigma_w_m2_sr_um: 0.0,
+            periodic: None,
+            seed: 0,
+        }
+    }
+}
+
+/// Sinusoidal pattern noise.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicNoise {
+    /// Amplitude, W m⁻² sr⁻¹ µm⁻¹ (>= 0).
+    pub amplitude_w_m2_sr_um: f64,
+    /// Period, pixels (>= 2).
+    pub period_px: f64,
+    /// Direction in which the pattern varies.
+    #[serde(default)]
+    pub direction: NoiseDirection,
+    /// Phase, degrees.
+    #[serde(default)]
+    pub phase_deg: f64,
+}
+
+/// `"rows"`: varies from row to row (horizontal stripes); `"columns"`:
+/// from column to column (vertical stripes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NoiseDirection {
+    #[default]
+    Rows,
+    Columns,
+}
+
+/// `[sensor.quantisation]`: counts = round(gain·L + offset), clipped to
+/// [0, 2^bits − 1]. Without gain/offset the range is stretched to the image.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quantisation {
+    /// Bits per pixel, 1-16.
+    pub bits: u32,
+    /// Counts per W m⁻² sr⁻¹ µm⁻¹ (> 0); absent: automatic stretch.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gain_counts_per_w_m2_sr_um: Option<f64>,
+    /// Counts at zero radiance; absent: automatic stretch.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset_counts: Option<f64>,
+}
+
+/// `[render]`: accuracy/speed knobs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderOptions {
+    /// Rays per pixel along each axis (n×n per pixel), 1-16.
+    #[serde(default = "d_supersample")]
+    pub supersample: u32,
+    /// Spectral integration step, cm⁻¹ (0.1-100).
+    #[serde(default = "d_spectral_step")]
+    pub spectral_step_cm1: f64,
+    /// Thermal model time step, minutes (0 < step <= 60).
+    #[serde(default = "d_thermal_step")]
+    pub thermal_step_min: f64,
+    /// Sun/shadow history sampling interval, minutes (0 < interval <= 120).
+    #[serde(default = "d_shadow_interval")]
+    pub shadow_interval_min: f64,
+    /// Hours of history before the image time (spin-up), (0, 240].
+    #[serde(default = "d_history_hours")]
+    pub history_hours: f64,
+    /// Ray-tracing backend.
+    #[serde(default)]
+    pub tracer: TracerKind,
+}
+
+fn d_supersample() -> u32 {
+    1
+}
+fn d_spectral_step() -> f64 {
+    10.0
+}
+fn d_thermal_step() -> f64 {
+    15.0
+}
+fn d_shadow_interval() -> f64 {
+    30.0
+}
+fn d_history_hours() -> f64 {
+    24.0
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            supersample: d_supersample(),
+            spectral_step_cm1: d_spectral_step(),
+            thermal_step_min: d_thermal_step(),
+            shadow_interval_min: d_shadow_interval(),
+            history_hours: d_history_hours(),
+            tracer: TracerKind::default(),
+        }
+    }
+}
+
+/// `"embree"` (default) or `"bvh"` (obvhs, pure Rust).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum TracerKind {
+    #[default]
+    Embree,
+    Bvh,
+}

@@ -1,0 +1,655 @@
+//! Scene loader acceptance tests: the sample scenes load; every error class
+//! gives its exact message (file, line, column, what is wrong); a scene
+//! round-trips through TOML; mutated inputs never panic.
+
+use std::path::{Path, PathBuf};
+
+use irsig::scene::{self, SceneError};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+// ------------------------------------------------------------ sample scenes
+
+#[test]
+fn sample_scenes_load_with_consistent_arrays() {
+    for (file, objects, tri_range) in [
+        ("scenes/airfield/scene.toml", 24, 4500..5100),
+        ("scenes/airfield/scene-constant.toml", 24, 4500..5100),
+        ("scenes/plate/scene.toml", 2, 100..200),
+        ("scenes/terrain-km/scene.toml", 14, 45_000..50_001),
+    ] {
+        let s = scene::load(&root().join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(s.objects.len(), objects, "{file}");
+        let n = s.triangles.len();
+        assert!(tri_range.contains(&n), "{file}: {n} triangles");
+        assert_eq!(s.tri_material.len(), n);
+        assert_eq!(s.tri_object.len(), n);
+        assert_eq!(s.tri_facet.len(), n);
+        assert!(
+            s.tri_material
+                .iter()
+                .all(|&m| (m as usize) < s.materials.len())
+        );
+        assert!(s.tri_object.iter().all(|&o| (o as usize) < s.objects.len()));
+        assert!(
+            s.triangles
+                .iter()
+                .flatten()
+                .all(|&i| (i as usize) < s.positions.len())
+        );
+        assert!(s.positions.iter().flatten().all(|c| c.is_finite()));
+        // objects own contiguous triangle ranges, in order
+        let mut next = 0;
+        for (k, o) in s.objects.iter().enumerate() {
+            assert_eq!(o.first_triangle, next, "{file}");
+            next += o.triangle_count;
+            let r = o.first_triangle as usize..next as usize;
+            assert!(s.tri_object[r].iter().all(|&x| x as usize == k));
+        }
+        assert_eq!(next as usize, n);
+        assert_eq!(s.degenerate_skipped, 0, "{file}");
+    }
+}
+
+#[test]
+fn airfield_matches_the_paper_scene() {
+    let s = scene::load(&root().join("scenes/airfield/scene.toml")).unwrap();
+    // the hangar roof is specular painted metal
+    let roof = s.material_index("painted_steel_roof").unwrap();
+    assert_eq!(s.materials[roof].specularity, 1.0);
+    let hangar = s.objects.iter().position(|o| o.name == "hangar").unwrap();
+    let roof_tris = (0..s.triangles.len())
+        .filter(|&t| s.tri_object[t] as usize == hangar && s.tri_material[t] as usize == roof)
+        .count();
+    assert!(roof_tris > 100, "{roof_tris}");
+    // aircraft face north: each is longer along y than along x... for the
+    // fuselage; their nose (max y) is further from the centre than the tail
+    for o in s.objects.iter().filter(|o| o.name.starts_with("aircraft")) {
+        let len_y = o.bounds_max_m[1] - o.bounds_min_m[1];
+        assert!(len_y > 10.0, "{}", o.name);
+    }
+    // the vehicles carry an internal heat source
+    let engine = s.material_index("vehicle_engine").unwrap();
+    assert!(s.materials[engine].internal_power_w_m2 > 0.0);
+    assert!(s.tri_material.iter().any(|&m| m as usize == engine));
+    // the weather record exists and is a TMY3 excerpt with its header
+    let scene::WeatherSpec::File { path, format } = &s.scene.weather else {
+        panic!("weather file expected")
+    };
+    assert_eq!(*format, scene::WeatherFormat::Tmy3);
+    let text = std::fs::read_to_string(s.resolve(path)).unwrap();
+    assert!(text.starts_with("723170,\"GREENSBORO PIEDMONT TRIAD INT\""));
+    assert_eq!(text.lines().count(), 2 + 144);
+}
+
+/// Outward normals: the divergence-theorem volume of each object, taken
+/// from its lowest corner (bottomless boxes then miss nothing), is
+/// positive for outward winding (and below 1.5x its bounding box: open
+/// window quads add a little);
+/// flat ground objects have no face pointing down.
+#[test]
+fn generated_meshes_have_outward_normals() {
+    let s = scene::load(&root().join("scenes/airfield/scene.toml")).unwrap();
+    for (k, o) in s.objects.iter().enumerate() {
+        let c = o.bounds_min_m.map(f64::from);
+        let (mut vol, mut down) = (0.0f64, 0usize);
+        for t in 0..s.triangles.len() {
+            if s.tri_object[t] as usize != k {
+                continue;
+            }
+            let p = s.triangles[t].map(|i| {
+                let q = s.positions[i as usize];
+                [q[0] as f64 - c[0], q[1] as f64 - c[1], q[2] as f64 - c[2]]
+            });
+            let cross = [
+                p[1][1] * p[2][2] - p[1][2] * p[2][1],
+                p[1][2] * p[2][0] - p[1][0] * p[2][2],
+                p[1][0] * p[2][1] - p[1][1] * p[2][0],
+            ];
+            vol += (p[0][0] * cross[0] + p[0][1] * cross[1] + p[0][2] * cross[2]) / 6.0;
+            let e1: Vec<f64> = (0..3).map(|i| p[1][i] - p[0][i]).collect();
+            let e2: Vec<f64> = (0..3).map(|i| p[2][i] - p[0][i]).collect();
+            if e1[0] * e2[1] - e1[1] * e2[0] < -1e-9 {
+                down += 1;
+            }
+        }
+        let height = o.bounds_max_m[2] - o.bounds_min_m[2];
+        if height < 0.5 {
+            assert_eq!(down, 0, "{}: faces pointing down", o.name);
+        } else {
+            let bbox: f64 = (0..3)
+                .map(|i| (o.bounds_max_m[i] - o.bounds_min_m[i]) as f64)
+                .product();
+            assert!(
+                vol > 0.0 && vol < 1.5 * bbox,
+                "{}: volume {vol} (bbox {bbox})",
+                o.name
+            );
+        }
+    }
+}
+
+#[test]
+fn round_trip_through_toml_is_identical() {
+    for file in [
+        "scenes/airfield/scene.toml",
+        "scenes/airfield/scene-constant.toml",
+        "scenes/plate/scene.toml",
+        "scenes/terrain-km/scene.toml",
+    ] {
+        let path = root().join(file);
+        let s = scene::load(&path).unwrap();
+        let text = toml::to_string(&s.scene).unwrap();
+        let back =
+            scene::parse_scene(&path, &text).unwrap_or_else(|e| panic!("{file}: {e}\n{text}"));
+        assert_eq!(back, s.scene, "{file}");
+        // and the full load from the written text gives the same geometry
+        let tmp = path.with_file_name(".roundtrip-test.toml");
+        std::fs::write(&tmp, &text).unwrap();
+        let again = scene::load(&tmp);
+        let _ = std::fs::remove_file(&tmp);
+        let again = again.unwrap();
+        assert_eq!(again.triangles, s.triangles);
+        assert_eq!(again.positions, s.positions);
+        assert_eq!(again.materials, s.materials);
+    }
+}
+
+// ------------------------------------------------------------ error classes
+
+const MATS: &str = "[material.grass]
+density_kg_m3 = 2050.0
+specific_heat_j_kgk = 1840.0
+conductivity_w_mk = 0.52
+thickness_m = 0.5
+solar_absorptivity = 0.78
+thermal_emissivity = 0.93
+back = { deep_ground = {} }
+
+[material.asphalt]
+density_kg_m3 = 2120.0
+specific_heat_j_kgk = 920.0
+conductivity_w_mk = 0.74
+thickness_m = 0.3
+solar_absorptivity = 0.88
+thermal_emissivity = 0.93
+";
+
+const OBJ: &str = "o ground
+v 0 0 0
+v 10 0 0
+v 10 10 0
+v 0 10 0
+usemtl grass
+f 1 2 3 4
+";
+
+const SCENE: &str = "materials = [\"mats.toml\"]
+
+[site]
+latitude_deg = 43.0
+longitude_deg = -77.0
+utc_offset_h = -4.0
+
+[time]
+local = 2001-08-08T12:00:00
+
+[weather.constant]
+wind_m_s = 1.0
+air_min_c = 15.0
+air_max_c = 25.0
+dew_point_c = 10.0
+
+[sensor]
+width_px = 16
+height_px = 16
+fov_h_deg = 10.0
+band = \"lwir\"
+
+[sensor.pose.altitude]
+altitude_m = 100.0
+view_zenith_deg = 0.0
+azimuth_deg = 180.0
+
+[[object]]
+file = \"g.obj\"
+";
+
+struct Fixture {
+    dir: tempfile::TempDir,
+}
+
+impl Fixture {
+    fn new(scene: &str, mats: &str, obj: &str) -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("scene.toml"), scene).unwrap();
+        std::fs::write(dir.path().join("mats.toml"), mats).unwrap();
+        std::fs::write(dir.path().join("g.obj"), obj).unwrap();
+        Self { dir }
+    }
+    fn p(&self, f: &str) -> String {
+        self.dir.path().join(f).display().to_string()
+    }
+    fn load(&self) -> Result<scene::LoadedScene, SceneError> {
+        scene::load(&self.dir.path().join("scene.toml"))
+    }
+    /// The error message with the temp dir replaced by `D`.
+    fn err(&self) -> String {
+        let Err(e) = self.load() else {
+            panic!("expected an error")
+        };
+        let e = e.to_string();
+        e.replace(&format!("{}/", self.dir.path().display()), "D/")
+    }
+}
+
+#[test]
+fn fixture_loads() {
+    let f = Fixture::new(SCENE, MATS, OBJ);
+    let s = f.load().unwrap();
+    assert_eq!(s.triangles.len(), 2);
+    assert_eq!(s.tri_facet, vec![0, 0]);
+    assert_eq!(s.materials.len(), 2);
+    let _ = f.p("x");
+}
+
+#[test]
+fn toml_syntax_error_names_line_and_column() {
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude_deg = = 43.0"),
+        MATS,
+        OBJ,
+    );
+    let e = f.err();
+    assert!(e.starts_with("D/scene.toml:4:16: "), "{e}");
+}
+
+#[test]
+fn unknown_key_is_rejected_with_a_suggestion() {
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude = 43.0"),
+        MATS,
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/scene.toml:4:1: unknown field `latitude`, expected one of `name`, `latitude_deg`, `longitude_deg`, \
+         `elevation_m`, `utc_offset_h`; did you mean `latitude_deg`?"
+    );
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("thickness_m = 0.3", "thicknes_m = 0.3"),
+        OBJ,
+    );
+    let e = f.err();
+    assert!(
+        e.starts_with("D/mats.toml:14:1: unknown field `thicknes_m`, expected one of "),
+        "{e}"
+    );
+    assert!(e.ends_with("; did you mean `thickness_m`?"), "{e}");
+}
+
+#[test]
+fn unknown_variant_is_rejected_with_a_suggestion() {
+    let f = Fixture::new(
+        &SCENE.replace("band = \"lwir\"", "band = \"lwirr\""),
+        MATS,
+        OBJ,
+    );
+    let e = f.err();
+    assert!(
+        e.starts_with("D/scene.toml:21:8: unknown variant `lwirr`, expected one of `lwir`, `mwir`"),
+        "{e}"
+    );
+    assert!(e.ends_with("; did you mean `lwir`?"), "{e}");
+}
+
+#[test]
+fn missing_key_names_the_table() {
+    let f = Fixture::new(&SCENE.replace("fov_h_deg = 10.0\n", ""), MATS, OBJ);
+    assert_eq!(f.err(), "D/scene.toml:17:1: missing field `fov_h_deg`");
+}
+
+#[test]
+fn wrong_type_names_what_is_expected() {
+    let f = Fixture::new(
+        &SCENE.replace("width_px = 16", "width_px = \"wide\""),
+        MATS,
+        OBJ,
+    );
+    let e = f.err();
+    assert!(
+        e.starts_with("D/scene.toml:18:12: invalid type: string \"wide\", expected u32"),
+        "{e}"
+    );
+}
+
+#[test]
+fn out_of_range_scene_value_names_its_line() {
+    let f = Fixture::new(
+        &SCENE.replace("latitude_deg = 43.0", "latitude_deg = 95.0"),
+        MATS,
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/scene.toml:4:16: `latitude_deg` = 95 is out of range: expected -90 <= latitude_deg <= 90 degrees"
+    );
+    let f = Fixture::new(
+        &SCENE.replace("dew_point_c = 10.0", "dew_point_c = 18.0"),
+        MATS,
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/scene.toml:15:15: `dew_point_c` = 18 is out of range: expected -100 <= dew_point_c <= 15 °C \
+         (the dew point cannot exceed the air temperature)"
+    );
+}
+
+#[test]
+fn out_of_range_material_value_names_the_library_line() {
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace(
+            "thermal_emissivity = 0.93\nback",
+            "thermal_emissivity = 1.3\nback",
+        ),
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/mats.toml:7:22: `thermal_emissivity` = 1.3 is out of range: expected 0 <= thermal_emissivity <= 1"
+    );
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("thickness_m = 0.5", "thickness_m = 0.0"),
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/mats.toml:5:15: `thickness_m` = 0 is out of range: expected a finite number > 0 m"
+    );
+    let f = Fixture::new(
+        SCENE,
+        &MATS.replace("density_kg_m3 = 2120.0", "density_kg_m3 = -1.0"),
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/mats.toml:11:17: `density_kg_m3` = -1 is out of range: expected a finite number > 0 kg/m³"
+    );
+}
+
+#[test]
+fn undefined_material_names_obj_line_and_libraries() {
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("usemtl grass", "usemtl gras"));
+    assert_eq!(
+        f.err(),
+        "D/g.obj:6: material `gras` is not defined in the material libraries `D/mats.toml`; did you mean `grass`?"
+    );
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("usemtl grass", "usemtl marble"));
+    assert_eq!(
+        f.err(),
+        "D/g.obj:6: material `marble` is not defined in the material libraries `D/mats.toml`"
+    );
+}
+
+#[test]
+fn nan_and_infinite_vertices_are_rejected_with_their_line() {
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("v 10 10 0", "v 10 NaN 0"));
+    assert_eq!(
+        f.err(),
+        "D/g.obj:4: vertex: coordinate `NaN` is NaN or infinite (or overflows 32-bit floating point): expected a \
+         finite number"
+    );
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("v 10 10 0", "v 10 inf 0"));
+    assert!(
+        f.err()
+            .starts_with("D/g.obj:4: vertex: coordinate `inf` is NaN or infinite")
+    );
+}
+
+#[test]
+fn bad_face_and_garbage_lines_are_rejected_with_their_line() {
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("f 1 2 3 4", "f 1 2 3 9"));
+    assert_eq!(
+        f.err(),
+        "D/g.obj:7: face vertex `9`: vertex index 9 is out of range: 4 vertices defined so far (indices are 1..=4 \
+         or -1..=-4)"
+    );
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("o ground", "\u{1}\u{2}garbage"));
+    assert!(
+        f.err().starts_with("D/g.obj:1: unknown OBJ statement"),
+        "{}",
+        f.err()
+    );
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("v 0 10 0", "v 0 ten 0"));
+    assert_eq!(f.err(), "D/g.obj:5: vertex: `ten` is not a number");
+}
+
+#[test]
+fn face_without_material_names_the_object() {
+    let f = Fixture::new(SCENE, MATS, &OBJ.replace("usemtl grass\n", ""));
+    assert_eq!(
+        f.err(),
+        "D/g.obj:6: face has no material: no `usemtl` before it, and object 1 (D/scene.toml:28:1) sets no `material`"
+    );
+    // an object default material fixes it
+    let f = Fixture::new(
+        &SCENE.replace(
+            "file = \"g.obj\"",
+            "file = \"g.obj\"\nmaterial = \"asphalt\"",
+        ),
+        MATS,
+        &OBJ.replace("usemtl grass\n", ""),
+    );
+    let s = f.load().unwrap();
+    assert_eq!(s.materials[s.tri_material[0] as usize].name, "asphalt");
+}
+
+#[test]
+fn missing_files_are_reported_at_their_scene_key() {
+    let f = Fixture::new(
+        &SCENE.replace("file = \"g.obj\"", "file = \"nope.obj\""),
+        MATS,
+        OBJ,
+    );
+    let e = f.err();
+    assert!(
+        e.starts_with("D/scene.toml:29:8: OBJ file `nope.obj` not found"),
+        "{e}"
+    );
+    let f = Fixture::new(
+        &SCENE.replace("[\"mats.toml\"]", "[\"mats.toml\", \"other.toml\"]"),
+        MATS,
+        OBJ,
+    );
+    let e = f.err();
+    assert!(
+        e.starts_with("D/scene.toml:1:27: material library `other.toml` not found"),
+        "{e}"
+    );
+}
+
+#[test]
+fn degenerate_triangles_are_skipped_and_counted() {
+    let obj = format!("{OBJ}v 1 1 0\nv 2 2 0\nv 3 3 0\nf 5 6 7\nf 1 1 2\n");
+    let f = Fixture::new(SCENE, MATS, &obj);
+    let s = f.load().unwrap();
+    assert_eq!(s.triangles.len(), 2);
+    assert_eq!(s.degenerate_skipped, 2);
+    assert_eq!(s.objects[0].degenerate_skipped, 2);
+    assert_eq!(s.objects[0].face_count, 3);
+}
+
+#[test]
+fn instances_and_transforms_place_geometry() {
+    let scene = SCENE.replace(
+        "file = \"g.obj\"",
+        "file = \"g.obj\"\ntranslate_m = [100.0, 0.0, 0.0]\n[[object.instance]]\nrotate_deg = [0.0, 0.0, 90.0]\n\
+         [[object.instance]]\nscale = 2.0\ntranslate_m = [0.0, 0.0, 1.0]",
+    );
+    let f = Fixture::new(&scene, MATS, OBJ);
+    let s = f.load().unwrap();
+    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.objects[0].name, "g#1");
+    // instance 1: rotate +90° about z (x -> y), then translate by 100 east
+    let b = (s.objects[0].bounds_min_m, s.objects[0].bounds_max_m);
+    let close = |a: [f32; 3], e: [f32; 3]| (0..3).all(|i| (a[i] - e[i]).abs() < 1e-4);
+    assert!(
+        close(b.0, [90.0, 0.0, 0.0]) && close(b.1, [100.0, 10.0, 0.0]),
+        "{b:?}"
+    );
+    // instance 2: scale 2, lift 1 m, then translate
+    let b = (s.objects[1].bounds_min_m, s.objects[1].bounds_max_m);
+    assert!(
+        close(b.0, [100.0, 0.0, 1.0]) && close(b.1, [120.0, 20.0, 1.0]),
+        "{b:?}"
+    );
+}
+
+#[test]
+fn emissivity_table_is_read_and_validated() {
+    let mats = MATS.replace(
+        "thermal_emissivity = 0.93\nback",
+        "thermal_emissivity = 0.93\nemissivity = { table_file = \"eps.csv\" }\nback",
+    );
+    let f = Fixture::new(SCENE, &mats, OBJ);
+    std::fs::write(
+        f.dir.path().join("eps.csv"),
+        "# grass\nwavelength_um, 0, 60, 85\n8.0, 0.96, 0.94, 0.80\n12.0, 0.98, 0.96, 0.84\n",
+    )
+    .unwrap();
+    let s = f.load().unwrap();
+    let g = &s.materials[s.material_index("grass").unwrap()];
+    let scene::Emissivity::Table(t) = &g.emissivity else {
+        panic!()
+    };
+    // bilinear: midway in both angle (30°) and wavelength (10 µm)
+    assert!((t.eval(30.0, 10.0) - 0.96).abs() < 1e-12);
+    assert!((t.eval(0.0, 8.0) - 0.96).abs() < 1e-12);
+    assert!((t.eval(90.0, 20.0) - 0.84).abs() < 1e-12);
+    std::fs::write(
+        f.dir.path().join("eps.csv"),
+        "wavelength_um, 0, 60, 85\n8.0, 0.96, 0.94, 0.80\n12.0, 0.98, 1.2, 0.84\n",
+    )
+    .unwrap();
+    assert_eq!(
+        f.err(),
+        "D/eps.csv:3: emissivity 1.2 is out of range: expected 0 <= ε <= 1"
+    );
+}
+
+#[test]
+fn io_errors_name_the_file() {
+    let e = scene::load(Path::new("/nonexistent/scene.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("/nonexistent/scene.toml: cannot read file: "),
+        "{e}"
+    );
+}
+
+// ------------------------------------------------------------ property test
+
+mod fuzz {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Applies edits: (position fraction, kind, byte) to a text.
+    fn mutate(text: &str, edits: &[(f64, u8, u8)]) -> String {
+        let mut b: Vec<u8> = text.as_bytes().to_vec();
+        for &(pos, kind, byte) in edits {
+            if b.is_empty() {
+                b.push(byte);
+                continue;
+            }
+            let i = ((pos * b.len() as f64) as usize).min(b.len() - 1);
+            match kind % 6 {
+                0 => b[i] = byte,       // replace
+                1 => b.insert(i, byte), // insert
+                2 => {
+                    b.remove(i); // delete
+                }
+                3 => {
+                    // duplicate a line
+                    let s = b[..i]
+                        .iter()
+                        .rposition(|&c| c == b'\n')
+                        .map_or(0, |k| k + 1);
+                    let e = b[i..]
+                        .iter()
+                        .position(|&c| c == b'\n')
+                        .map_or(b.len(), |k| i + k + 1);
+                    let line = b[s..e].to_vec();
+                    b.splice(e..e, line);
+                }
+                4 => {
+                    // delete a line
+                    let s = b[..i]
+                        .iter()
+                        .rposition(|&c| c == b'\n')
+                        .map_or(0, |k| k + 1);
+                    let e = b[i..]
+                        .iter()
+                        .position(|&c| c == b'\n')
+                        .map_or(b.len(), |k| i + k + 1);
+                    b.drain(s..e);
+                }
+                _ => {
+                    // insert a token that stresses parsers
+                    let toks: [&[u8]; 8] = [
+                        b"nan",
+                        b"-1e39",
+                        b"\"",
+                        b"[",
+                        b"=",
+                        b"-0",
+                        b"99999999999",
+                        b"\xff",
+                    ];
+                    b.splice(i..i, toks[byte as usize % 8].iter().copied());
+                }
+            }
+        }
+        String::from_utf8_lossy(&b).into_owned()
+    }
+
+    fn edits() -> impl Strategy<Value = Vec<(f64, u8, u8)>> {
+        prop::collection::vec((0.0..1.0f64, any::<u8>(), any::<u8>()), 1..6)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn mutated_inputs_never_panic(se in edits(), me in edits(), oe in edits(), which in 0u8..4) {
+            let scene = if which & 1 == 1 { mutate(SCENE, &se) } else { SCENE.to_string() };
+            let mats = if which == 2 { mutate(MATS, &me) } else { MATS.to_string() };
+            let obj = if which & 1 == 0 { mutate(OBJ, &oe) } else { OBJ.to_string() };
+            let f = Fixture::new(&scene, &mats, &obj);
+            // Must return (Ok or a located error), never panic.
+            match f.load() {
+                Ok(s) => {
+                    prop_assert!(s.positions.iter().flatten().all(|c| c.is_finite()));
+                    prop_assert_eq!(s.triangles.len(), s.tri_material.len());
+                }
+                Err(e) => {
+                    let msg = e.to_string();
+                    prop_assert!(!msg.is_empty());
+                }
+            }
+        }
+
+        #[test]
+        fn mutated_sample_obj_never_panics(oe in prop::collection::vec((0.0..1.0f64, any::<u8>(), any::<u8>()), 1..12)) {
+            let text = std::fs::read_to_string(root().join("scenes/airfield/obj/aircraft_small.obj")).unwrap();
+            let m = mutate(&text, &oe);
+            let _ = scene::obj::parse_obj(Path::new("a.obj"), &m);
+        }
+    }
+}
