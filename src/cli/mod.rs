@@ -4,6 +4,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod crosscheck;
+pub mod sun;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
@@ -18,11 +19,14 @@ pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.
     Crosscheck(crosscheck::Args),
+    /// Solar position (NREL SPA) for a site and a UTC instant.
+    Sun(sun::Args),
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
+        Command::Sun(a) => sun::run(a),
     }
 }
