@@ -68,3 +68,20 @@ with open(OUT, "w", newline="") as f:
                     f"{s.apparent_zenith:.10f}", f"{s.zenith:.10f}", f"{s.azimuth:.10f}",
                     f"{s.apparent_elevation:.10f}", f"{s.equation_of_time:.10f}", f"{r:.12f}"])
 print(f"wrote {len(rows)} rows to {OUT}", file=sys.stderr)
+
+# Sunrise / transit / sunset from pvlib's SPA appendix A.2 implementation.
+OUT2 = os.path.join(os.path.dirname(__file__), "..", "tests", "data", "sun_events_pvlib.csv")
+sites = [(43.1, -57.6), (-33.9, 51.2), (0.0, 0.0), (52.3, 4.77), (65.0, -20.0), (-70.0, 40.0), (78.2, 15.6)]
+dates = ["1960-03-20", "1992-06-21", "2000-02-29", "2023-09-23", "2041-12-21"]
+with open(OUT2, "w", newline="") as f:
+    w = csv.writer(f, lineterminator="\n")
+    f.write(f"# pvlib {pvlib.__version__} sun_rise_set_transit_spa(how='numpy', delta_t=None); "
+            "dates are UTC days; empty = no event (polar day/night)\n")
+    w.writerow(["date_utc", "lat_deg", "lon_deg", "sunrise_utc", "transit_utc", "sunset_utc"])
+    for d in dates:
+        for lat, lon in sites:
+            idx = pd.DatetimeIndex([pd.Timestamp(d + "T00:00:00Z")])
+            ev = pvlib.solarposition.sun_rise_set_transit_spa(idx, lat, lon, how="numpy", delta_t=None).iloc[0]
+            fmt = lambda x: "" if pd.isna(x) else x.tz_convert("UTC").strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+            w.writerow([d, lat, lon, fmt(ev.sunrise), fmt(ev.transit), fmt(ev.sunset)])
+print(f"wrote {OUT2}", file=sys.stderr)

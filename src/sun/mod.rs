@@ -360,6 +360,93 @@ pub fn enu_from_angles(elevation_deg: f64, azimuth_deg: f64) -> [f64; 3] {
     [ce * sa, ce * ca, se]
 }
 
+/// A site on the ground: geodetic latitude (north positive) and longitude
+/// (east positive) in degrees, elevation above sea level in metres.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Site {
+    pub lat_deg: f64,
+    pub lon_deg: f64,
+    pub elevation_m: f64,
+}
+
+/// Sun transit, rise and set around an instant (see [`sun_events_near`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SunEvents {
+    /// Local solar noon (topocentric hour angle 0) nearest the instant asked.
+    pub transit: DateTime<Utc>,
+    /// Sunrise before that transit; `None` in polar day or polar night.
+    pub sunrise: Option<DateTime<Utc>>,
+    /// Sunset after that transit; `None` in polar day or polar night.
+    pub sunset: Option<DateTime<Utc>>,
+    /// True elevation of the sun at transit, degrees (< −0.8333: polar night).
+    pub transit_elevation_deg: f64,
+}
+
+/// Sunrise/sunset elevation of the sun's centre, degrees: −(0.5667° refraction
+/// + 0.26667° semi-diameter) = −0.8333°, the SPA's h0' (Reda & Andreas, A.2).
+pub const RISE_SET_ELEVATION_DEG: f64 = -0.8333;
+
+fn add_seconds(t: DateTime<Utc>, s: f64) -> DateTime<Utc> {
+    t + chrono::Duration::nanoseconds((s * 1e9).round() as i64)
+}
+
+/// Solar transit, sunrise and sunset around `time` at a site, by root
+/// finding on the SPA itself: transit is where the topocentric local hour
+/// angle is zero (fixed-point iteration from the equation of time), rise and
+/// set are where the true topocentric elevation crosses −0.8333°
+/// (bisection to 0.1 s within the 12 h before/after transit). This matches
+/// the SPA's own rise/transit/set appendix (A.2) to well under a minute.
+pub fn sun_events_near(time: DateTime<Utc>, lat_deg: f64, lon_deg: f64) -> SunEvents {
+    let opts = SpaOptions::default();
+    let elev =
+        |t: DateTime<Utc>| solar_position_with(t, lat_deg, lon_deg, 0.0, &opts).true_elevation_deg;
+    // Mean solar noon (12:00 − lon/15 h UTC) nearest `time`, then the
+    // fixed point transit = mean noon − EOT(transit).
+    let jd = julian_day(time);
+    let day0 = (jd + 0.5).floor() - 0.5; // JD of 00:00 UTC of the date of `time`
+    let mut noon = day0 + 0.5 - lon_deg / 360.0;
+    for cand in [noon - 1.0, noon + 1.0] {
+        if (cand - jd).abs() < (noon - jd).abs() {
+            noon = cand;
+        }
+    }
+    let mean_noon = add_seconds(time, (noon - jd) * 86400.0);
+    let mut transit = mean_noon;
+    for _ in 0..3 {
+        let p = solar_position_with(transit, lat_deg, lon_deg, 0.0, &opts);
+        transit = add_seconds(mean_noon, -p.equation_of_time_min * 60.0);
+    }
+    let e_transit = elev(transit);
+    let e_night = elev(add_seconds(transit, -43200.0));
+    let e_night2 = elev(add_seconds(transit, 43200.0));
+    let h0 = RISE_SET_ELEVATION_DEG;
+    let bisect = |mut lo: DateTime<Utc>, mut hi: DateTime<Utc>, rising: bool| {
+        while (hi - lo).num_milliseconds() > 100 {
+            let mid = lo + (hi - lo) / 2;
+            let above = elev(mid) > h0;
+            if above == rising {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        lo + (hi - lo) / 2
+    };
+    let (sunrise, sunset) = if e_transit <= h0 || (e_night > h0 && e_night2 > h0) {
+        (None, None)
+    } else {
+        let rise = (e_night <= h0).then(|| bisect(add_seconds(transit, -43200.0), transit, true));
+        let set = (e_night2 <= h0).then(|| bisect(transit, add_seconds(transit, 43200.0), false));
+        (rise, set)
+    };
+    SunEvents {
+        transit,
+        sunrise,
+        sunset,
+        transit_elevation_deg: e_transit,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
