@@ -18,8 +18,11 @@ fn data(name: &str) -> std::path::PathBuf {
         .join(name)
 }
 
-/// (time_end_utc, named values) rows of a reference CSV.
-fn reference(name: &str) -> Vec<(DateTime<Utc>, Vec<(String, f64)>)> {
+/// One reference row: (time_end_utc, named values).
+type Row = (DateTime<Utc>, Vec<(String, f64)>);
+
+/// The rows of a reference CSV.
+fn reference(name: &str) -> Vec<Row> {
     let text = std::fs::read_to_string(data(name)).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();

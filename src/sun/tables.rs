@@ -1,6 +1,8 @@
 //! Periodic-term tables of the NREL SPA (Reda & Andreas 2004, Tables A4.2 and A4.3):
 //! Earth heliocentric longitude (L0..L5), latitude (B0, B1) and radius (R0..R4) terms
 //! as [A, B, C] for A·cos(B + C·JME), and the nutation terms (Y and a, b, c, d).
+//! Values as published (some phases B are 3.14 or 3.142: table data, not π).
+#![allow(clippy::approx_constant)]
 
 pub(super) const L0: [[f64; 3]; 64] = [
     [175347046.0, 0.0, 0.0],

@@ -177,7 +177,7 @@ pub fn extraterrestrial_normal_w_m2(earth_sun_distance_au: f64) -> f64 {
 /// 4735: m = 1/(cos z + 0.50572·(96.07995° − z)^−1.6364), z the apparent
 /// zenith in degrees. `None` for z > 90°.
 pub fn kasten_young_airmass(apparent_zenith_deg: f64) -> Option<f64> {
-    if !(apparent_zenith_deg <= 90.0) {
+    if apparent_zenith_deg.is_nan() || apparent_zenith_deg > 90.0 {
         return None;
     }
     let z = apparent_zenith_deg;

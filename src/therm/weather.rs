@@ -89,46 +89,56 @@ pub enum WeatherError {
         expected: String,
     },
     #[error(
-        "{file}:{line}: time {time} is earlier than {prev} on line {prev_line}: records must be sorted by time{hint}"
+        "{file}:{line}: time {} is earlier than {} on line {prev_line}: records must be sorted by time{hint}",
+        fmt_time(*.time),
+        fmt_time(*.prev)
     )]
     Unsorted {
         file: String,
         line: usize,
         prev_line: usize,
-        time: String,
-        prev: String,
-        hint: String,
+        time: DateTime<Utc>,
+        prev: DateTime<Utc>,
+        hint: &'static str,
     },
-    #[error("{file}:{line}: time {time} repeats line {prev_line}: duplicate record")]
+    #[error("{file}:{line}: time {} repeats line {prev_line}: duplicate record", fmt_time(*.time))]
     Duplicate {
         file: String,
         line: usize,
         prev_line: usize,
-        time: String,
+        time: DateTime<Utc>,
     },
     #[error(
-        "{file}:{line}: gap of {gap_h:.2} h since line {prev_line} ({prev} to {time}); the largest allowed gap is {max_gap_h:.2} h{hint}"
+        "{file}:{line}: gap of {:.2} h since line {prev_line} ({} to {}); the largest allowed gap is {:.2} h{hint}",
+        secs_between(*.prev, *.time) / 3600.0,
+        fmt_time(*.prev),
+        fmt_time(*.time),
+        .max_gap_s / 3600.0
     )]
     Gap {
         file: String,
         line: usize,
         prev_line: usize,
-        prev: String,
-        time: String,
-        gap_h: f64,
-        max_gap_h: f64,
-        hint: String,
+        prev: DateTime<Utc>,
+        time: DateTime<Utc>,
+        max_gap_s: f64,
+        hint: &'static str,
     },
     #[error("{file}: no weather records (expected {expected})")]
     Empty { file: String, expected: String },
     #[error(
-        "weather '{source_name}' ({have}) does not cover the window {start} to {end}: missing {missing_desc}"
+        "weather '{source_name}' (records {} to {}) does not cover the window {} to {}: missing {missing_desc}",
+        fmt_time(*.have_start),
+        fmt_time(*.have_end),
+        fmt_time(*.start),
+        fmt_time(*.end)
     )]
     NotCovered {
         source_name: String,
-        have: String,
-        start: String,
-        end: String,
+        have_start: DateTime<Utc>,
+        have_end: DateTime<Utc>,
+        start: DateTime<Utc>,
+        end: DateTime<Utc>,
         missing_desc: String,
         /// The missing intervals, UTC.
         missing: Vec<(DateTime<Utc>, DateTime<Utc>)>,
@@ -367,13 +377,10 @@ impl WeatherHistory {
             .collect();
         Err(WeatherError::NotCovered {
             source_name: self.source.clone(),
-            have: format!(
-                "records {} to {}",
-                fmt_time(self.start()),
-                fmt_time(self.end())
-            ),
-            start: fmt_time(start),
-            end: fmt_time(end),
+            have_start: self.start(),
+            have_end: self.end(),
+            start,
+            end,
             missing_desc: parts.join("; "),
             missing,
         })
@@ -607,7 +614,7 @@ fn assemble(
     file: &str,
     opts: &ReadOptions,
     period_fields: bool,
-    hint: &str,
+    hint: &'static str,
 ) -> Result<WeatherHistory, WeatherError> {
     if raws.is_empty() {
         return Err(WeatherError::Empty {
@@ -622,7 +629,7 @@ fn assemble(
                 file: file.into(),
                 line: b.line,
                 prev_line: a.line,
-                time: fmt_time(b.time),
+                time: b.time,
             });
         }
         if b.time < a.time {
@@ -630,9 +637,9 @@ fn assemble(
                 file: file.into(),
                 line: b.line,
                 prev_line: a.line,
-                time: fmt_time(b.time),
-                prev: fmt_time(a.time),
-                hint: hint.into(),
+                time: b.time,
+                prev: a.time,
+                hint,
             });
         }
         let gap = secs_between(a.time, b.time);
@@ -641,11 +648,10 @@ fn assemble(
                 file: file.into(),
                 line: b.line,
                 prev_line: a.line,
-                prev: fmt_time(a.time),
-                time: fmt_time(b.time),
-                gap_h: gap / 3600.0,
-                max_gap_h: opts.max_gap_s / 3600.0,
-                hint: hint.into(),
+                prev: a.time,
+                time: b.time,
+                max_gap_s: opts.max_gap_s,
+                hint,
             });
         }
     }
@@ -1301,7 +1307,19 @@ pub fn constant_weather(
             fmt_time(start)
         ));
     }
-    if !(p.air_temp_min_c <= p.air_temp_max_c) {
+    let params = [
+        p.wind_speed_m_s,
+        p.air_temp_min_c,
+        p.air_temp_max_c,
+        p.dew_point_c,
+        p.cloud_fraction,
+        p.pressure_hpa,
+        p.t_max_after_noon_h,
+    ];
+    if params.iter().any(|x| !x.is_finite()) {
+        return bad(format!("parameters must be finite numbers: {p:?}"));
+    }
+    if p.air_temp_min_c > p.air_temp_max_c {
         return bad(format!(
             "minimum air temperature {} °C is above the maximum {} °C",
             p.air_temp_min_c, p.air_temp_max_c
