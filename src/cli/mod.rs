@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
+pub mod sun;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
@@ -26,6 +27,8 @@ pub enum Command {
     /// Load and validate a scene; print a summary (objects, facets,
     /// materials, bounds, sensor footprint, what the render will need).
     Check(check::Args),
+    /// Solar position (NREL SPA) for a site and a UTC instant.
+    Sun(sun::Args),
 }
 
 /// Runs the parsed command line.
@@ -34,5 +37,6 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Crosscheck(a) => crosscheck::run(a),
         Command::Bench(c) => bench::run(c),
         Command::Check(a) => check::run(a),
+        Command::Sun(a) => sun::run(a),
     }
 }

@@ -1,0 +1,156 @@
+//! `irsig sun`: print the solar position (NREL SPA) for a site and an instant.
+
+use anyhow::Context;
+use chrono::{DateTime, Utc};
+use serde::Serialize;
+
+use crate::sun::{SolarPosition, SpaOptions, solar_position_with, validate_site};
+
+/// What `--time` accepts, repeated in error messages.
+pub const TIME_FORMAT_HELP: &str =
+    "an RFC 3339 time with a UTC offset, e.g. 2024-06-21T12:00:00Z or 2024-06-21T14:00:00+02:00";
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Latitude, degrees north (−90..90).
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_lat)]
+    pub lat: f64,
+    /// Longitude, degrees east (−180..180).
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_lon)]
+    pub lon: f64,
+    /// Site elevation above sea level, metres.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub elevation: f64,
+    /// Instant, RFC 3339 with an offset (e.g. 2024-06-21T12:00:00Z).
+    #[arg(long, value_parser = parse_time)]
+    pub time: DateTime<Utc>,
+    /// Air pressure for the refraction correction, hPa.
+    #[arg(long, default_value_t = 1013.25)]
+    pub pressure_hpa: f64,
+    /// Air temperature for the refraction correction, °C.
+    #[arg(long, default_value_t = 12.0, allow_negative_numbers = true)]
+    pub temp_c: f64,
+    /// ΔT = TT − UT in seconds (default: Espenak & Meeus model).
+    #[arg(long, allow_negative_numbers = true)]
+    pub delta_t: Option<f64>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `--time`; the error says what format is expected.
+pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
+    DateTime::parse_from_rfc3339(s.trim())
+        .map(|t| t.with_timezone(&Utc))
+        .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))
+}
+
+fn parse_deg(s: &str, what: &str, limit: f64, dir: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| {
+        format!("'{s}' is not a number: expected {what} in degrees, {dir} positive")
+    })?;
+    if !(-limit..=limit).contains(&v) {
+        return Err(format!(
+            "{what} {v} is out of range: expected degrees in [-{limit}, {limit}], {dir} positive"
+        ));
+    }
+    Ok(v)
+}
+
+fn parse_lat(s: &str) -> Result<f64, String> {
+    parse_deg(s, "latitude", 90.0, "north")
+}
+
+fn parse_lon(s: &str) -> Result<f64, String> {
+    parse_deg(s, "longitude", 180.0, "east")
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    time_utc: String,
+    lat_deg: f64,
+    lon_deg: f64,
+    elevation_m: f64,
+    zenith_deg: f64,
+    true_zenith_deg: f64,
+    azimuth_deg: f64,
+    elevation_deg: f64,
+    earth_sun_distance_au: f64,
+    sun_dir_enu: [f64; 3],
+    delta_t_s: f64,
+    options: &'a SpaOptions,
+}
+
+/// The text output of `irsig sun`.
+pub fn format_text(time: DateTime<Utc>, p: &SolarPosition) -> String {
+    let v = p.sun_dir_enu;
+    format!(
+        "time_utc               {}\n\
+         zenith_deg             {:.5}   (apparent, refraction-corrected)\n\
+         true_zenith_deg        {:.5}\n\
+         azimuth_deg            {:.5}   (clockwise from north)\n\
+         elevation_deg          {:.5}\n\
+         earth_sun_distance_au  {:.7}\n\
+         sun_dir_enu            {:.6} {:.6} {:.6}   (east, north, up)\n",
+        time.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+        p.zenith_deg,
+        p.true_zenith_deg,
+        p.azimuth_deg,
+        p.elevation_deg,
+        p.earth_sun_distance_au,
+        v[0],
+        v[1],
+        v[2]
+    )
+}
+
+pub fn run(a: Args) -> anyhow::Result<i32> {
+    validate_site(a.lat, a.lon, a.elevation).map_err(anyhow::Error::msg)?;
+    if !(a.pressure_hpa > 0.0 && a.pressure_hpa < 2000.0) {
+        anyhow::bail!(
+            "--pressure-hpa {} is out of range: expected hPa in (0, 2000)",
+            a.pressure_hpa
+        );
+    }
+    if !(-100.0..=100.0).contains(&a.temp_c) {
+        anyhow::bail!(
+            "--temp-c {} is out of range: expected °C in [-100, 100]",
+            a.temp_c
+        );
+    }
+    let opts = SpaOptions {
+        pressure_hpa: a.pressure_hpa,
+        temp_c: a.temp_c,
+        delta_t_s: a.delta_t,
+        ..SpaOptions::default()
+    };
+    let p = solar_position_with(a.time, a.lat, a.lon, a.elevation, &opts);
+    if a.json {
+        let r = Report {
+            time_utc: a.time.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true),
+            lat_deg: a.lat,
+            lon_deg: a.lon,
+            elevation_m: a.elevation,
+            zenith_deg: p.zenith_deg,
+            true_zenith_deg: p.true_zenith_deg,
+            azimuth_deg: p.azimuth_deg,
+            elevation_deg: p.elevation_deg,
+            earth_sun_distance_au: p.earth_sun_distance_au,
+            sun_dir_enu: p.sun_dir_enu,
+            delta_t_s: a.delta_t.unwrap_or_else(|| {
+                crate::sun::delta_t_s(
+                    chrono::Datelike::year(&a.time),
+                    chrono::Datelike::month(&a.time),
+                )
+            }),
+            options: &opts,
+        };
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&r).context("serialising the solar position")?
+        );
+    } else {
+        print!("{}", format_text(a.time, &p));
+    }
+    Ok(0)
+}

@@ -1,1 +1,0 @@
-//! Sun ephemeris (NREL SPA).
