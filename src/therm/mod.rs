@@ -7,3 +7,6 @@
 
 pub mod forcing;
 pub mod weather;
+pub mod balance;
+pub mod cache;
+pub mod slab;
