@@ -56,7 +56,14 @@ fn erfcx(x: f64) -> f64 {
 }
 
 fn max_err(series: impl Iterator<Item = (f64, f64)>) -> f64 {
-    series.map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    let mut worst = (0.0, 0usize, 0.0, 0.0);
+    for (i, (a, b)) in series.enumerate() {
+        if (a - b).abs() > worst.0 {
+            worst = ((a - b).abs(), i, a, b);
+        }
+    }
+    eprintln!("worst at sample {}: {} vs exact {}", worst.1, worst.2, worst.3);
+    worst.0
 }
 
 /// Lumped thin plate (Biot = hL/k = 5e-5): 1 mm aluminium, insulated back,

@@ -244,13 +244,13 @@ impl Default for ThermSettings {
     fn default() -> Self {
         ThermSettings {
             step_s: 900.0,
-            tol_k: Some(0.002),
+            tol_k: Some(0.0005),
             min_step_s: 0.05,
             spin_up_h: 24.0,
             nodes: 8,
             max_nodes: 200,
             surface_time_s: 30.0,
-            max_growth: 1.2,
+            max_growth: 1.06,
             convection: Convection::default(),
         }
     }
