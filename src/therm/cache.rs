@@ -207,3 +207,121 @@ impl ThermCache {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::therm::slab::BackBoundary;
+    use rayon::prelude::*;
+
+    fn forcing() -> Vec<Forcing> {
+        (0..=96)
+            .map(|i| {
+                let t = i as f64 * 900.0;
+                let ph = (t / 86400.0 * std::f64::consts::TAU).sin();
+                Forcing {
+                    t_s: t,
+                    air_temp_k: 290.0 + 6.0 * ph,
+                    sky_temp_k: 265.0,
+                    wind_speed_m_s: 2.0,
+                    dni_w_m2: (700.0 * ph).max(0.0),
+                    dhi_w_m2: (80.0 * ph).max(0.0),
+                    ghi_w_m2: (600.0 * ph).max(0.0),
+                    sun_dir_enu: [0.3 * ph, -0.5, ph],
+                }
+            })
+            .collect()
+    }
+
+    fn mats() -> Vec<SlabMaterial> {
+        [(0.2, 1.4), (0.0005, 200.0), (0.05, 0.3)]
+            .iter()
+            .map(|&(l, k)| SlabMaterial {
+                density_kg_m3: 2000.0,
+                specific_heat_j_kgk: 900.0,
+                conductivity_w_mk: k,
+                thickness_m: l,
+                solar_absorptivity: 0.7,
+                thermal_emissivity: 0.9,
+                back: BackBoundary::Insulated,
+                internal_power_w_m2: 0.0,
+                ground_albedo: None,
+            })
+            .collect()
+    }
+
+    fn history(shade_from: usize) -> SunHistory {
+        SunHistory {
+            start_s: 86400 - 47 * 1800,
+            interval_s: 1800,
+            sunlit: (0..48).map(|i| i < shade_from).collect(),
+        }
+    }
+
+    #[test]
+    fn quantised_orientations_share_an_entry_and_solve_the_quantised_facet() {
+        let f = forcing();
+        let m = mats()[0];
+        let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+        let a = Orientation { slope_deg: 30.1, aspect_deg: 179.9 };
+        let b = Orientation { slope_deg: 29.9, aspect_deg: 180.2 };
+        let ta = cache.surface_temp_k(0, &m, a, None, 7, &f).unwrap();
+        let tb = cache.surface_temp_k(0, &m, b, None, 7, &f).unwrap();
+        assert_eq!(ta.to_bits(), tb.to_bits());
+        assert_eq!(cache.stats(), CacheStats { hits: 1, misses: 1, entries: 1 });
+        // Equals a direct solve at the quantised orientation (30°, 180°).
+        let direct = SlabModel::new(&m, Orientation { slope_deg: 30.0, aspect_deg: 180.0 }, &ThermSettings::default())
+            .unwrap()
+            .solve(&f, None, false)
+            .unwrap();
+        assert_eq!(direct.surface_temp_k.to_bits(), ta.to_bits());
+        // Horizontal facets ignore aspect; an all-sunlit history is no history.
+        let h0 = Orientation { slope_deg: 0.1, aspect_deg: 90.0 };
+        let h1 = Orientation { slope_deg: 0.0, aspect_deg: 270.0 };
+        assert_eq!(cache.key(0, h0, None, 7), cache.key(0, h1, Some(&history(48)), 7));
+        // Different history, material or weather: different keys.
+        assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, Some(&history(40)), 7));
+        assert_ne!(cache.key(0, a, None, 7), cache.key(1, a, None, 7));
+        assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, None, 8));
+    }
+
+    #[test]
+    fn concurrent_use_is_deterministic_and_solves_each_key_once() {
+        let f = forcing();
+        let mats = mats();
+        // 600 requests over 3 materials × 4 orientations × 3 histories = 36 keys,
+        // orientations jittered within the quantum.
+        let reqs: Vec<(u32, Orientation, usize)> = (0..600)
+            .map(|i| {
+                let jitter = ((i * 37) % 9) as f64 * 0.02 - 0.08;
+                (
+                    (i % 3) as u32,
+                    Orientation { slope_deg: 15.0 * ((i / 3) % 4) as f64 + jitter, aspect_deg: 90.0 + jitter },
+                    [48, 44, 30][(i / 12) % 3],
+                )
+            })
+            .collect();
+        let run = |threads: usize| {
+            let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let temps: Vec<u64> = pool.install(|| {
+                reqs.par_iter()
+                    .map(|&(m, o, s)| {
+                        cache
+                            .surface_temp_k(m, &mats[m as usize], o, Some(&history(s)), 1, &f)
+                            .unwrap()
+                            .to_bits()
+                    })
+                    .collect()
+            });
+            (temps, cache.stats())
+        };
+        let (t1, s1) = run(1);
+        let (t4, s4) = run(4);
+        assert_eq!(t1, t4);
+        assert_eq!(s1.misses, 36);
+        assert_eq!(s4.misses, 36);
+        assert_eq!(s4.hits + s4.misses, 600);
+        assert_eq!(s4.entries, 36);
+    }
+}
