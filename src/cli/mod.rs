@@ -4,6 +4,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod crosscheck;
+pub mod therm;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
@@ -18,11 +19,15 @@ pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.
     Crosscheck(crosscheck::Args),
+    /// Surface temperature and flux terms of one material and facet over
+    /// time (THERM-style slab, DESIGN.md §4).
+    Therm(therm::Args),
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
+        Command::Therm(a) => therm::run(a),
     }
 }

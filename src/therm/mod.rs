@@ -6,6 +6,7 @@
 //! energy balance needs, in SI units) → the slab solver → surface temperature.
 
 pub mod forcing;
+pub mod materials;
 pub mod weather;
 pub mod balance;
 pub mod cache;
