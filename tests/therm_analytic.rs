@@ -10,7 +10,12 @@ const TOL_K: f64 = 0.05;
 
 fn constant_forcing(t_end_s: f64, dt_s: f64, f: Forcing) -> Vec<Forcing> {
     let n = (t_end_s / dt_s).round() as usize;
-    (0..=n).map(|i| Forcing { t_s: i as f64 * dt_s, ..f }).collect()
+    (0..=n)
+        .map(|i| Forcing {
+            t_s: i as f64 * dt_s,
+            ..f
+        })
+        .collect()
 }
 
 fn night(air_k: f64) -> Forcing {
@@ -51,7 +56,8 @@ fn erfcx(x: f64) -> f64 {
                 + t * (0.09678418
                     + t * (-0.18628806
                         + t * (0.27886807
-                            + t * (-1.13520398 + t * (1.48851587 + t * (-0.82215223 + t * 0.17087277)))))))))
+                            + t * (-1.13520398
+                                + t * (1.48851587 + t * (-0.82215223 + t * 0.17087277)))))))))
         .exp()
 }
 
@@ -62,7 +68,10 @@ fn max_err(series: impl Iterator<Item = (f64, f64)>) -> f64 {
             worst = ((a - b).abs(), i, a, b);
         }
     }
-    eprintln!("worst at sample {}: {} vs exact {}", worst.1, worst.2, worst.3);
+    eprintln!(
+        "worst at sample {}: {} vs exact {}",
+        worst.1, worst.2, worst.3
+    );
     worst.0
 }
 
@@ -89,14 +98,19 @@ fn lumped_thin_plate_exponential_approach() {
     };
     let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &settings).unwrap();
     let forcing = constant_forcing(7200.0, 60.0, night(300.0));
-    let sol = model.march(vec![280.0; model.nodes()], &forcing, None, true).unwrap();
+    let sol = model
+        .march(vec![280.0; model.nodes()], &forcing, None, true)
+        .unwrap();
     let tau = mat.areal_heat_capacity_j_m2k() / h;
     let err = max_err(
         sol.series
             .iter()
             .map(|r| (r.surface_temp_k, 300.0 - 20.0 * (-r.t_s / tau).exp())),
     );
-    eprintln!("lumped plate: max err {err:.2e} K, {} steps", sol.steps_accepted);
+    eprintln!(
+        "lumped plate: max err {err:.2e} K, {} steps",
+        sol.steps_accepted
+    );
     assert!(err < TOL_K, "max error {err} K");
 }
 
@@ -115,14 +129,20 @@ fn semi_infinite_convective_step_erfc() {
     };
     let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &settings).unwrap();
     let forcing = constant_forcing(86400.0, 900.0, night(300.0));
-    let sol = model.march(vec![280.0; model.nodes()], &forcing, None, true).unwrap();
+    let sol = model
+        .march(vec![280.0; model.nodes()], &forcing, None, true)
+        .unwrap();
     let kappa = mat.diffusivity_m2_s();
     let hh = h / mat.conductivity_w_mk;
     let err = max_err(sol.series.iter().skip(1).map(|r| {
         let x = hh * (kappa * r.t_s).sqrt();
         (r.surface_temp_k, 280.0 + 20.0 * (1.0 - erfcx(x)))
     }));
-    eprintln!("convective step: max err {err:.2e} K, {} nodes, {} steps", model.nodes(), sol.steps_accepted);
+    eprintln!(
+        "convective step: max err {err:.2e} K, {} nodes, {} steps",
+        model.nodes(),
+        sol.steps_accepted
+    );
     assert!(err < TOL_K, "max error {err} K");
 }
 
@@ -146,7 +166,9 @@ fn semi_infinite_flux_step_sqrt_t() {
         ..night(280.0)
     };
     let forcing = constant_forcing(86400.0, 900.0, sun);
-    let sol = model.march(vec![280.0; model.nodes()], &forcing, None, true).unwrap();
+    let sol = model
+        .march(vec![280.0; model.nodes()], &forcing, None, true)
+        .unwrap();
     let kappa = mat.diffusivity_m2_s();
     let k = mat.conductivity_w_mk;
     let err = max_err(sol.series.iter().skip(1).map(|r| {
@@ -155,7 +177,10 @@ fn semi_infinite_flux_step_sqrt_t() {
             280.0 + 2.0 * q / k * (kappa * r.t_s / std::f64::consts::PI).sqrt(),
         )
     }));
-    eprintln!("flux step: max err {err:.2e} K, {} steps", sol.steps_accepted);
+    eprintln!(
+        "flux step: max err {err:.2e} K, {} steps",
+        sol.steps_accepted
+    );
     assert!(err < TOL_K, "max error {err} K");
 }
 
@@ -200,8 +225,15 @@ fn semi_infinite_sinusoidal_damped_wave() {
         .collect();
     let init: Vec<f64> = model.mesh.z_m.iter().map(|&z| exact(z, 0.0)).collect();
     let sol = model.march(init, &forcing, None, true).unwrap();
-    let err = max_err(sol.series.iter().map(|r| (r.surface_temp_k, exact(0.0, r.t_s))));
-    eprintln!("damped wave: surface amplitude {:.3} K, max err {err:.2e} K", (th_re * th_re + th_im * th_im).sqrt());
+    let err = max_err(
+        sol.series
+            .iter()
+            .map(|r| (r.surface_temp_k, exact(0.0, r.t_s))),
+    );
+    eprintln!(
+        "damped wave: surface amplitude {:.3} K, max err {err:.2e} K",
+        (th_re * th_re + th_im * th_im).sqrt()
+    );
     assert!(err < TOL_K, "max error {err} K");
 }
 
@@ -230,7 +262,9 @@ fn slab_steady_state_deep_ground() {
         thickness_m: 0.3,
         solar_absorptivity: 0.7,
         thermal_emissivity: 0.9,
-        back: BackBoundary::DeepGround { temp_k: Some(285.0) },
+        back: BackBoundary::DeepGround {
+            temp_k: Some(285.0),
+        },
         internal_power_w_m2: 10.0,
         ground_albedo: Some(0.3),
     };
@@ -252,7 +286,9 @@ fn slab_steady_state_deep_ground() {
         ..night(300.0)
     };
     let forcing = constant_forcing(60.0 * 86400.0, 86400.0, f);
-    let sol = model.march(vec![250.0; model.nodes()], &forcing, None, false).unwrap();
+    let sol = model
+        .march(vec![250.0; model.nodes()], &forcing, None, false)
+        .unwrap();
     let n = o.normal_enu();
     let cosi = n[0] * sd[0] + n[1] * sd[1] + n[2] * sd[2];
     let (fs, fg) = (o.sky_view_factor(), o.ground_view_factor());
@@ -276,12 +312,15 @@ fn slab_steady_state_deep_ground() {
     let (z, p) = (&model.mesh.z_m, &sol.profile_k);
     for (zi, ti) in z.iter().zip(p) {
         let lin = ts + (285.0 - ts) * zi / 0.3;
-        assert!((ti - lin).abs() < TOL_K, "profile at z = {zi}: {ti} vs {lin}");
+        assert!(
+            (ti - lin).abs() < TOL_K,
+            "profile at z = {zi}: {ti} vs {lin}"
+        );
     }
 }
 
 /// Steady state of a plate exposed to air on both faces (back: convection
-/// + longwave to air-temperature surroundings): the through-slab flux
+/// and longwave to air-temperature surroundings): the through-slab flux
 /// `k/L·(T_s − T_b)` equals the back loss, which fixes T_b given T_s; T_s
 /// then solves the surface balance (nested bisection).
 #[test]
@@ -310,13 +349,24 @@ fn slab_steady_state_exposed_back() {
         ..night(295.0)
     };
     let forcing = constant_forcing(10.0 * 86400.0, 86400.0, f);
-    let sol = model.march(vec![295.0; model.nodes()], &forcing, None, false).unwrap();
+    let sol = model
+        .march(vec![295.0; model.nodes()], &forcing, None, false)
+        .unwrap();
     let sig = STEFAN_BOLTZMANN_W_M2K4;
     let h = 5.7 + 3.8;
     let g = 0.2 / 0.02;
-    let back_temp = |ts: f64| bisect(|tb| g * (ts - tb) - (h * (tb - 295.0) + 0.9 * sig * (tb.powi(4) - 295f64.powi(4))), 250.0, ts + 1e-9);
+    let back_temp = |ts: f64| {
+        bisect(
+            |tb| g * (ts - tb) - (h * (tb - 295.0) + 0.9 * sig * (tb.powi(4) - 295f64.powi(4))),
+            250.0,
+            ts + 1e-9,
+        )
+    };
     let ts = bisect(
-        |t| 0.8 * 800.0 + 0.9 * sig * 270f64.powi(4) - 0.9 * sig * t.powi(4) + h * (295.0 - t) - g * (t - back_temp(t)),
+        |t| {
+            0.8 * 800.0 + 0.9 * sig * 270f64.powi(4) - 0.9 * sig * t.powi(4) + h * (295.0 - t)
+                - g * (t - back_temp(t))
+        },
         296.0,
         400.0,
     );

@@ -17,7 +17,10 @@ back = { deep_ground = { temp_k = 290.0 } }
 "#;
 
 fn irsig(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_irsig")).args(args).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_irsig"))
+        .args(args)
+        .output()
+        .unwrap()
 }
 
 /// The CSV output over the compared 48 h equals the scipy reference of the
@@ -30,14 +33,37 @@ fn therm_csv_matches_reference() {
     std::fs::write(&mats, MATS).unwrap();
     let forcing = format!("{DATA}therm_ref_forcing.csv");
     let out = irsig(&[
-        "therm", "--materials", mats.to_str().unwrap(), "--material", "asphalt", "--forcing", &forcing,
-        "--lat", "36.1", "--lon", "-79.95", "--from", "2021-05-04T05:00:00Z", "--to", "2021-05-06T05:00:00Z", "--csv",
+        "therm",
+        "--materials",
+        mats.to_str().unwrap(),
+        "--material",
+        "asphalt",
+        "--forcing",
+        &forcing,
+        "--lat",
+        "36.1",
+        "--lon",
+        "-79.95",
+        "--from",
+        "2021-05-04T05:00:00Z",
+        "--to",
+        "2021-05-06T05:00:00Z",
+        "--csv",
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8(out.stdout).unwrap();
     let refs = std::fs::read_to_string(format!("{DATA}therm_ref_temps.csv")).unwrap();
     let mut lines = refs.lines();
-    let col = lines.next().unwrap().split(',').position(|c| c == "asphalt").unwrap();
+    let col = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == "asphalt")
+        .unwrap();
     let reference: Vec<(f64, f64)> = lines
         .map(|l| {
             let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
@@ -63,27 +89,68 @@ fn therm_csv_matches_reference() {
 fn therm_bad_inputs_give_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let mats = dir.path().join("m.toml");
-    std::fs::write(&mats, MATS.replace("thickness_m = 0.3", "thickness_m = -0.3")).unwrap();
+    std::fs::write(
+        &mats,
+        MATS.replace("thickness_m = 0.3", "thickness_m = -0.3"),
+    )
+    .unwrap();
     let forcing = format!("{DATA}therm_ref_forcing.csv");
     let base = |m: &str, material: &str| {
         irsig(&[
-            "therm", "--materials", m, "--material", material, "--forcing", &forcing, "--lat", "36", "--lon", "-80",
-            "--from", "2021-05-04T05:00:00Z", "--to", "2021-05-04T06:00:00Z",
+            "therm",
+            "--materials",
+            m,
+            "--material",
+            material,
+            "--forcing",
+            &forcing,
+            "--lat",
+            "36",
+            "--lon",
+            "-80",
+            "--from",
+            "2021-05-04T05:00:00Z",
+            "--to",
+            "2021-05-04T06:00:00Z",
         ])
     };
     let out = base(mats.to_str().unwrap(), "asphalt");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("m.toml") && err.contains("thickness_m"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("m.toml") && err.contains("thickness_m"),
+        "{err}"
+    );
     std::fs::write(&mats, MATS).unwrap();
     let out = base(mats.to_str().unwrap(), "concrete");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("no material 'concrete'"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("no material 'concrete'"),
+        "{err}"
+    );
     let bad_forcing = dir.path().join("f.csv");
     std::fs::write(&bad_forcing, "t_s,air_temp_k,sky_temp_k,wind_speed_m_s,dni_w_m2,dhi_w_m2,ghi_w_m2,sun_e,sun_n,sun_u\n0,280,260,1,0,0,0,0,0,1\n900,abc,260,1,0,0,0,0,0,1\n").unwrap();
     let out = irsig(&[
-        "therm", "--materials", mats.to_str().unwrap(), "--material", "asphalt", "--forcing", bad_forcing.to_str().unwrap(),
-        "--lat", "36", "--lon", "-80", "--from", "2021-05-04T05:00:00Z", "--to", "2021-05-04T05:10:00Z", "--spin-up-h", "0",
+        "therm",
+        "--materials",
+        mats.to_str().unwrap(),
+        "--material",
+        "asphalt",
+        "--forcing",
+        bad_forcing.to_str().unwrap(),
+        "--lat",
+        "36",
+        "--lon",
+        "-80",
+        "--from",
+        "2021-05-04T05:00:00Z",
+        "--to",
+        "2021-05-04T05:10:00Z",
+        "--spin-up-h",
+        "0",
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("f.csv:3") && err.contains("air_temp_k"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("f.csv:3") && err.contains("air_temp_k"),
+        "{err}"
+    );
 }

@@ -22,7 +22,11 @@ fn clear_days(days: f64, dt_s: f64, mean_k: f64, amp_k: f64, wind_m_s: f64) -> V
             // declination 0: sin e = cos φ cos H; sun vector in ENU
             let (e, nn, u) = (-ha.sin(), -lat.sin() * ha.cos(), lat.cos() * ha.cos());
             let sin_el = u.max(0.0);
-            let dni = if u > 0.0 { 900.0 * sin_el.powf(0.3) } else { 0.0 };
+            let dni = if u > 0.0 {
+                900.0 * sin_el.powf(0.3)
+            } else {
+                0.0
+            };
             let dhi = 100.0 * sin_el;
             let air = mean_k + amp_k * (2.0 * std::f64::consts::PI * (hour - 9.0) / 24.0).sin();
             Forcing {
@@ -58,19 +62,31 @@ fn material(thickness_m: f64, k: f64, rho: f64, c: f64, back: BackBoundary) -> S
 /// below: min(air, sky, initial); above: the surface temperature at which
 /// the largest possible sources are balanced by emission and the still-air
 /// convection floor `a·(T − T_air,max)` alone.
-fn bounds(mat: &SlabMaterial, o: Orientation, forcing: &[Forcing], init_k: &[f64], conv: &Convection) -> (f64, f64) {
+fn bounds(
+    mat: &SlabMaterial,
+    o: Orientation,
+    forcing: &[Forcing],
+    init_k: &[f64],
+    conv: &Convection,
+) -> (f64, f64) {
     let fold = |g: &dyn Fn(&Forcing) -> f64, min: bool| {
-        forcing
-            .iter()
-            .map(g)
-            .fold(if min { f64::INFINITY } else { f64::NEG_INFINITY }, |a, b| if min { a.min(b) } else { a.max(b) })
+        forcing.iter().map(g).fold(
+            if min {
+                f64::INFINITY
+            } else {
+                f64::NEG_INFINITY
+            },
+            |a, b| if min { a.min(b) } else { a.max(b) },
+        )
     };
     let init_min = init_k.iter().cloned().fold(f64::INFINITY, f64::min);
     let init_max = init_k.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     let lo = fold(&|f| f.air_temp_k.min(f.sky_temp_k), true).min(init_min);
     let (fs, fg) = (o.sky_view_factor(), o.ground_view_factor());
     let s_max = mat.solar_absorptivity
-        * (fold(&|f| f.dni_w_m2, false) + fold(&|f| f.dhi_w_m2, false) * fs + 0.2 * fold(&|f| f.ghi_w_m2, false) * fg);
+        * (fold(&|f| f.dni_w_m2, false)
+            + fold(&|f| f.dhi_w_m2, false) * fs
+            + 0.2 * fold(&|f| f.ghi_w_m2, false) * fg);
     let sig = STEFAN_BOLTZMANN_W_M2K4;
     let e = mat.thermal_emissivity;
     let air_max = fold(&|f| f.air_temp_k, false);
@@ -80,7 +96,11 @@ fn bounds(mat: &SlabMaterial, o: Orientation, forcing: &[Forcing], init_k: &[f64
     let (mut l, mut h) = (air_max, air_max + 5000.0);
     for _ in 0..200 {
         let m = 0.5 * (l + h);
-        if src - e * sig * m.powi(4) + a * (air_max - m) > 0.0 { l = m } else { h = m }
+        if src - e * sig * m.powi(4) + a * (air_max - m) > 0.0 {
+            l = m
+        } else {
+            h = m
+        }
     }
     (lo, h.max(init_max))
 }
@@ -189,14 +209,25 @@ proptest! {
     }
 }
 
-fn series_on_last_day(mat: &SlabMaterial, o: Orientation, forcing: &[Forcing], shadow: Option<&SunHistory>) -> Vec<(f64, f64, f64)> {
+fn series_on_last_day(
+    mat: &SlabMaterial,
+    o: Orientation,
+    forcing: &[Forcing],
+    shadow: Option<&SunHistory>,
+) -> Vec<(f64, f64, f64)> {
     let model = SlabModel::new(mat, o, &ThermSettings::default()).unwrap();
     let sol = model.solve(forcing, shadow, true).unwrap();
     let t_last = forcing.last().unwrap().t_s;
     sol.series
         .iter()
         .filter(|r| r.t_s > t_last - 86400.0)
-        .map(|r| ((r.t_s / 3600.0).rem_euclid(24.0), r.surface_temp_k, r.air_temp_k))
+        .map(|r| {
+            (
+                (r.t_s / 3600.0).rem_euclid(24.0),
+                r.surface_temp_k,
+                r.air_temp_k,
+            )
+        })
         .collect()
 }
 
@@ -209,13 +240,31 @@ fn higher_thermal_mass_heats_later_and_stays_warm_longer() {
     let forcing = clear_days(3.0, 900.0, 290.0, 8.0, 2.0);
     let light = material(0.02, 1.4, 2300.0, 880.0, BackBoundary::Insulated);
     let heavy = material(0.3, 1.4, 2300.0, 880.0, BackBoundary::Insulated);
-    let peak = |s: &[(f64, f64, f64)]| s.iter().cloned().fold((0.0, 0.0), |a, (h, t, _)| if t > a.1 { (h, t) } else { a });
-    let at = |s: &[(f64, f64, f64)], hour: f64| s.iter().find(|r| (r.0 - hour).abs() < 1e-6).unwrap().1;
+    let peak = |s: &[(f64, f64, f64)]| {
+        s.iter()
+            .cloned()
+            .fold((0.0, 0.0), |a, (h, t, _)| if t > a.1 { (h, t) } else { a })
+    };
+    let at =
+        |s: &[(f64, f64, f64)], hour: f64| s.iter().find(|r| (r.0 - hour).abs() < 1e-6).unwrap().1;
     let sl = series_on_last_day(&light, Orientation::HORIZONTAL, &forcing, None);
     let sh = series_on_last_day(&heavy, Orientation::HORIZONTAL, &forcing, None);
     let (pl, ph) = (peak(&sl), peak(&sh));
-    eprintln!("peak light {:.2} h {:.2} K, heavy {:.2} h {:.2} K; 22 h: light {:.2}, heavy {:.2}", pl.0, pl.1, ph.0, ph.1, at(&sl, 22.0), at(&sh, 22.0));
-    assert!(ph.0 >= pl.0 + 0.5, "heavy peak {} h not >= 30 min after light peak {} h", ph.0, pl.0);
+    eprintln!(
+        "peak light {:.2} h {:.2} K, heavy {:.2} h {:.2} K; 22 h: light {:.2}, heavy {:.2}",
+        pl.0,
+        pl.1,
+        ph.0,
+        ph.1,
+        at(&sl, 22.0),
+        at(&sh, 22.0)
+    );
+    assert!(
+        ph.0 >= pl.0 + 0.5,
+        "heavy peak {} h not >= 30 min after light peak {} h",
+        ph.0,
+        pl.0
+    );
     assert!(ph.1 < pl.1 - 5.0, "heavy slab should heat less by the peak");
     assert!(at(&sh, 22.0) > at(&sl, 22.0) + 1.0);
 }
@@ -227,7 +276,13 @@ fn higher_thermal_mass_heats_later_and_stays_warm_longer() {
 fn pixel_shaded_last_two_hours_is_cooler() {
     let forcing = clear_days(2.0 + 15.0 / 24.0, 900.0, 290.0, 8.0, 2.0);
     let t_end = forcing.last().unwrap().t_s as i64;
-    let mut asphalt = material(0.1, 0.75, 2100.0, 920.0, BackBoundary::DeepGround { temp_k: None });
+    let mut asphalt = material(
+        0.1,
+        0.75,
+        2100.0,
+        920.0,
+        BackBoundary::DeepGround { temp_k: None },
+    );
     asphalt.solar_absorptivity = 0.9;
     // 48 samples every 30 min, the last at the image time; the last 4 (2 h) shaded.
     let hist = SunHistory {
@@ -235,9 +290,13 @@ fn pixel_shaded_last_two_hours_is_cooler() {
         interval_s: 1800,
         sunlit: (0..48).map(|i| i < 44).collect(),
     };
-    let model = SlabModel::new(&asphalt, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
+    let model =
+        SlabModel::new(&asphalt, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
     let sunlit = model.solve(&forcing, None, false).unwrap().surface_temp_k;
-    let shaded = model.solve(&forcing, Some(&hist), false).unwrap().surface_temp_k;
+    let shaded = model
+        .solve(&forcing, Some(&hist), false)
+        .unwrap()
+        .surface_temp_k;
     eprintln!("15 h: sunlit {sunlit:.2} K, shaded 2 h {shaded:.2} K");
     assert!(shaded < sunlit - 3.0);
 }
@@ -247,7 +306,13 @@ fn pixel_shaded_last_two_hours_is_cooler() {
 /// decrement smaller than the previous one.
 #[test]
 fn contrast_falls_with_wind_fast_then_slowly() {
-    let mut asphalt = material(0.1, 0.75, 2100.0, 920.0, BackBoundary::DeepGround { temp_k: None });
+    let mut asphalt = material(
+        0.1,
+        0.75,
+        2100.0,
+        920.0,
+        BackBoundary::DeepGround { temp_k: None },
+    );
     asphalt.solar_absorptivity = 0.9;
     let mph = 0.44704;
     let contrast: Vec<f64> = [0.0, 10.0, 20.0, 30.0]
@@ -266,5 +331,8 @@ fn contrast_falls_with_wind_fast_then_slowly() {
         assert!(w[1] < w[0]);
     }
     let drops: Vec<f64> = contrast.windows(2).map(|w| w[0] - w[1]).collect();
-    assert!(drops[0] > drops[1] && drops[1] > drops[2], "drops {drops:?}");
+    assert!(
+        drops[0] > drops[1] && drops[1] > drops[2],
+        "drops {drops:?}"
+    );
 }

@@ -33,7 +33,12 @@ struct Cases {
 fn csv_rows(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(format!("{DATA}{name}")).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-    let header = lines.next().unwrap().split(',').map(str::to_owned).collect();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
     let rows = lines
         .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
         .collect();
@@ -58,7 +63,10 @@ fn load_forcing() -> Vec<Forcing> {
 }
 
 fn load_cases() -> (Cases, Vec<String>, Vec<Vec<f64>>) {
-    let cases: Cases = serde_json::from_str(&std::fs::read_to_string(format!("{DATA}therm_ref_cases.json")).unwrap()).unwrap();
+    let cases: Cases = serde_json::from_str(
+        &std::fs::read_to_string(format!("{DATA}therm_ref_cases.json")).unwrap(),
+    )
+    .unwrap();
     let (h, rows) = csv_rows("therm_ref_temps.csv");
     (cases, h, rows)
 }
@@ -81,7 +89,11 @@ fn errors(settings: &ThermSettings) -> Vec<(String, f64, usize)> {
                 err = err.max((rec.surface_temp_k - row[col]).abs());
             }
         }
-        out.push((case.name.clone(), err, sol.steps_accepted + sol.steps_rejected));
+        out.push((
+            case.name.clone(),
+            err,
+            sol.steps_accepted + sol.steps_rejected,
+        ));
     }
     out
 }
@@ -115,14 +127,20 @@ fn energy_is_conserved() {
     for case in &cases.cases {
         for adaptive in [false, true] {
             let settings = ThermSettings {
-                tol_k: if adaptive { ThermSettings::default().tol_k } else { None },
+                tol_k: if adaptive {
+                    ThermSettings::default().tol_k
+                } else {
+                    None
+                },
                 step_s: 900.0,
                 ..ThermSettings::default()
             };
             let model = SlabModel::new(&case.material, case.orientation, &settings).unwrap();
             // no shadow switches between samples for (a): every step is one record
             let shadow = if adaptive { case.shadow.as_ref() } else { None };
-            let sol = model.march(vec![260.0; model.nodes()], &forcing, shadow, true).unwrap();
+            let sol = model
+                .march(vec![260.0; model.nodes()], &forcing, shadow, true)
+                .unwrap();
             let first = sol.series.first().unwrap();
             let last = sol.series.last().unwrap();
             let stored = last.stored_energy_j_m2 - first.stored_energy_j_m2;
@@ -174,12 +192,26 @@ fn sweep_settings_error_vs_cost() {
             if tol.is_some() && step != 900.0 {
                 continue;
             }
-            variants.push((format!("tol {tol:?} step {step}"), ThermSettings { tol_k: tol, step_s: step, ..base }));
+            variants.push((
+                format!("tol {tol:?} step {step}"),
+                ThermSettings {
+                    tol_k: tol,
+                    step_s: step,
+                    ..base
+                },
+            ));
         }
     }
     for g in [1.05, 1.1, 1.2, 1.3] {
         for st in [3.0, 30.0, 300.0] {
-            variants.push((format!("growth {g} surface_time {st}"), ThermSettings { max_growth: g, surface_time_s: st, ..base }));
+            variants.push((
+                format!("growth {g} surface_time {st}"),
+                ThermSettings {
+                    max_growth: g,
+                    surface_time_s: st,
+                    ..base
+                },
+            ));
         }
     }
     for (label, s) in variants {
@@ -188,8 +220,20 @@ fn sweep_settings_error_vs_cost() {
         let dt = t0.elapsed().as_secs_f64();
         let worst = errs.iter().map(|e| e.1).fold(0.0, f64::max);
         let steps: usize = errs.iter().map(|e| e.2).sum();
-        let nodes: Vec<usize> = load_cases().0.cases.iter().map(|c| SlabModel::new(&c.material, c.orientation, &s).unwrap().nodes()).collect();
-        eprintln!("{label:36} max err {worst:.4} K  steps {steps:6}  nodes {nodes:?}  {:.1} ms", dt * 1e3);
+        let nodes: Vec<usize> = load_cases()
+            .0
+            .cases
+            .iter()
+            .map(|c| {
+                SlabModel::new(&c.material, c.orientation, &s)
+                    .unwrap()
+                    .nodes()
+            })
+            .collect();
+        eprintln!(
+            "{label:36} max err {worst:.4} K  steps {steps:6}  nodes {nodes:?}  {:.1} ms",
+            dt * 1e3
+        );
     }
 }
 
@@ -198,8 +242,17 @@ fn sweep_settings_error_vs_cost() {
 fn tight_settings_errors() {
     for tol in [2e-3, 2e-4, 1e-5] {
         for (g, st) in [(1.2, 30.0), (1.05, 30.0), (1.05, 3.0), (1.03, 3.0)] {
-            let s = ThermSettings { tol_k: Some(tol), max_growth: g, surface_time_s: st, max_nodes: 400, ..ThermSettings::default() };
-            let e: Vec<String> = errors(&s).iter().map(|(n, e, st)| format!("{n} {e:.4} ({st})")).collect();
+            let s = ThermSettings {
+                tol_k: Some(tol),
+                max_growth: g,
+                surface_time_s: st,
+                max_nodes: 400,
+                ..ThermSettings::default()
+            };
+            let e: Vec<String> = errors(&s)
+                .iter()
+                .map(|(n, e, st)| format!("{n} {e:.4} ({st})"))
+                .collect();
             eprintln!("tol {tol} g {g} st {st}: {}", e.join(", "));
         }
     }

@@ -99,7 +99,11 @@ impl ShadowRange {
             ShadowRange::Absolute(a, b) => t >= a && t < b,
             ShadowRange::Daily(a, b) => {
                 let tod = t.time().with_nanosecond(0).unwrap_or(t.time());
-                if a <= b { tod >= a && tod < b } else { tod >= a || tod < b }
+                if a <= b {
+                    tod >= a && tod < b
+                } else {
+                    tod >= a || tod < b
+                }
             }
         }
     }
@@ -108,8 +112,18 @@ impl ShadowRange {
 /// Parses `--shadow`: `START/END` (RFC 3339) or `HH:MM-HH:MM`, comma-separated.
 pub fn parse_shadow_ranges(s: &str) -> anyhow::Result<Vec<ShadowRange>> {
     let mut out = Vec::new();
-    for (i, part) in s.split(',').map(str::trim).filter(|p| !p.is_empty()).enumerate() {
-        let what = || format!("--shadow range {} '{part}': expected START/END (RFC 3339) or HH:MM-HH:MM", i + 1);
+    for (i, part) in s
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .enumerate()
+    {
+        let what = || {
+            format!(
+                "--shadow range {} '{part}': expected START/END (RFC 3339) or HH:MM-HH:MM",
+                i + 1
+            )
+        };
         if let Some((a, b)) = part.split_once('/') {
             let a = parse_time(a).with_context(what)?;
             let b = parse_time(b).with_context(what)?;
@@ -151,16 +165,24 @@ pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
         "sun_n",
         "sun_u",
     ];
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
-    let (hl, header) = lines.next().with_context(|| format!("{file}: empty file"))?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
+    let (hl, header) = lines
+        .next()
+        .with_context(|| format!("{file}: empty file"))?;
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
     let idx: Vec<usize> = COLS
         .iter()
         .map(|c| {
-            names
-                .iter()
-                .position(|n| n == c)
-                .with_context(|| format!("{file}:{}: header lacks column '{c}' (expected {})", hl + 1, COLS.join(",")))
+            names.iter().position(|n| n == c).with_context(|| {
+                format!(
+                    "{file}:{}: header lacks column '{c}' (expected {})",
+                    hl + 1,
+                    COLS.join(",")
+                )
+            })
         })
         .collect::<anyhow::Result<_>>()?;
     let mut out = Vec::new();
@@ -175,7 +197,13 @@ pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
                 .parse::<f64>()
                 .ok()
                 .filter(|x| x.is_finite())
-                .with_context(|| format!("{file}:{}: column '{}': '{s}' is not a finite number", ln + 1, COLS[k]))?;
+                .with_context(|| {
+                    format!(
+                        "{file}:{}: column '{}': '{s}' is not a finite number",
+                        ln + 1,
+                        COLS[k]
+                    )
+                })?;
         }
         out.push(Forcing {
             t_s: v[0],
@@ -214,7 +242,8 @@ fn forcing_from_weather(
         lon_deg: a.lon,
         elevation_m: a.elevation,
     };
-    let (forcing, report) = crate::therm::forcing::build_forcing(&history, &site, start, step_s, n_steps)?;
+    let (forcing, report) =
+        crate::therm::forcing::build_forcing(&history, &site, start, step_s, n_steps)?;
     for l in report.lines() {
         eprintln!("{l}");
     }
@@ -267,7 +296,11 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         bail!("--spin-up-h {}: expected hours >= 0", a.spin_up_h);
     }
     if !(-90.0..=90.0).contains(&a.lat) || !(-180.0..=360.0).contains(&a.lon) {
-        bail!("--lat {} --lon {}: expected latitude in [-90, 90] and longitude in [-180, 360]", a.lat, a.lon);
+        bail!(
+            "--lat {} --lon {}: expected latitude in [-90, 90] and longitude in [-180, 360]",
+            a.lat,
+            a.lon
+        );
     }
     let start = from - Duration::milliseconds((a.spin_up_h * 3.6e6).round() as i64);
     let forcing = match &a.forcing {
@@ -295,8 +328,15 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         Some(s) => {
             let ranges = parse_shadow_ranges(s)?;
             // Sampled on a uniform grid of the smallest forcing interval.
-            let dt = forcing.windows(2).map(|w| w[1].t_s - w[0].t_s).fold(f64::INFINITY, f64::min);
-            let dt = if dt.is_finite() { dt.round().max(1.0) } else { 60.0 };
+            let dt = forcing
+                .windows(2)
+                .map(|w| w[1].t_s - w[0].t_s)
+                .fold(f64::INFINITY, f64::min);
+            let dt = if dt.is_finite() {
+                dt.round().max(1.0)
+            } else {
+                60.0
+            };
             let n = (forcing.last().unwrap().t_s / dt).ceil() as usize + 1;
             Some(SunHistory {
                 start_s: 0,
@@ -316,7 +356,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         spin_up_h: a.spin_up_h,
         ..ThermSettings::default()
     };
-    let model = SlabModel::new(&mat, o, &settings).with_context(|| format!("material '{}'", a.material))?;
+    let model =
+        SlabModel::new(&mat, o, &settings).with_context(|| format!("material '{}'", a.material))?;
     let sol = model.solve(&forcing, shadow.as_ref(), true)?;
     let from_s = (from - start).num_milliseconds() as f64 / 1e3;
     let rows: Vec<Row> = sol
@@ -370,11 +411,7 @@ fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result
     if csv {
         writeln!(out, "{}", COLUMNS.join(sep))?;
     } else {
-        writeln!(
-            out,
-            "# {}",
-            COLUMNS.join(sep)
-        )?;
+        writeln!(out, "# {}", COLUMNS.join(sep))?;
     }
     for r in rows {
         let s = &r.rec.surface;
@@ -395,7 +432,13 @@ fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result
             r.rec.back_w_m2,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
-        writeln!(out, "{}{sep}{}{sep}{}", r.time_utc, r.rec.t_s, cells.join(sep))?;
+        writeln!(
+            out,
+            "{}{sep}{}{sep}{}",
+            r.time_utc,
+            r.rec.t_s,
+            cells.join(sep)
+        )?;
     }
     Ok(())
 }
@@ -406,11 +449,16 @@ mod tests {
 
     #[test]
     fn shadow_ranges_parse_and_contain() {
-        let r = parse_shadow_ranges("2021-05-05T18:00:00Z/2021-05-05T20:00:00Z, 22:00-02:00").unwrap();
+        let r =
+            parse_shadow_ranges("2021-05-05T18:00:00Z/2021-05-05T20:00:00Z, 22:00-02:00").unwrap();
         assert_eq!(r.len(), 2);
         let t = |s: &str| parse_time(s).unwrap();
-        assert!(r[0].contains(t("2021-05-05T19:59:00Z")) && !r[0].contains(t("2021-05-05T20:00:00Z")));
-        assert!(r[1].contains(t("2021-05-06T01:00:00Z")) && r[1].contains(t("2021-05-06T23:00:00Z")));
+        assert!(
+            r[0].contains(t("2021-05-05T19:59:00Z")) && !r[0].contains(t("2021-05-05T20:00:00Z"))
+        );
+        assert!(
+            r[1].contains(t("2021-05-06T01:00:00Z")) && r[1].contains(t("2021-05-06T23:00:00Z"))
+        );
         assert!(!r[1].contains(t("2021-05-06T12:00:00Z")));
         let e = parse_shadow_ranges("18:00-xx").unwrap_err();
         assert!(format!("{e:#}").contains("--shadow range 1"));

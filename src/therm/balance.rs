@@ -182,7 +182,12 @@ pub struct SurfaceOptics {
 /// Evaluates the temperature-independent surface source terms of DESIGN.md
 /// §4 for a facet with outward normal `normal_enu` (unit) and sky view
 /// factor `f_sky` (normally `(1 + cos β)/2`).
-pub fn surface_drive(inp: &DriveInputs, optics: &SurfaceOptics, normal_enu: [f64; 3], f_sky: f64) -> SurfaceDrive {
+pub fn surface_drive(
+    inp: &DriveInputs,
+    optics: &SurfaceOptics,
+    normal_enu: [f64; 3],
+    f_sky: f64,
+) -> SurfaceDrive {
     let s = inp.sun_dir_enu;
     let cos_i = normal_enu[0] * s[0] + normal_enu[1] * s[1] + normal_enu[2] * s[2];
     let f_gnd = 1.0 - f_sky;
@@ -338,10 +343,19 @@ mod tests {
         let sig = STEFAN_BOLTZMANN_W_M2K4;
         assert!((d.sky_longwave_in_w_m2 - 0.9 * sig * 270f64.powi(4)).abs() < 1e-9);
         let (f, _) = surface_fluxes(&d, 0.9, &Convection::default(), 300.0);
-        let expect = 0.5 * 800.0 * 0.75f64.sqrt() + 50.0 + 0.9 * sig * (270f64.powi(4) - 300f64.powi(4));
+        let expect =
+            0.5 * 800.0 * 0.75f64.sqrt() + 50.0 + 0.9 * sig * (270f64.powi(4) - 300f64.powi(4));
         assert!((f.net_w_m2 - expect).abs() < 1e-9);
         // Shadowed: the direct term vanishes, nothing else changes.
-        let d2 = surface_drive(&DriveInputs { sunlit: false, ..inp }, &optics, [0.0, 0.0, 1.0], 1.0);
+        let d2 = surface_drive(
+            &DriveInputs {
+                sunlit: false,
+                ..inp
+            },
+            &optics,
+            [0.0, 0.0, 1.0],
+            1.0,
+        );
         assert_eq!(d2.absorbed_direct_w_m2, 0.0);
         assert_eq!(d2.absorbed_diffuse_w_m2, d.absorbed_diffuse_w_m2);
     }

@@ -68,7 +68,11 @@ impl ThermCache {
 
     /// `with_series`: keep the per-forcing-sample series in every entry
     /// (the render needs only the final temperature).
-    pub fn new(settings: ThermSettings, orientation_quantum_deg: f64, with_series: bool) -> ThermCache {
+    pub fn new(
+        settings: ThermSettings,
+        orientation_quantum_deg: f64,
+        with_series: bool,
+    ) -> ThermCache {
         ThermCache {
             settings,
             orientation_quantum_deg: if orientation_quantum_deg > 0.0 {
@@ -114,7 +118,13 @@ impl ThermCache {
     }
 
     /// The key of a (material, orientation, history, weather) combination.
-    pub fn key(&self, material_id: u32, o: Orientation, shadow: Option<&SunHistory>, weather_id: u64) -> ThermKey {
+    pub fn key(
+        &self,
+        material_id: u32,
+        o: Orientation,
+        shadow: Option<&SunHistory>,
+        weather_id: u64,
+    ) -> ThermKey {
         let (slope_q, aspect_q, _) = self.quantise(o);
         let (start, interval, len, bits) = match shadow {
             // An all-sunlit history is the same as no history.
@@ -190,8 +200,15 @@ impl ThermCache {
         weather_id: u64,
         forcing: &[Forcing],
     ) -> Result<f64, ThermError> {
-        self.solve(material_id, material, orientation, shadow, weather_id, forcing)
-            .map(|s| s.surface_temp_k)
+        self.solve(
+            material_id,
+            material,
+            orientation,
+            shadow,
+            weather_id,
+            forcing,
+        )
+        .map(|s| s.surface_temp_k)
     }
 
     pub fn stats(&self) -> CacheStats {
@@ -263,24 +280,56 @@ mod tests {
         let f = forcing();
         let m = mats()[0];
         let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
-        let a = Orientation { slope_deg: 30.1, aspect_deg: 179.9 };
-        let b = Orientation { slope_deg: 29.9, aspect_deg: 180.2 };
+        let a = Orientation {
+            slope_deg: 30.1,
+            aspect_deg: 179.9,
+        };
+        let b = Orientation {
+            slope_deg: 29.9,
+            aspect_deg: 180.2,
+        };
         let ta = cache.surface_temp_k(0, &m, a, None, 7, &f).unwrap();
         let tb = cache.surface_temp_k(0, &m, b, None, 7, &f).unwrap();
         assert_eq!(ta.to_bits(), tb.to_bits());
-        assert_eq!(cache.stats(), CacheStats { hits: 1, misses: 1, entries: 1 });
+        assert_eq!(
+            cache.stats(),
+            CacheStats {
+                hits: 1,
+                misses: 1,
+                entries: 1
+            }
+        );
         // Equals a direct solve at the quantised orientation (30°, 180°).
-        let direct = SlabModel::new(&m, Orientation { slope_deg: 30.0, aspect_deg: 180.0 }, &ThermSettings::default())
-            .unwrap()
-            .solve(&f, None, false)
-            .unwrap();
+        let direct = SlabModel::new(
+            &m,
+            Orientation {
+                slope_deg: 30.0,
+                aspect_deg: 180.0,
+            },
+            &ThermSettings::default(),
+        )
+        .unwrap()
+        .solve(&f, None, false)
+        .unwrap();
         assert_eq!(direct.surface_temp_k.to_bits(), ta.to_bits());
         // Horizontal facets ignore aspect; an all-sunlit history is no history.
-        let h0 = Orientation { slope_deg: 0.1, aspect_deg: 90.0 };
-        let h1 = Orientation { slope_deg: 0.0, aspect_deg: 270.0 };
-        assert_eq!(cache.key(0, h0, None, 7), cache.key(0, h1, Some(&history(48)), 7));
+        let h0 = Orientation {
+            slope_deg: 0.1,
+            aspect_deg: 90.0,
+        };
+        let h1 = Orientation {
+            slope_deg: 0.0,
+            aspect_deg: 270.0,
+        };
+        assert_eq!(
+            cache.key(0, h0, None, 7),
+            cache.key(0, h1, Some(&history(48)), 7)
+        );
         // Different history, material or weather: different keys.
-        assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, Some(&history(40)), 7));
+        assert_ne!(
+            cache.key(0, a, None, 7),
+            cache.key(0, a, Some(&history(40)), 7)
+        );
         assert_ne!(cache.key(0, a, None, 7), cache.key(1, a, None, 7));
         assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, None, 8));
     }
@@ -296,14 +345,20 @@ mod tests {
                 let jitter = ((i * 37) % 9) as f64 * 0.02 - 0.08;
                 (
                     (i % 3) as u32,
-                    Orientation { slope_deg: 15.0 * ((i / 3) % 4) as f64 + jitter, aspect_deg: 90.0 + jitter },
+                    Orientation {
+                        slope_deg: 15.0 * ((i / 3) % 4) as f64 + jitter,
+                        aspect_deg: 90.0 + jitter,
+                    },
                     [48, 44, 30][(i / 12) % 3],
                 )
             })
             .collect();
         let run = |threads: usize| {
             let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
             let temps: Vec<u64> = pool.install(|| {
                 reqs.par_iter()
                     .map(|&(m, o, s)| {

@@ -35,9 +35,17 @@ pub enum MaterialsError {
     #[error("{file}: {msg}")]
     Parse { file: String, msg: String },
     #[error("{file}: material '{name}': {msg}")]
-    Invalid { file: String, name: String, msg: String },
+    Invalid {
+        file: String,
+        name: String,
+        msg: String,
+    },
     #[error("{file}: no material '{name}' (materials in the file: {known})")]
-    Unknown { file: String, name: String, known: String },
+    Unknown {
+        file: String,
+        name: String,
+        known: String,
+    },
 }
 
 #[derive(Deserialize)]
@@ -47,7 +55,10 @@ struct MaterialsFile {
 }
 
 /// Parses the text of a materials file; `file` is used in messages.
-pub fn parse_materials_toml(text: &str, file: &str) -> Result<BTreeMap<String, SlabMaterial>, MaterialsError> {
+pub fn parse_materials_toml(
+    text: &str,
+    file: &str,
+) -> Result<BTreeMap<String, SlabMaterial>, MaterialsError> {
     let parsed: MaterialsFile = toml::from_str(text).map_err(|e| MaterialsError::Parse {
         file: file.to_owned(),
         msg: e.to_string(),
@@ -65,13 +76,18 @@ pub fn parse_materials_toml(text: &str, file: &str) -> Result<BTreeMap<String, S
 /// Reads a materials file and returns the named material.
 pub fn load_material(path: &std::path::Path, name: &str) -> Result<SlabMaterial, MaterialsError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|err| MaterialsError::Io { file: file.clone(), err })?;
+    let text = std::fs::read_to_string(path).map_err(|err| MaterialsError::Io {
+        file: file.clone(),
+        err,
+    })?;
     let mats = parse_materials_toml(&text, &file)?;
-    mats.get(name).copied().ok_or_else(|| MaterialsError::Unknown {
-        file,
-        name: name.to_owned(),
-        known: mats.keys().cloned().collect::<Vec<_>>().join(", "),
-    })
+    mats.get(name)
+        .copied()
+        .ok_or_else(|| MaterialsError::Unknown {
+            file,
+            name: name.to_owned(),
+            known: mats.keys().cloned().collect::<Vec<_>>().join(", "),
+        })
 }
 
 #[cfg(test)]
@@ -113,7 +129,10 @@ back = { deep_ground = {} }
     fn parses_all_back_boundaries() {
         let m = parse_materials_toml(GOOD, "m.toml").unwrap();
         assert_eq!(m["concrete"].back, BackBoundary::Insulated);
-        assert_eq!(m["skin"].back, BackBoundary::ExposedToAir { area_factor: 1.0 });
+        assert_eq!(
+            m["skin"].back,
+            BackBoundary::ExposedToAir { area_factor: 1.0 }
+        );
         assert_eq!(m["skin"].internal_power_w_m2, 5.0);
         assert_eq!(m["soil"].back, BackBoundary::DeepGround { temp_k: None });
         assert_eq!(m["concrete"].ground_albedo, None);
@@ -122,16 +141,27 @@ back = { deep_ground = {} }
     #[test]
     fn errors_name_file_line_and_field() {
         let bad = GOOD.replace("thickness_m = 0.2", "thickness_m = \"thick\"");
-        let e = parse_materials_toml(&bad, "m.toml").unwrap_err().to_string();
+        let e = parse_materials_toml(&bad, "m.toml")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("m.toml") && e.contains("line 6"), "{e}");
         let bad = GOOD.replace("back = \"insulated\"", "back = \"open\"");
-        let e = parse_materials_toml(&bad, "m.toml").unwrap_err().to_string();
+        let e = parse_materials_toml(&bad, "m.toml")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 9") && e.contains("insulated"), "{e}");
         let bad = GOOD.replace("solar_absorptivity = 0.65", "solar_absorptivity = 1.65");
-        let e = parse_materials_toml(&bad, "m.toml").unwrap_err().to_string();
-        assert!(e.contains("concrete") && e.contains("solar_absorptivity"), "{e}");
+        let e = parse_materials_toml(&bad, "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("concrete") && e.contains("solar_absorptivity"),
+            "{e}"
+        );
         let bad = GOOD.replace("thickness_m = 0.2", "thicknes_m = 0.2");
-        let e = parse_materials_toml(&bad, "m.toml").unwrap_err().to_string();
+        let e = parse_materials_toml(&bad, "m.toml")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("thicknes_m"), "{e}");
     }
 }

@@ -109,7 +109,9 @@ impl SlabMaterial {
         ];
         for (name, v) in pos {
             if !(v.is_finite() && v > 0.0) {
-                return Err(ThermError::BadMaterial(format!("{name} must be finite and > 0, got {v}")));
+                return Err(ThermError::BadMaterial(format!(
+                    "{name} must be finite and > 0, got {v}"
+                )));
             }
         }
         let unit = [
@@ -119,19 +121,27 @@ impl SlabMaterial {
         ];
         for (name, v) in unit {
             if !(0.0..=1.0).contains(&v) {
-                return Err(ThermError::BadMaterial(format!("{name} must be in [0, 1], got {v}")));
+                return Err(ThermError::BadMaterial(format!(
+                    "{name} must be in [0, 1], got {v}"
+                )));
             }
         }
         if !self.internal_power_w_m2.is_finite() {
-            return Err(ThermError::BadMaterial("internal_power_w_m2 must be finite".into()));
+            return Err(ThermError::BadMaterial(
+                "internal_power_w_m2 must be finite".into(),
+            ));
         }
         match self.back {
-            BackBoundary::ExposedToAir { area_factor } if !(area_factor.is_finite() && area_factor >= 0.0) => {
-                Err(ThermError::BadMaterial(format!("back area_factor must be >= 0, got {area_factor}")))
+            BackBoundary::ExposedToAir { area_factor }
+                if !(area_factor.is_finite() && area_factor >= 0.0) =>
+            {
+                Err(ThermError::BadMaterial(format!(
+                    "back area_factor must be >= 0, got {area_factor}"
+                )))
             }
-            BackBoundary::DeepGround { temp_k: Some(t) } if !(t.is_finite() && t > 0.0) => {
-                Err(ThermError::BadMaterial(format!("deep-ground temp_k must be > 0 K, got {t}")))
-            }
+            BackBoundary::DeepGround { temp_k: Some(t) } if !(t.is_finite() && t > 0.0) => Err(
+                ThermError::BadMaterial(format!("deep-ground temp_k must be > 0 K, got {t}")),
+            ),
             _ => Ok(()),
         }
     }
@@ -161,7 +171,11 @@ impl SunHistory {
     fn index_at(&self, t_s: f64) -> usize {
         let n = self.sunlit.len() as i64;
         let i = ((t_s - self.start_s as f64) / self.interval_s as f64 + 0.5).floor() as i64;
-        if i >= n { (n - 1) as usize } else { i.rem_euclid(n) as usize }
+        if i >= n {
+            (n - 1) as usize
+        } else {
+            i.rem_euclid(n) as usize
+        }
     }
 
     /// The flag in force at `t_s` (true = sunlit).
@@ -184,7 +198,8 @@ impl SunHistory {
         for k in k0..=k1 {
             // boundary between samples k and k+1
             let tb = self.start_s as f64 + (k as f64 + 0.5) * d;
-            if tb > t0 && tb < t1 && self.sunlit_at(tb - 0.25 * d) != self.sunlit_at(tb + 0.25 * d) {
+            if tb > t0 && tb < t1 && self.sunlit_at(tb - 0.25 * d) != self.sunlit_at(tb + 0.25 * d)
+            {
                 out.push(tb);
             }
         }
@@ -355,7 +370,10 @@ pub fn forcing_at(forcing: &[Forcing], t_s: f64) -> Forcing {
         return forcing[n - 1];
     }
     // index of the segment [j, j+1] containing t
-    let j = forcing.partition_point(|f| f.t_s <= t_s).saturating_sub(1).min(n - 2);
+    let j = forcing
+        .partition_point(|f| f.t_s <= t_s)
+        .saturating_sub(1)
+        .min(n - 2);
     let (a, b) = (&forcing[j], &forcing[j + 1]);
     let w = (t_s - a.t_s) / (b.t_s - a.t_s);
     let lerp = |x: f64, y: f64| x + w * (y - x);
@@ -403,11 +421,15 @@ pub fn validate_forcing(forcing: &[Forcing]) -> Result<(), ThermError> {
         ];
         for (name, v) in vals {
             if !v.is_finite() {
-                return Err(ThermError::BadInput(format!("forcing sample {i}: {name} is not finite")));
+                return Err(ThermError::BadInput(format!(
+                    "forcing sample {i}: {name} is not finite"
+                )));
             }
         }
         if f.air_temp_k <= 0.0 || f.sky_temp_k < 0.0 {
-            return Err(ThermError::BadInput(format!("forcing sample {i}: temperatures must be > 0 K")));
+            return Err(ThermError::BadInput(format!(
+                "forcing sample {i}: temperatures must be > 0 K"
+            )));
         }
         if f.wind_speed_m_s < 0.0 || f.dni_w_m2 < 0.0 || f.dhi_w_m2 < 0.0 || f.ghi_w_m2 < 0.0 {
             return Err(ThermError::BadInput(format!(
@@ -484,10 +506,17 @@ struct Work {
 
 impl SlabModel {
     /// Builds the mesh and checks the inputs.
-    pub fn new(material: &SlabMaterial, orientation: Orientation, settings: &ThermSettings) -> Result<Self, ThermError> {
+    pub fn new(
+        material: &SlabMaterial,
+        orientation: Orientation,
+        settings: &ThermSettings,
+    ) -> Result<Self, ThermError> {
         material.validate()?;
         if !(settings.step_s.is_finite() && settings.step_s > 0.0) {
-            return Err(ThermError::BadInput(format!("step_s must be > 0, got {}", settings.step_s)));
+            return Err(ThermError::BadInput(format!(
+                "step_s must be > 0, got {}",
+                settings.step_s
+            )));
         }
         if let Some(t) = settings.tol_k
             && !(t.is_finite() && t > 0.0)
@@ -507,7 +536,9 @@ impl SlabModel {
             optics: SurfaceOptics {
                 solar_absorptivity: material.solar_absorptivity,
                 thermal_emissivity: material.thermal_emissivity,
-                ground_albedo: material.ground_albedo.unwrap_or(balance::DEFAULT_GROUND_ALBEDO),
+                ground_albedo: material
+                    .ground_albedo
+                    .unwrap_or(balance::DEFAULT_GROUND_ALBEDO),
                 internal_power_w_m2: material.internal_power_w_m2,
             },
         })
@@ -549,7 +580,13 @@ impl SlabModel {
     }
 
     /// Back-face flux into the slab and its derivative wrt the back temperature.
-    fn back_flux(&self, f: &Forcing, back_temp_k: f64, deep: Option<f64>, g_last: f64) -> (f64, f64) {
+    fn back_flux(
+        &self,
+        f: &Forcing,
+        back_temp_k: f64,
+        deep: Option<f64>,
+        g_last: f64,
+    ) -> (f64, f64) {
         match self.material.back {
             BackBoundary::Insulated => (0.0, 0.0),
             BackBoundary::ExposedToAir { area_factor } => balance::exposed_back_flux_w_m2(
@@ -562,7 +599,10 @@ impl SlabModel {
             ),
             // Not used for the solve (the node is fixed); reported as the
             // conduction from the deep node into the last free node.
-            BackBoundary::DeepGround { .. } => (g_last * (deep.unwrap_or(back_temp_k) - back_temp_k), -g_last),
+            BackBoundary::DeepGround { .. } => (
+                g_last * (deep.unwrap_or(back_temp_k) - back_temp_k),
+                -g_last,
+            ),
         }
     }
 
@@ -570,6 +610,7 @@ impl SlabModel {
     /// `C_i (T_i − T_i^old)/h = Σ conduction + boundary fluxes(T, f)` for T
     /// by Newton's method; `h = ∞` gives the steady state. Returns false if
     /// Newton failed.
+    #[allow(clippy::too_many_arguments)]
     fn implicit_step(
         &self,
         old: &[f64],
@@ -604,7 +645,12 @@ impl SlabModel {
                     diag += g[i];
                 }
                 if i == 0 {
-                    let (sf, ds) = balance::surface_fluxes(drive, self.material.thermal_emissivity, &self.settings.convection, t);
+                    let (sf, ds) = balance::surface_fluxes(
+                        drive,
+                        self.material.thermal_emissivity,
+                        &self.settings.convection,
+                        t,
+                    );
                     r += sf.net_w_m2;
                     diag -= ds;
                 }
@@ -622,16 +668,12 @@ impl SlabModel {
                 return false;
             }
             let mut max_d = 0.0f64;
-            for i in 0..nf {
-                let d = w.x[i];
+            for (t, &d) in new[..nf].iter_mut().zip(&w.x[..nf]) {
                 if !d.is_finite() {
                     return false;
                 }
-                new[i] += d;
                 // Keep the iterate physical; the root is always > 0 K.
-                if new[i] < 1.0 {
-                    new[i] = 1.0;
-                }
+                *t = (*t + d).max(1.0);
                 max_d = max_d.max(d.abs());
             }
             if max_d < 1e-9 {
@@ -644,7 +686,12 @@ impl SlabModel {
     /// Steady state under forcing `f` with sun flag `sunlit`: the spin-up
     /// initial condition (an implicit step with infinite step size, started
     /// from the air temperature).
-    pub fn equilibrium(&self, f: &Forcing, sunlit: bool, deep: Option<f64>) -> Result<Vec<f64>, ThermError> {
+    pub fn equilibrium(
+        &self,
+        f: &Forcing,
+        sunlit: bool,
+        deep: Option<f64>,
+    ) -> Result<Vec<f64>, ThermError> {
         let n = self.nodes();
         let old = vec![f.air_temp_k; n];
         let mut new = old.clone();
@@ -663,7 +710,12 @@ impl SlabModel {
 
     /// Marches from the equilibrium at the first forcing sample to the last
     /// one; the returned surface temperature is at the last forcing time.
-    pub fn solve(&self, forcing: &[Forcing], shadow: Option<&SunHistory>, record: bool) -> Result<ThermSolution, ThermError> {
+    pub fn solve(
+        &self,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        record: bool,
+    ) -> Result<ThermSolution, ThermError> {
         validate_forcing(forcing)?;
         if let Some(h) = shadow {
             h.validate()?;
@@ -760,7 +812,11 @@ impl SlabModel {
                         err = err.max((inc - h / hp * prev_inc[i]).abs());
                     }
                     err *= h / (h + hp);
-                    let fac = if err > 0.0 { 0.9 * (tol / err).sqrt() } else { 4.0 };
+                    let fac = if err > 0.0 {
+                        0.9 * (tol / err).sqrt()
+                    } else {
+                        4.0
+                    };
                     if err > tol && h > s.min_step_s {
                         rejected += 1;
                         h_try = (h * fac.clamp(0.1, 0.9)).max(s.min_step_s);
@@ -773,7 +829,12 @@ impl SlabModel {
                     }
                 }
                 // Accept.
-                let (sf, _) = balance::surface_fluxes(&drive, self.material.thermal_emissivity, &s.convection, new[0]);
+                let (sf, _) = balance::surface_fluxes(
+                    &drive,
+                    self.material.thermal_emissivity,
+                    &s.convection,
+                    new[0],
+                );
                 let g_last = self.mesh.cond_w_m2k[n - 2];
                 let back = match deep {
                     Some(d) => g_last * (d - new[n - 2]),
@@ -815,7 +876,12 @@ impl SlabModel {
         let n = temps.len();
         let sunlit = shadow.is_none_or(|sh| sh.sunlit_at(f.t_s));
         let drive = self.drive(f, sunlit);
-        let (sf, _) = balance::surface_fluxes(&drive, self.material.thermal_emissivity, &self.settings.convection, temps[0]);
+        let (sf, _) = balance::surface_fluxes(
+            &drive,
+            self.material.thermal_emissivity,
+            &self.settings.convection,
+            temps[0],
+        );
         let g_last = self.mesh.cond_w_m2k[n - 2];
         let back = match deep {
             Some(d) => g_last * (d - temps[n - 2]),
@@ -865,7 +931,15 @@ impl Work {
     }
 }
 
-fn thomas(a: &[f64], b: &[f64], c: &[f64], r: &[f64], x: &mut [f64], cp: &mut [f64], dp: &mut [f64]) -> bool {
+fn thomas(
+    a: &[f64],
+    b: &[f64],
+    c: &[f64],
+    r: &[f64],
+    x: &mut [f64],
+    cp: &mut [f64],
+    dp: &mut [f64],
+) -> bool {
     let n = b.len();
     let mut beta = b[0];
     if beta == 0.0 || !beta.is_finite() {
@@ -946,7 +1020,10 @@ mod tests {
         let m = forcing_at(&[a, b], 250.0);
         assert!((m.air_temp_k - 282.5).abs() < 1e-12);
         let s = m.sun_dir_enu;
-        assert!(((s[0] * s[0] + s[1] * s[1]).sqrt() - 1.0).abs() < 1e-12 && (s[1] / s[0] - 1.0 / 3.0).abs() < 1e-12);
+        assert!(
+            ((s[0] * s[0] + s[1] * s[1]).sqrt() - 1.0).abs() < 1e-12
+                && (s[1] / s[0] - 1.0 / 3.0).abs() < 1e-12
+        );
         assert_eq!(forcing_at(&[a, b], -5.0).air_temp_k, 280.0);
         assert_eq!(forcing_at(&[a, b], 5000.0).air_temp_k, 290.0);
     }
@@ -965,14 +1042,27 @@ mod tests {
             ground_albedo: None,
         };
         let s = ThermSettings::default();
-        let bad = SlabMaterial { thickness_m: 0.0, ..mat };
-        assert!(matches!(SlabModel::new(&bad, Orientation::HORIZONTAL, &s), Err(ThermError::BadMaterial(m)) if m.contains("thickness_m")));
-        let bad = SlabMaterial { solar_absorptivity: 1.5, ..mat };
+        let bad = SlabMaterial {
+            thickness_m: 0.0,
+            ..mat
+        };
+        assert!(
+            matches!(SlabModel::new(&bad, Orientation::HORIZONTAL, &s), Err(ThermError::BadMaterial(m)) if m.contains("thickness_m"))
+        );
+        let bad = SlabMaterial {
+            solar_absorptivity: 1.5,
+            ..mat
+        };
         assert!(SlabModel::new(&bad, Orientation::HORIZONTAL, &s).is_err());
         let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
-        assert!(matches!(model.solve(&[], None, false), Err(ThermError::BadInput(_))));
+        assert!(matches!(
+            model.solve(&[], None, false),
+            Err(ThermError::BadInput(_))
+        ));
         let unsorted = [f(0.0, 280.0), f(0.0, 281.0)];
-        assert!(matches!(model.solve(&unsorted, None, false), Err(ThermError::BadInput(m)) if m.contains("sample 1")));
+        assert!(
+            matches!(model.solve(&unsorted, None, false), Err(ThermError::BadInput(m)) if m.contains("sample 1"))
+        );
         let nan = [f(0.0, f64::NAN)];
         assert!(model.solve(&nan, None, false).is_err());
     }
@@ -1001,7 +1091,11 @@ mod tests {
         let total: f64 = m.cap_j_m2k.iter().sum();
         assert!((total - mat.areal_heat_capacity_j_m2k()).abs() < 1e-6 * total);
         // Thin skin: uniform.
-        let skin = SlabMaterial { thickness_m: 5e-4, conductivity_w_mk: 200.0, ..mat };
+        let skin = SlabMaterial {
+            thickness_m: 5e-4,
+            conductivity_w_mk: 200.0,
+            ..mat
+        };
         let m = Mesh::graded(&skin, &s);
         assert_eq!(m.z_m.len(), s.nodes);
     }
