@@ -45,6 +45,10 @@ pub struct Args {
     /// Weather file (TMY3, EnergyPlus EPW or plain CSV).
     #[arg(long, conflicts_with = "forcing", required_unless_present = "forcing")]
     pub weather: Option<PathBuf>,
+    /// Treat the weather file as a typical year (TMY3/EPW): its records
+    /// take the year of the spin-up start.
+    #[arg(long)]
+    pub typical_year: bool,
     /// A ready forcing CSV instead of a weather file (see module docs).
     #[arg(long)]
     pub forcing: Option<PathBuf>,
@@ -226,7 +230,7 @@ pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
 /// TODO(lead): the weather reader and `build_forcing` live on the `sunwx`
 /// branch; after merging it, delete the `#[cfg(any())]` line on the
 /// function below (its body is written against sunwx's API:
-/// `read_weather_file(&Path, Option<FixedOffset>)`,
+/// `read_weather_file_with(&Path, &ReadOptions)`,
 /// `build_forcing(&history, &Site, start, step_s, n_steps)` → `n_steps + 1`
 /// samples) and the stub after it.
 #[cfg(any())]
@@ -236,7 +240,14 @@ fn forcing_from_weather(
     step_s: f64,
     n_steps: usize,
 ) -> anyhow::Result<Vec<Forcing>> {
-    let history = crate::therm::weather::read_weather_file(a.weather.as_deref().unwrap(), None)?;
+    use chrono::Datelike;
+    let opts = crate::therm::weather::ReadOptions {
+        coerce_year: a.typical_year.then(|| start.year()),
+        ..Default::default()
+    };
+    let history =
+        crate::therm::weather::read_weather_file_with(a.weather.as_deref().unwrap(), &opts)?
+            .history;
     let site = crate::sun::Site {
         lat_deg: a.lat,
         lon_deg: a.lon,
