@@ -7,6 +7,7 @@ pub mod bench;
 pub mod check;
 pub mod crosscheck;
 pub mod sun;
+pub mod therm;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
@@ -17,6 +18,7 @@ pub struct Cli {
 }
 
 #[derive(Subcommand, Debug)]
+#[allow(clippy::large_enum_variant)]
 pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.
@@ -29,6 +31,9 @@ pub enum Command {
     Check(check::Args),
     /// Solar position (NREL SPA) for a site and a UTC instant.
     Sun(sun::Args),
+    /// Surface temperature and flux terms of one material and facet over
+    /// time (THERM-style slab, DESIGN.md §4).
+    Therm(therm::Args),
 }
 
 /// Runs the parsed command line.
@@ -38,5 +43,6 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Bench(c) => bench::run(c),
         Command::Check(a) => check::run(a),
         Command::Sun(a) => sun::run(a),
+        Command::Therm(a) => therm::run(a),
     }
 }

@@ -5,5 +5,9 @@
 //! [`forcing::Forcing`] (one per thermal time step, everything the surface
 //! energy balance needs, in SI units) → the slab solver → surface temperature.
 
+pub mod balance;
+pub mod cache;
 pub mod forcing;
+pub mod materials;
+pub mod slab;
 pub mod weather;

@@ -1,0 +1,1102 @@
+//! The THERM-style transient 1-D slab solver (DESIGN.md §4).
+//!
+//! **Model.** A slab of thickness `L` with constant density ρ, specific heat
+//! c and conductivity k: `ρc ∂T/∂t = ∂/∂z(k ∂T/∂z)`, no lateral conduction.
+//! The exposed face (z = 0) carries the surface energy balance of
+//! [`super::balance`]; the back face (z = L) is insulated, exposed to
+//! ambient air, or tied to a deep-ground temperature ([`BackBoundary`]).
+//!
+//! **Space.** Node-centred finite volumes: nodes at `z_0 = 0 < z_1 < … <
+//! z_{N-1} = L`, half cells at both faces (so the surface node *is* the
+//! surface temperature), conductance `k/(z_{i+1} − z_i)` between nodes. The
+//! mesh is graded geometrically from the surface: first cell
+//! `d_0 = sqrt(κ·t_res)` (κ = k/(ρc), `t_res` = [`ThermSettings::surface_time_s`])
+//! growing by at most [`ThermSettings::max_growth`] per cell, at least
+//! [`ThermSettings::nodes`] nodes; a slab thinner than that is meshed uniformly.
+//!
+//! **Time.** Backward Euler with the full nonlinear surface balance solved
+//! by Newton's method each step (the σT⁴ term is linearised at the current
+//! iterate and iterated to |δT| < 1e-9 K). Backward Euler applied to this
+//! M-matrix system obeys the discrete maximum principle at any step size:
+//! the solution stays within the bounds of the forcing and never
+//! oscillates — it is the only (rational) scheme class that guarantees that
+//! unconditionally (Bolley & Crouzeix 1978: unconditionally positive
+//! schemes are at most first order). Accuracy comes from adaptive
+//! steps instead: the local error `h²/2·|T''|` is estimated from successive
+//! increments and kept below [`ThermSettings::tol_k`]; steps never exceed
+//! [`ThermSettings::step_s`] and never straddle a breakpoint (a forcing
+//! sample time, where the linearly interpolated forcing has a kink, or a
+//! sun/shadow switch). With `tol_k = None` the step is fixed at `step_s`
+//! (cut at breakpoints).
+//!
+//! **Forcing between samples.** Each scalar field of
+//! [`Forcing`] is interpolated linearly in time; the sun vector is
+//! interpolated linearly and renormalised. Before the first / after the last
+//! sample the end values are held. A backward-Euler step ending at `t`
+//! evaluates the forcing at `t` and the sun/shadow flag at the step's
+//! midpoint (steps never straddle a flag switch, so this is the flag in
+//! force over the whole step).
+//!
+//! **Spin-up.** The march starts from the steady state under the first
+//! forcing sample (see [`SlabModel::equilibrium`]); the caller chooses how far
+//! before the image time the forcing starts (`ThermSettings::spin_up_h`, 24 h
+//! by default, is what forcing builders should use).
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::balance::{
+    self, Convection, DriveInputs, Orientation, SurfaceDrive, SurfaceFluxes, SurfaceOptics,
+};
+use super::forcing::Forcing;
+
+/// What the back face (z = L) of the slab sees.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BackBoundary {
+    /// No heat flow through the back face.
+    Insulated,
+    /// Back face exchanges with ambient air (convection and longwave to
+    /// surroundings at air temperature); `area_factor` is the exposed back
+    /// area per unit front area (DIRSIG's EXPOSED_AREA − 1 for a plate whose
+    /// both faces are exposed: use 1.0).
+    ExposedToAir { area_factor: f64 },
+    /// Back face held at a deep-ground temperature: `temp_k`, or the mean
+    /// air temperature of the forcing when `None`.
+    DeepGround { temp_k: Option<f64> },
+}
+
+/// One material's slab: thermal and surface properties (DIRSIG's
+/// MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
+/// VISIBLE_EMISSIVITY → `solar_absorptivity`, THERMAL_EMISSIVITY,
+/// EXPOSED_AREA → [`BackBoundary::ExposedToAir`], internal power).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlabMaterial {
+    pub density_kg_m3: f64,
+    pub specific_heat_j_kgk: f64,
+    pub conductivity_w_mk: f64,
+    pub thickness_m: f64,
+    pub solar_absorptivity: f64,
+    pub thermal_emissivity: f64,
+    pub back: BackBoundary,
+    /// Internal heat delivered at the surface node, W/m² (DESIGN.md §4).
+    #[serde(default)]
+    pub internal_power_w_m2: f64,
+    /// Solar albedo of the ground seen by a tilted facet (default 0.2).
+    #[serde(default)]
+    pub ground_albedo: Option<f64>,
+}
+
+impl SlabMaterial {
+    /// Thermal diffusivity κ = k/(ρc), m²/s.
+    pub fn diffusivity_m2_s(&self) -> f64 {
+        self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)
+    }
+
+    /// Heat capacity per unit area ρ·c·L, J m⁻² K⁻¹.
+    pub fn areal_heat_capacity_j_m2k(&self) -> f64 {
+        self.density_kg_m3 * self.specific_heat_j_kgk * self.thickness_m
+    }
+
+    /// Checks every field is finite and in its physical range.
+    pub fn validate(&self) -> Result<(), ThermError> {
+        let pos = [
+            ("density_kg_m3", self.density_kg_m3),
+            ("specific_heat_j_kgk", self.specific_heat_j_kgk),
+            ("conductivity_w_mk", self.conductivity_w_mk),
+            ("thickness_m", self.thickness_m),
+        ];
+        for (name, v) in pos {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ThermError::BadMaterial(format!(
+                    "{name} must be finite and > 0, got {v}"
+                )));
+            }
+        }
+        let unit = [
+            ("solar_absorptivity", self.solar_absorptivity),
+            ("thermal_emissivity", self.thermal_emissivity),
+            ("ground_albedo", self.ground_albedo.unwrap_or(0.2)),
+        ];
+        for (name, v) in unit {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(ThermError::BadMaterial(format!(
+                    "{name} must be in [0, 1], got {v}"
+                )));
+            }
+        }
+        if !self.internal_power_w_m2.is_finite() {
+            return Err(ThermError::BadMaterial(
+                "internal_power_w_m2 must be finite".into(),
+            ));
+        }
+        match self.back {
+            BackBoundary::ExposedToAir { area_factor }
+                if !(area_factor.is_finite() && area_factor >= 0.0) =>
+            {
+                Err(ThermError::BadMaterial(format!(
+                    "back area_factor must be >= 0, got {area_factor}"
+                )))
+            }
+            BackBoundary::DeepGround { temp_k: Some(t) } if !(t.is_finite() && t > 0.0) => Err(
+                ThermError::BadMaterial(format!("deep-ground temp_k must be > 0 K, got {t}")),
+            ),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// A pixel's sun/shadow history: `sunlit[i]` is the flag sampled at
+/// `start_s + i·interval_s` (seconds on the forcing clock).
+///
+/// **Mapping rule** (nearest sample): at time t the flag in force is sample
+/// `i = floor((t − start_s)/interval_s + 0.5)`, so sample i covers
+/// `[t_i − Δ/2, t_i + Δ/2)`. Times after the last sample use the last
+/// sample; times before the first use the periodic extension with period
+/// `len·interval_s` (24 h for the default 48 × 30 min, i.e. the same time of
+/// day), which is what the spin-up before the traced window needs.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct SunHistory {
+    pub start_s: i64,
+    pub interval_s: i64,
+    pub sunlit: Vec<bool>,
+}
+
+impl SunHistory {
+    /// Default sampling: 48 samples per 24 h (every 30 min).
+    pub const DEFAULT_INTERVAL_S: i64 = 1800;
+    pub const DEFAULT_SAMPLES: usize = 48;
+
+    fn index_at(&self, t_s: f64) -> usize {
+        let n = self.sunlit.len() as i64;
+        let i = ((t_s - self.start_s as f64) / self.interval_s as f64 + 0.5).floor() as i64;
+        if i >= n {
+            (n - 1) as usize
+        } else {
+            i.rem_euclid(n) as usize
+        }
+    }
+
+    /// The flag in force at `t_s` (true = sunlit).
+    pub fn sunlit_at(&self, t_s: f64) -> bool {
+        if self.sunlit.is_empty() {
+            return true;
+        }
+        self.sunlit[self.index_at(t_s)]
+    }
+
+    /// Times in the open interval (t0, t1) where the flag changes.
+    pub fn switch_times(&self, t0: f64, t1: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        if self.sunlit.len() < 2 || self.interval_s <= 0 {
+            return out;
+        }
+        let d = self.interval_s as f64;
+        let k0 = ((t0 - self.start_s as f64) / d - 0.5).floor() as i64 - 1;
+        let k1 = ((t1 - self.start_s as f64) / d - 0.5).ceil() as i64 + 1;
+        for k in k0..=k1 {
+            // boundary between samples k and k+1
+            let tb = self.start_s as f64 + (k as f64 + 0.5) * d;
+            if tb > t0 && tb < t1 && self.sunlit_at(tb - 0.25 * d) != self.sunlit_at(tb + 0.25 * d)
+            {
+                out.push(tb);
+            }
+        }
+        out
+    }
+
+    /// Packs the flags into 64-bit words (bit i of word i/64 = sample i).
+    pub fn packed_bits(&self) -> Vec<u64> {
+        let mut w = vec![0u64; self.sunlit.len().div_ceil(64)];
+        for (i, &b) in self.sunlit.iter().enumerate() {
+            if b {
+                w[i / 64] |= 1 << (i % 64);
+            }
+        }
+        w
+    }
+
+    fn validate(&self) -> Result<(), ThermError> {
+        if self.interval_s <= 0 || self.sunlit.is_empty() {
+            return Err(ThermError::BadInput(format!(
+                "sun/shadow history needs interval_s > 0 and at least one sample (got {} s, {} samples)",
+                self.interval_s,
+                self.sunlit.len()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Numerical settings of the slab solver. The defaults were chosen on the
+/// accuracy tests (`tests/therm_reference.rs`: < 0.1 K against a 500-node
+/// stiff method-of-lines reference over 48 h of TMY3 weather).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ThermSettings {
+    /// Largest internal time step, s.
+    pub step_s: f64,
+    /// Local error tolerance per step, K; `None` = fixed steps of `step_s`.
+    pub tol_k: Option<f64>,
+    /// Smallest adaptive step, s.
+    pub min_step_s: f64,
+    /// Hours of forcing before the image time that forcing builders should
+    /// provide (the solver marches whatever forcing it is given).
+    pub spin_up_h: f64,
+    /// Minimum number of nodes through the slab.
+    pub nodes: usize,
+    /// Upper bound on the number of nodes.
+    pub max_nodes: usize,
+    /// Time scale that the first (surface) cell resolves: `d_0 = sqrt(κ·t)`, s.
+    pub surface_time_s: f64,
+    /// Largest ratio between neighbouring cell sizes.
+    pub max_growth: f64,
+    pub convection: Convection,
+}
+
+impl Default for ThermSettings {
+    fn default() -> Self {
+        ThermSettings {
+            step_s: 900.0,
+            tol_k: Some(0.0005),
+            min_step_s: 0.05,
+            spin_up_h: 24.0,
+            nodes: 8,
+            max_nodes: 200,
+            surface_time_s: 30.0,
+            max_growth: 1.06,
+            convection: Convection::default(),
+        }
+    }
+}
+
+/// Errors of the thermal solver (bad inputs; a non-converging step).
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ThermError {
+    #[error("bad material: {0}")]
+    BadMaterial(String),
+    #[error("bad thermal input: {0}")]
+    BadInput(String),
+    #[error("thermal solver failed at t = {t_s} s: {why}")]
+    NoConvergence { t_s: f64, why: String },
+}
+
+/// The spatial mesh of one slab.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    /// Node depths from the exposed surface, m (`z[0] = 0`, last = L).
+    pub z_m: Vec<f64>,
+    /// Heat capacity of each node's control volume, J m⁻² K⁻¹.
+    pub cap_j_m2k: Vec<f64>,
+    /// Conductance between node i and i+1, W m⁻² K⁻¹.
+    pub cond_w_m2k: Vec<f64>,
+}
+
+impl Mesh {
+    /// The graded mesh described in the module docs.
+    pub fn graded(mat: &SlabMaterial, s: &ThermSettings) -> Mesh {
+        let l = mat.thickness_m;
+        let min_cells = s.nodes.max(2) - 1;
+        let max_cells = s.max_nodes.max(s.nodes).max(2) - 1;
+        let d0 = (mat.diffusivity_m2_s() * s.surface_time_s).sqrt();
+        let growth = s.max_growth.max(1.0 + 1e-6);
+        let mut cells = min_cells;
+        let mut sizes: Vec<f64>;
+        if l / cells as f64 <= d0 {
+            sizes = vec![l / cells as f64; cells];
+        } else {
+            // Geometric series d0·(r^m − 1)/(r − 1) = L; add cells until r ≤ growth.
+            loop {
+                let m = cells as i32;
+                let total = |r: f64| d0 * (r.powi(m) - 1.0) / (r - 1.0);
+                let (mut lo, mut hi) = (1.0 + 1e-12, 2.0f64);
+                while total(hi) < l {
+                    hi *= 2.0;
+                }
+                if total(lo) >= l {
+                    sizes = vec![l / cells as f64; cells];
+                    break;
+                }
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if total(mid) < l { lo = mid } else { hi = mid }
+                }
+                let r = 0.5 * (lo + hi);
+                if r <= growth || cells >= max_cells {
+                    sizes = (0..cells).map(|i| d0 * r.powi(i as i32)).collect();
+                    let sum: f64 = sizes.iter().sum();
+                    for d in &mut sizes {
+                        *d *= l / sum;
+                    }
+                    break;
+                }
+                cells += 1;
+            }
+        }
+        let mut z = vec![0.0];
+        for d in &sizes {
+            z.push(z.last().unwrap() + d);
+        }
+        *z.last_mut().unwrap() = l;
+        let rc = mat.density_kg_m3 * mat.specific_heat_j_kgk;
+        let n = z.len();
+        let mut cap = vec![0.0; n];
+        for (i, d) in sizes.iter().enumerate() {
+            cap[i] += 0.5 * rc * d;
+            cap[i + 1] += 0.5 * rc * d;
+        }
+        let cond = sizes.iter().map(|d| mat.conductivity_w_mk / d).collect();
+        Mesh {
+            z_m: z,
+            cap_j_m2k: cap,
+            cond_w_m2k: cond,
+        }
+    }
+
+    /// Stored heat relative to 0 K, `Σ C_i·T_i`, J/m².
+    pub fn stored_energy_j_m2(&self, temps_k: &[f64]) -> f64 {
+        self.cap_j_m2k.iter().zip(temps_k).map(|(c, t)| c * t).sum()
+    }
+}
+
+/// Forcing interpolated at one instant (see module docs).
+pub fn forcing_at(forcing: &[Forcing], t_s: f64) -> Forcing {
+    let n = forcing.len();
+    if t_s <= forcing[0].t_s {
+        return forcing[0];
+    }
+    if t_s >= forcing[n - 1].t_s {
+        return forcing[n - 1];
+    }
+    // index of the segment [j, j+1] containing t
+    let j = forcing
+        .partition_point(|f| f.t_s <= t_s)
+        .saturating_sub(1)
+        .min(n - 2);
+    let (a, b) = (&forcing[j], &forcing[j + 1]);
+    let w = (t_s - a.t_s) / (b.t_s - a.t_s);
+    let lerp = |x: f64, y: f64| x + w * (y - x);
+    let mut s = [
+        lerp(a.sun_dir_enu[0], b.sun_dir_enu[0]),
+        lerp(a.sun_dir_enu[1], b.sun_dir_enu[1]),
+        lerp(a.sun_dir_enu[2], b.sun_dir_enu[2]),
+    ];
+    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    if len > 1e-12 {
+        for c in &mut s {
+            *c /= len;
+        }
+    }
+    Forcing {
+        t_s,
+        air_temp_k: lerp(a.air_temp_k, b.air_temp_k),
+        sky_temp_k: lerp(a.sky_temp_k, b.sky_temp_k),
+        wind_speed_m_s: lerp(a.wind_speed_m_s, b.wind_speed_m_s),
+        dni_w_m2: lerp(a.dni_w_m2, b.dni_w_m2),
+        dhi_w_m2: lerp(a.dhi_w_m2, b.dhi_w_m2),
+        ghi_w_m2: lerp(a.ghi_w_m2, b.ghi_w_m2),
+        sun_dir_enu: s,
+    }
+}
+
+/// Checks a forcing series: non-empty, strictly increasing times, finite
+/// values, positive temperatures, non-negative wind and irradiances.
+pub fn validate_forcing(forcing: &[Forcing]) -> Result<(), ThermError> {
+    if forcing.is_empty() {
+        return Err(ThermError::BadInput("empty forcing series".into()));
+    }
+    for (i, f) in forcing.iter().enumerate() {
+        let vals = [
+            ("t_s", f.t_s),
+            ("air_temp_k", f.air_temp_k),
+            ("sky_temp_k", f.sky_temp_k),
+            ("wind_speed_m_s", f.wind_speed_m_s),
+            ("dni_w_m2", f.dni_w_m2),
+            ("dhi_w_m2", f.dhi_w_m2),
+            ("ghi_w_m2", f.ghi_w_m2),
+            ("sun_dir_enu[0]", f.sun_dir_enu[0]),
+            ("sun_dir_enu[1]", f.sun_dir_enu[1]),
+            ("sun_dir_enu[2]", f.sun_dir_enu[2]),
+        ];
+        for (name, v) in vals {
+            if !v.is_finite() {
+                return Err(ThermError::BadInput(format!(
+                    "forcing sample {i}: {name} is not finite"
+                )));
+            }
+        }
+        if f.air_temp_k <= 0.0 || f.sky_temp_k < 0.0 {
+            return Err(ThermError::BadInput(format!(
+                "forcing sample {i}: temperatures must be > 0 K"
+            )));
+        }
+        if f.wind_speed_m_s < 0.0 || f.dni_w_m2 < 0.0 || f.dhi_w_m2 < 0.0 || f.ghi_w_m2 < 0.0 {
+            return Err(ThermError::BadInput(format!(
+                "forcing sample {i}: wind speed and irradiances must be >= 0"
+            )));
+        }
+        if i > 0 && f.t_s <= forcing[i - 1].t_s {
+            return Err(ThermError::BadInput(format!(
+                "forcing sample {i}: time {} s is not after the previous sample ({} s)",
+                f.t_s,
+                forcing[i - 1].t_s
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Surface state and every flux term at one output time.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepRecord {
+    pub t_s: f64,
+    pub surface_temp_k: f64,
+    pub air_temp_k: f64,
+    pub sunlit: bool,
+    pub surface: SurfaceFluxes,
+    /// Conduction from the surface node into the slab, W/m².
+    pub conduction_into_slab_w_m2: f64,
+    /// Flux into the slab through the back face, W/m².
+    pub back_w_m2: f64,
+    pub back_temp_k: f64,
+    /// Heat stored in the slab relative to 0 K, J/m².
+    pub stored_energy_j_m2: f64,
+    /// ∫(net surface + back) flux dt since the start of the march, J/m²
+    /// (exact for the discrete scheme: equals the stored-energy change).
+    pub energy_in_j_m2: f64,
+}
+
+/// What [`SlabModel::march`] returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThermSolution {
+    /// Surface temperature at the last forcing time (the image time), K.
+    pub surface_temp_k: f64,
+    /// Node temperatures at the last forcing time, K.
+    pub profile_k: Vec<f64>,
+    /// One record per forcing sample (empty unless asked for).
+    pub series: Vec<StepRecord>,
+    /// Accepted and rejected internal steps.
+    pub steps_accepted: usize,
+    pub steps_rejected: usize,
+}
+
+/// A slab of one material at one orientation, ready to march.
+#[derive(Clone, Debug)]
+pub struct SlabModel {
+    pub material: SlabMaterial,
+    pub orientation: Orientation,
+    pub settings: ThermSettings,
+    pub mesh: Mesh,
+    normal: [f64; 3],
+    f_sky: f64,
+    optics: SurfaceOptics,
+}
+
+/// Scratch of the Newton/tridiagonal solve.
+struct Work {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    c: Vec<f64>,
+    r: Vec<f64>,
+    x: Vec<f64>,
+    cp: Vec<f64>,
+    dp: Vec<f64>,
+}
+
+impl SlabModel {
+    /// Builds the mesh and checks the inputs.
+    pub fn new(
+        material: &SlabMaterial,
+        orientation: Orientation,
+        settings: &ThermSettings,
+    ) -> Result<Self, ThermError> {
+        material.validate()?;
+        if !(settings.step_s.is_finite() && settings.step_s > 0.0) {
+            return Err(ThermError::BadInput(format!(
+                "step_s must be > 0, got {}",
+                settings.step_s
+            )));
+        }
+        if let Some(t) = settings.tol_k
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(ThermError::BadInput(format!("tol_k must be > 0, got {t}")));
+        }
+        if !(orientation.slope_deg.is_finite() && orientation.aspect_deg.is_finite()) {
+            return Err(ThermError::BadInput("orientation must be finite".into()));
+        }
+        Ok(SlabModel {
+            material: *material,
+            orientation,
+            settings: *settings,
+            mesh: Mesh::graded(material, settings),
+            normal: orientation.normal_enu(),
+            f_sky: orientation.sky_view_factor(),
+            optics: SurfaceOptics {
+                solar_absorptivity: material.solar_absorptivity,
+                thermal_emissivity: material.thermal_emissivity,
+                ground_albedo: material
+                    .ground_albedo
+                    .unwrap_or(balance::DEFAULT_GROUND_ALBEDO),
+                internal_power_w_m2: material.internal_power_w_m2,
+            },
+        })
+    }
+
+    /// Number of nodes.
+    pub fn nodes(&self) -> usize {
+        self.mesh.z_m.len()
+    }
+
+    /// The temperature-independent surface drive at an instant.
+    pub fn drive(&self, f: &Forcing, sunlit: bool) -> SurfaceDrive {
+        balance::surface_drive(
+            &DriveInputs {
+                air_temp_k: f.air_temp_k,
+                sky_temp_k: f.sky_temp_k,
+                wind_speed_m_s: f.wind_speed_m_s,
+                dni_w_m2: f.dni_w_m2,
+                dhi_w_m2: f.dhi_w_m2,
+                ghi_w_m2: f.ghi_w_m2,
+                sun_dir_enu: f.sun_dir_enu,
+                sunlit,
+            },
+            &self.optics,
+            self.normal,
+            self.f_sky,
+        )
+    }
+
+    /// Deep-ground temperature for this forcing, if the back is tied to one.
+    pub fn deep_temp_k(&self, forcing: &[Forcing]) -> Option<f64> {
+        match self.material.back {
+            BackBoundary::DeepGround { temp_k: Some(t) } => Some(t),
+            BackBoundary::DeepGround { temp_k: None } => {
+                Some(forcing.iter().map(|f| f.air_temp_k).sum::<f64>() / forcing.len() as f64)
+            }
+            _ => None,
+        }
+    }
+
+    /// Back-face flux into the slab and its derivative wrt the back temperature.
+    fn back_flux(
+        &self,
+        f: &Forcing,
+        back_temp_k: f64,
+        deep: Option<f64>,
+        g_last: f64,
+    ) -> (f64, f64) {
+        match self.material.back {
+            BackBoundary::Insulated => (0.0, 0.0),
+            BackBoundary::ExposedToAir { area_factor } => balance::exposed_back_flux_w_m2(
+                area_factor,
+                self.material.thermal_emissivity,
+                &self.settings.convection,
+                f.wind_speed_m_s,
+                f.air_temp_k,
+                back_temp_k,
+            ),
+            // Not used for the solve (the node is fixed); reported as the
+            // conduction from the deep node into the last free node.
+            BackBoundary::DeepGround { .. } => (
+                g_last * (deep.unwrap_or(back_temp_k) - back_temp_k),
+                -g_last,
+            ),
+        }
+    }
+
+    /// One implicit step: solves
+    /// `C_i (T_i − T_i^old)/h = Σ conduction + boundary fluxes(T, f)` for T
+    /// by Newton's method; `h = ∞` gives the steady state. Returns false if
+    /// Newton failed.
+    #[allow(clippy::too_many_arguments)]
+    fn implicit_step(
+        &self,
+        old: &[f64],
+        new: &mut [f64],
+        h: f64,
+        f: &Forcing,
+        drive: &SurfaceDrive,
+        deep: Option<f64>,
+        w: &mut Work,
+    ) -> bool {
+        let n = old.len();
+        let fixed_back = deep.is_some();
+        let nf = if fixed_back { n - 1 } else { n };
+        if fixed_back {
+            new[n - 1] = deep.unwrap();
+        }
+        let cap = &self.mesh.cap_j_m2k;
+        let g = &self.mesh.cond_w_m2k;
+        let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
+        for _iter in 0..60 {
+            // Residual r = rhs − lhs (we solve J·δ = r with J = −∂r/∂T).
+            for i in 0..nf {
+                let t = new[i];
+                let mut r = -cap[i] * inv_h * (t - old[i]);
+                let mut diag = cap[i] * inv_h;
+                if i > 0 {
+                    r += g[i - 1] * (new[i - 1] - t);
+                    diag += g[i - 1];
+                }
+                if i + 1 < n {
+                    r += g[i] * (new[i + 1] - t);
+                    diag += g[i];
+                }
+                if i == 0 {
+                    let (sf, ds) = balance::surface_fluxes(
+                        drive,
+                        self.material.thermal_emissivity,
+                        &self.settings.convection,
+                        t,
+                    );
+                    r += sf.net_w_m2;
+                    diag -= ds;
+                }
+                if i == n - 1 && !fixed_back {
+                    let (q, dq) = self.back_flux(f, t, deep, 0.0);
+                    r += q;
+                    diag -= dq;
+                }
+                w.r[i] = r;
+                w.b[i] = diag;
+                w.a[i] = if i > 0 { -g[i - 1] } else { 0.0 };
+                w.c[i] = if i + 1 < nf { -g[i] } else { 0.0 };
+            }
+            if !w.solve(nf) {
+                return false;
+            }
+            let mut max_d = 0.0f64;
+            for (t, &d) in new[..nf].iter_mut().zip(&w.x[..nf]) {
+                if !d.is_finite() {
+                    return false;
+                }
+                // Keep the iterate physical; the root is always > 0 K.
+                *t = (*t + d).max(1.0);
+                max_d = max_d.max(d.abs());
+            }
+            if max_d < 1e-9 {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Steady state under forcing `f` with sun flag `sunlit`: the spin-up
+    /// initial condition (an implicit step with infinite step size, started
+    /// from the air temperature).
+    pub fn equilibrium(
+        &self,
+        f: &Forcing,
+        sunlit: bool,
+        deep: Option<f64>,
+    ) -> Result<Vec<f64>, ThermError> {
+        let n = self.nodes();
+        let old = vec![f.air_temp_k; n];
+        let mut new = old.clone();
+        let mut w = Work::new(n);
+        let drive = self.drive(f, sunlit);
+        // A huge (not infinite) step keeps the matrix regular when no heat
+        // can leave the slab (e.g. ε = 0 and no convection).
+        if !self.implicit_step(&old, &mut new, 1e12, f, &drive, deep, &mut w) {
+            return Err(ThermError::NoConvergence {
+                t_s: f.t_s,
+                why: "no steady state for the spin-up initial condition".into(),
+            });
+        }
+        Ok(new)
+    }
+
+    /// Marches from the equilibrium at the first forcing sample to the last
+    /// one; the returned surface temperature is at the last forcing time.
+    pub fn solve(
+        &self,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        record: bool,
+    ) -> Result<ThermSolution, ThermError> {
+        validate_forcing(forcing)?;
+        if let Some(h) = shadow {
+            h.validate()?;
+        }
+        let deep = self.deep_temp_k(forcing);
+        let sunlit0 = shadow.is_none_or(|h| h.sunlit_at(forcing[0].t_s));
+        let init = self.equilibrium(&forcing[0], sunlit0, deep)?;
+        self.march(init, forcing, shadow, record)
+    }
+
+    /// Marches an explicit initial node profile (length [`Self::nodes`])
+    /// through the forcing, from its first to its last sample.
+    pub fn march(
+        &self,
+        init_k: Vec<f64>,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        record: bool,
+    ) -> Result<ThermSolution, ThermError> {
+        validate_forcing(forcing)?;
+        let n = self.nodes();
+        if init_k.len() != n || init_k.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+            return Err(ThermError::BadInput(format!(
+                "initial profile must have {n} finite positive temperatures"
+            )));
+        }
+        let deep = self.deep_temp_k(forcing);
+        let mut temps = init_k;
+        if let Some(d) = deep {
+            temps[n - 1] = d;
+        }
+        let t_start = forcing[0].t_s;
+        let t_end = forcing[forcing.len() - 1].t_s;
+        // Breakpoints: every forcing sample and every sun/shadow switch.
+        let mut bps: Vec<f64> = forcing.iter().map(|f| f.t_s).collect();
+        if let Some(h) = shadow {
+            bps.extend(h.switch_times(t_start, t_end));
+            bps.sort_by(f64::total_cmp);
+            bps.dedup();
+        }
+        let mut w = Work::new(n);
+        let mut new = temps.clone();
+        let mut prev_inc = vec![0.0; n];
+        let mut prev_h = f64::NAN;
+        let mut energy_in = 0.0;
+        let mut series = Vec::new();
+        let mut next_rec = 0usize; // index into forcing of the next record
+        let mut accepted = 0usize;
+        let mut rejected = 0usize;
+        let s = &self.settings;
+        let mut h_try = match s.tol_k {
+            Some(_) => s.step_s.min(60.0),
+            None => s.step_s,
+        };
+        let e0 = self.mesh.stored_energy_j_m2(&temps);
+        let mut t = t_start;
+        if record {
+            series.push(self.record(&forcing[0], shadow, &temps, deep, e0, 0.0));
+            next_rec = 1;
+        }
+        for seg in bps.windows(2) {
+            let (a, b) = (seg[0], seg[1]);
+            debug_assert!((t - a).abs() <= 1e-9 * a.abs().max(1.0));
+            t = a;
+            while t < b {
+                let mut h = h_try.min(s.step_s);
+                let last = t + h >= b - 1e-9 * (b - a).max(1e-9);
+                if last {
+                    h = b - t;
+                }
+                let t_new = if last { b } else { t + h };
+                let f = forcing_at(forcing, t_new);
+                let sunlit = shadow.is_none_or(|sh| sh.sunlit_at(t + 0.5 * h));
+                let drive = self.drive(&f, sunlit);
+                new.copy_from_slice(&temps);
+                let ok = self.implicit_step(&temps, &mut new, h, &f, &drive, deep, &mut w);
+                if !ok {
+                    if h <= s.min_step_s {
+                        return Err(ThermError::NoConvergence {
+                            t_s: t,
+                            why: format!("Newton did not converge at the smallest step {h} s"),
+                        });
+                    }
+                    rejected += 1;
+                    h_try = (h * 0.25).max(s.min_step_s);
+                    continue;
+                }
+                // Local error estimate  h²/2·|T''| ≈ h/(h + h_prev)·|Δ − (h/h_prev)·Δ_prev|.
+                if let Some(tol) = s.tol_k {
+                    let hp = if prev_h.is_finite() { prev_h } else { h };
+                    let mut err = 0.0f64;
+                    for i in 0..n {
+                        let inc = new[i] - temps[i];
+                        err = err.max((inc - h / hp * prev_inc[i]).abs());
+                    }
+                    err *= h / (h + hp);
+                    let fac = if err > 0.0 {
+                        0.9 * (tol / err).sqrt()
+                    } else {
+                        4.0
+                    };
+                    if err > tol && h > s.min_step_s {
+                        rejected += 1;
+                        h_try = (h * fac.clamp(0.1, 0.9)).max(s.min_step_s);
+                        continue;
+                    }
+                    h_try = h * fac.clamp(0.2, 4.0);
+                    if last {
+                        // Keep the pre-truncation step suggestion sensible.
+                        h_try = h_try.max(h);
+                    }
+                }
+                // Accept.
+                let (sf, _) = balance::surface_fluxes(
+                    &drive,
+                    self.material.thermal_emissivity,
+                    &s.convection,
+                    new[0],
+                );
+                let g_last = self.mesh.cond_w_m2k[n - 2];
+                let back = match deep {
+                    Some(d) => g_last * (d - new[n - 2]),
+                    None => self.back_flux(&f, new[n - 1], None, g_last).0,
+                };
+                energy_in += h * (sf.net_w_m2 + back);
+                for i in 0..n {
+                    prev_inc[i] = new[i] - temps[i];
+                }
+                prev_h = h;
+                temps.copy_from_slice(&new);
+                t = t_new;
+                accepted += 1;
+            }
+            if record && next_rec < forcing.len() && forcing[next_rec].t_s <= t {
+                let e = self.mesh.stored_energy_j_m2(&temps);
+                series.push(self.record(&forcing[next_rec], shadow, &temps, deep, e, energy_in));
+                next_rec += 1;
+            }
+        }
+        Ok(ThermSolution {
+            surface_temp_k: temps[0],
+            profile_k: temps,
+            series,
+            steps_accepted: accepted,
+            steps_rejected: rejected,
+        })
+    }
+
+    fn record(
+        &self,
+        f: &Forcing,
+        shadow: Option<&SunHistory>,
+        temps: &[f64],
+        deep: Option<f64>,
+        stored: f64,
+        energy_in: f64,
+    ) -> StepRecord {
+        let n = temps.len();
+        let sunlit = shadow.is_none_or(|sh| sh.sunlit_at(f.t_s));
+        let drive = self.drive(f, sunlit);
+        let (sf, _) = balance::surface_fluxes(
+            &drive,
+            self.material.thermal_emissivity,
+            &self.settings.convection,
+            temps[0],
+        );
+        let g_last = self.mesh.cond_w_m2k[n - 2];
+        let back = match deep {
+            Some(d) => g_last * (d - temps[n - 2]),
+            None => self.back_flux(f, temps[n - 1], None, g_last).0,
+        };
+        StepRecord {
+            t_s: f.t_s,
+            surface_temp_k: temps[0],
+            air_temp_k: f.air_temp_k,
+            sunlit,
+            surface: sf,
+            conduction_into_slab_w_m2: self.mesh.cond_w_m2k[0] * (temps[0] - temps[1]),
+            back_w_m2: back,
+            back_temp_k: temps[n - 1],
+            stored_energy_j_m2: stored,
+            energy_in_j_m2: energy_in,
+        }
+    }
+}
+
+impl Work {
+    fn new(n: usize) -> Work {
+        Work {
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            c: vec![0.0; n],
+            r: vec![0.0; n],
+            x: vec![0.0; n],
+            cp: vec![0.0; n],
+            dp: vec![0.0; n],
+        }
+    }
+
+    /// Thomas algorithm for the leading `n` rows of the tridiagonal system
+    /// `a_i x_{i−1} + b_i x_i + c_i x_{i+1} = r_i` (no pivoting: the systems
+    /// here are diagonally dominant M-matrices). False on a zero pivot.
+    fn solve(&mut self, n: usize) -> bool {
+        thomas(
+            &self.a[..n],
+            &self.b[..n],
+            &self.c[..n],
+            &self.r[..n],
+            &mut self.x[..n],
+            &mut self.cp[..n],
+            &mut self.dp[..n],
+        )
+    }
+}
+
+fn thomas(
+    a: &[f64],
+    b: &[f64],
+    c: &[f64],
+    r: &[f64],
+    x: &mut [f64],
+    cp: &mut [f64],
+    dp: &mut [f64],
+) -> bool {
+    let n = b.len();
+    let mut beta = b[0];
+    if beta == 0.0 || !beta.is_finite() {
+        return false;
+    }
+    cp[0] = c[0] / beta;
+    dp[0] = r[0] / beta;
+    for i in 1..n {
+        beta = b[i] - a[i] * cp[i - 1];
+        if beta == 0.0 || !beta.is_finite() {
+            return false;
+        }
+        cp[i] = c[i] / beta;
+        dp[i] = (r[i] - a[i] * dp[i - 1]) / beta;
+    }
+    x[n - 1] = dp[n - 1];
+    for i in (0..n - 1).rev() {
+        x[i] = dp[i] - cp[i] * x[i + 1];
+    }
+    true
+}
+
+/// Convenience: surface temperature (and optionally the series) of one
+/// material/orientation/shadow history under a forcing series, spun up from
+/// equilibrium at the first sample.
+pub fn solve_surface(
+    material: &SlabMaterial,
+    orientation: Orientation,
+    shadow: Option<&SunHistory>,
+    forcing: &[Forcing],
+    settings: &ThermSettings,
+    record: bool,
+) -> Result<ThermSolution, ThermError> {
+    SlabModel::new(material, orientation, settings)?.solve(forcing, shadow, record)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(t: f64, air: f64) -> Forcing {
+        Forcing {
+            t_s: t,
+            air_temp_k: air,
+            sky_temp_k: air - 20.0,
+            wind_speed_m_s: 1.0,
+            dni_w_m2: 0.0,
+            dhi_w_m2: 0.0,
+            ghi_w_m2: 0.0,
+            sun_dir_enu: [1.0, 0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn shadow_history_nearest_sample_rule() {
+        let h = SunHistory {
+            start_s: 3600,
+            interval_s: 1800,
+            sunlit: vec![true, false, false, true],
+        };
+        // sample 1 (t = 5400) covers [4500, 6300)
+        assert!(h.sunlit_at(4499.0) && !h.sunlit_at(4500.0) && !h.sunlit_at(6299.0));
+        // sample 3 (t = 9000) covers [8100, …): held after the end
+        assert!(!h.sunlit_at(8099.0) && h.sunlit_at(8100.0) && h.sunlit_at(1e6));
+        // periodic before the start (period 4·1800 s): t = 5400 − 7200 → sample 1
+        assert!(!h.sunlit_at(5400.0 - 7200.0));
+        // switches: 900 s (periodic image of samples 2 → 3), 4500 s, 8100 s
+        assert_eq!(h.switch_times(0.0, 10000.0), vec![900.0, 4500.0, 8100.0]);
+        assert_eq!(h.packed_bits(), vec![0b1001]);
+    }
+
+    #[test]
+    fn forcing_is_linear_between_samples() {
+        let mut a = f(0.0, 280.0);
+        let mut b = f(1000.0, 290.0);
+        a.sun_dir_enu = [1.0, 0.0, 0.0];
+        b.sun_dir_enu = [0.0, 1.0, 0.0];
+        let m = forcing_at(&[a, b], 250.0);
+        assert!((m.air_temp_k - 282.5).abs() < 1e-12);
+        let s = m.sun_dir_enu;
+        assert!(
+            ((s[0] * s[0] + s[1] * s[1]).sqrt() - 1.0).abs() < 1e-12
+                && (s[1] / s[0] - 1.0 / 3.0).abs() < 1e-12
+        );
+        assert_eq!(forcing_at(&[a, b], -5.0).air_temp_k, 280.0);
+        assert_eq!(forcing_at(&[a, b], 5000.0).air_temp_k, 290.0);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors_not_panics() {
+        let mat = SlabMaterial {
+            density_kg_m3: 2000.0,
+            specific_heat_j_kgk: 900.0,
+            conductivity_w_mk: 1.0,
+            thickness_m: 0.1,
+            solar_absorptivity: 0.5,
+            thermal_emissivity: 0.9,
+            back: BackBoundary::Insulated,
+            internal_power_w_m2: 0.0,
+            ground_albedo: None,
+        };
+        let s = ThermSettings::default();
+        let bad = SlabMaterial {
+            thickness_m: 0.0,
+            ..mat
+        };
+        assert!(
+            matches!(SlabModel::new(&bad, Orientation::HORIZONTAL, &s), Err(ThermError::BadMaterial(m)) if m.contains("thickness_m"))
+        );
+        let bad = SlabMaterial {
+            solar_absorptivity: 1.5,
+            ..mat
+        };
+        assert!(SlabModel::new(&bad, Orientation::HORIZONTAL, &s).is_err());
+        let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+        assert!(matches!(
+            model.solve(&[], None, false),
+            Err(ThermError::BadInput(_))
+        ));
+        let unsorted = [f(0.0, 280.0), f(0.0, 281.0)];
+        assert!(
+            matches!(model.solve(&unsorted, None, false), Err(ThermError::BadInput(m)) if m.contains("sample 1"))
+        );
+        let nan = [f(0.0, f64::NAN)];
+        assert!(model.solve(&nan, None, false).is_err());
+    }
+
+    #[test]
+    fn graded_mesh_is_geometric_from_the_surface() {
+        let mat = SlabMaterial {
+            density_kg_m3: 2300.0,
+            specific_heat_j_kgk: 880.0,
+            conductivity_w_mk: 1.4,
+            thickness_m: 2.0,
+            solar_absorptivity: 0.5,
+            thermal_emissivity: 0.9,
+            back: BackBoundary::Insulated,
+            internal_power_w_m2: 0.0,
+            ground_albedo: None,
+        };
+        let s = ThermSettings::default();
+        let m = Mesh::graded(&mat, &s);
+        let d: Vec<f64> = m.z_m.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!((m.z_m.last().unwrap() - 2.0).abs() < 1e-12);
+        assert!((d[0] - (mat.diffusivity_m2_s() * s.surface_time_s).sqrt()).abs() < 0.05 * d[0]);
+        for w in d.windows(2) {
+            assert!(w[1] / w[0] <= s.max_growth + 1e-9 && w[1] > w[0]);
+        }
+        let total: f64 = m.cap_j_m2k.iter().sum();
+        assert!((total - mat.areal_heat_capacity_j_m2k()).abs() < 1e-6 * total);
+        // Thin skin: uniform.
+        let skin = SlabMaterial {
+            thickness_m: 5e-4,
+            conductivity_w_mk: 200.0,
+            ..mat
+        };
+        let m = Mesh::graded(&skin, &s);
+        assert_eq!(m.z_m.len(), s.nodes);
+    }
+}
