@@ -114,3 +114,24 @@ fn bad_input_gives_clear_errors() {
     assert_eq!(code, 2, "clap usage error");
     assert!(err.contains("--width"), "{err}");
 }
+
+/// The paper's demo scene, with its own camera and the sun directions of
+/// its 24-h shadow history: zero unexplained differences.
+#[test]
+fn crosscheck_airfield_scene_has_no_unexplained_difference() {
+    let out = irsig()
+        .args(["crosscheck", "--json"])
+        .arg(root().join("scenes/airfield/scene.toml"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["primary"]["compared"].as_u64().unwrap(), 512 * 512);
+    assert!(v["solar"]["compared"].as_u64().unwrap() > 1_000_000);
+    assert!(v["triangles"].as_u64().unwrap() > 4000);
+}

@@ -15,15 +15,17 @@ use crate::trace::{Geometry, QueryMode};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// An OBJ mesh (a camera is generated looking at it obliquely).
+    /// A scene file (.toml: its sensor camera and the sun directions of its
+    /// shadow history are used) or an OBJ mesh (a camera is generated
+    /// looking at it obliquely, with a summer day's sun arc).
     pub input: PathBuf,
-    /// Image width of the generated camera, pixels.
+    /// Image width of the generated camera (OBJ input), pixels.
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub width: u32,
-    /// Image height of the generated camera, pixels.
+    /// Image height of the generated camera (OBJ input), pixels.
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub height: u32,
-    /// Number of solar-history directions (a summer day's arc).
+    /// Number of solar-history directions (OBJ input: a summer day's arc).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=96))]
     pub sun_samples: u32,
     /// Print the report as JSON.
@@ -31,32 +33,16 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Loads an OBJ file as one triangle soup (all models, triangulated).
+/// Loads an OBJ file as one triangle soup (faces fan-triangulated), with
+/// the scene loader's line-numbered errors.
 pub fn load_obj(path: &std::path::Path) -> anyhow::Result<Geometry> {
-    let opts = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ..Default::default()
-    };
-    let (models, _) = tobj::load_obj(path, &opts)
-        .map_err(|e| anyhow::anyhow!("{}: cannot read OBJ: {e}", path.display()))?;
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for m in &models {
-        let base = positions.len() as u32;
-        positions.extend(
-            m.mesh
-                .positions
-                .chunks_exact(3)
-                .map(|p| Vec3::new(p[0], p[1], p[2])),
-        );
-        triangles.extend(
-            m.mesh
-                .indices
-                .chunks_exact(3)
-                .map(|t| [base + t[0], base + t[1], base + t[2]]),
-        );
-    }
+    let m = crate::scene::obj::load_obj(path)?;
+    let positions = m.positions.iter().map(|p| Vec3::from(*p)).collect();
+    let triangles = m
+        .faces
+        .iter()
+        .flat_map(|f| (1..f.verts.len() - 1).map(move |k| [f.verts[0], f.verts[k], f.verts[k + 1]]))
+        .collect();
     Geometry::new(positions, triangles).with_context(|| format!("{}: bad geometry", path.display()))
 }
 
@@ -89,17 +75,53 @@ pub fn sun_arc(n: u32) -> Vec<Vec3> {
         .collect()
 }
 
+/// Sun directions (ENU) of a scene's shadow history: every
+/// `shadow_interval_min` over `history_hours` before the image time, sun
+/// above the horizon.
+pub fn scene_sun_dirs(s: &crate::scene::LoadedScene) -> Vec<Vec3> {
+    let sc = &s.scene;
+    let end = sc.time.utc(&sc.site);
+    let step_s = (sc.render.shadow_interval_min * 60.0).round() as i64;
+    let n = (sc.render.history_hours * 3600.0 / step_s as f64).round() as i64;
+    (0..=n)
+        .filter_map(|k| {
+            let t = end - chrono::Duration::seconds(step_s * (n - k));
+            let p = crate::sun::solar_position(
+                t,
+                sc.site.latitude_deg,
+                sc.site.longitude_deg,
+                sc.site.elevation_m,
+            );
+            (p.elevation_deg > 0.0).then(|| DVec3::from(p.sun_dir_enu).as_vec3())
+        })
+        .collect()
+}
+
 pub fn run(a: Args) -> anyhow::Result<i32> {
-    let geometry = Arc::new(load_obj(&a.input)?);
+    let is_scene = a
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let (geometry, camera, suns) = if is_scene {
+        let s = crate::scene::load(&a.input)?;
+        let positions = s.positions.iter().map(|p| Vec3::from(*p)).collect();
+        let g = Geometry::new(positions, s.triangles.clone())
+            .with_context(|| format!("{}: bad geometry", a.input.display()))?;
+        (g, Camera::from_geometry(&s.camera), scene_sun_dirs(&s))
+    } else {
+        let g = load_obj(&a.input)?;
+        let cam = oblique_camera(g.bounds(), a.width, a.height);
+        (g, cam, sun_arc(a.sun_samples))
+    };
+    let geometry = Arc::new(geometry);
     let embree = EmbreeTracer::new(geometry.clone(), QueryMode::Packet16)?;
     let bvh = BvhTracer::new(geometry.clone());
-    let camera = oblique_camera(geometry.bounds(), a.width, a.height);
     let report = crosscheck::run(
         &geometry,
         &embree,
         &bvh,
         &camera,
-        &sun_arc(a.sun_samples),
+        &suns,
         Tolerances::default(),
     );
     if a.json {

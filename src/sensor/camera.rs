@@ -53,6 +53,20 @@ impl Camera {
         }
     }
 
+    /// The camera of a scene's sensor.
+    pub fn from_geometry(g: &crate::scene::camera::CameraGeometry) -> Self {
+        let t = |deg: f64| (deg.to_radians() / 2.0).tan();
+        Camera {
+            position: DVec3::from(g.position_m),
+            forward: DVec3::from(g.forward),
+            right: DVec3::from(g.right),
+            up: DVec3::from(g.up),
+            tan_half_fov: (t(g.fov_h_deg), t(g.fov_v_deg)),
+            width: g.width_px,
+            height: g.height_px,
+        }
+    }
+
     /// Unit direction through image point (x, y) in pixel units (pixel
     /// centres at +0.5).
     pub fn direction(&self, x: f64, y: f64) -> DVec3 {

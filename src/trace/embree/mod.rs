@@ -217,21 +217,22 @@ impl EmbreeTracer {
 
     fn intersect_packet(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
         let mut rh = ffi::RTCRayHit16::default();
-        let mut valid = [0i32; 16];
+        let mut valid = Valid16([0; 16]);
         for (lane, ray) in rays.iter().enumerate() {
             if ray.is_valid() {
-                valid[lane] = -1;
+                valid.0[lane] = -1;
                 fill_lane(&mut rh.ray, lane, ray);
             }
             rh.hit.geomID[lane] = INVALID_ID;
             rh.hit.instID[0][lane] = INVALID_ID;
         }
-        // SAFETY: committed scene; `valid` has 16 lanes and `rh` is the
-        // 64-byte-aligned RTCRayHit16 generated from the installed header;
+        // SAFETY: committed scene; `valid` has 16 lanes, 64-byte aligned as
+        // Embree requires, and `rh` is the 64-byte-aligned RTCRayHit16
+        // generated from the installed header;
         // inactive lanes are masked off by `valid`.
-        unsafe { ffi::irsig_intersect16(valid.as_ptr(), self.scene.0, 1, &mut rh) };
+        unsafe { ffi::irsig_intersect16(valid.0.as_ptr(), self.scene.0, 1, &mut rh) };
         for (lane, h) in hits.iter_mut().enumerate() {
-            *h = if valid[lane] != 0 {
+            *h = if valid.0[lane] != 0 {
                 self.hit_of(
                     rh.hit.geomID[lane],
                     rh.hit.primID[lane],
@@ -247,17 +248,17 @@ impl EmbreeTracer {
 
     fn occluded_packet(&self, rays: &[Ray], blocked: &mut [bool]) {
         let mut r = ffi::RTCRay16::default();
-        let mut valid = [0i32; 16];
+        let mut valid = Valid16([0; 16]);
         for (lane, ray) in rays.iter().enumerate() {
             if ray.is_valid() {
-                valid[lane] = -1;
+                valid.0[lane] = -1;
                 fill_lane(&mut r, lane, ray);
             }
         }
         // SAFETY: as in intersect_packet.
-        unsafe { ffi::irsig_occluded16(valid.as_ptr(), self.scene.0, 1, &mut r) };
+        unsafe { ffi::irsig_occluded16(valid.0.as_ptr(), self.scene.0, 1, &mut r) };
         for (lane, b) in blocked.iter_mut().enumerate() {
-            *b = valid[lane] != 0 && r.tfar[lane] == f32::NEG_INFINITY;
+            *b = valid.0[lane] != 0 && r.tfar[lane] == f32::NEG_INFINITY;
         }
     }
 }
@@ -291,6 +292,11 @@ fn fill_lane(r: &mut ffi::RTCRay16, lane: usize, ray: &Ray) {
     r.id[lane] = lane as u32;
     r.flags[lane] = 0;
 }
+
+/// The valid mask of a 16-wide query: Embree requires it aligned like the
+/// packet (64 bytes for 16-wide; rtcIntersect16 docs).
+#[repr(C, align(64))]
+struct Valid16([i32; 16]);
 
 /// Below this many rays in a group of 16, single-ray calls are cheaper.
 const MIN_PACKET_FILL: usize = 4;
