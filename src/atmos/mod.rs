@@ -10,7 +10,11 @@
 //! caller-provided slice.
 //!
 //! Interpolation (per axis, multilinear):
-//! * altitude_km: linear in altitude; outside the grid → [`AtmosError::OutOfRange`].
+//! * altitude_km: linear in u(h) = −(e^(−h/2 km) + e^(−h/8 km))/2, a proxy for the
+//!   fraction of the absorber column (water vapour scale height ≈ 2 km, dry air
+//!   ≈ 8 km) below h; outside the grid → [`AtmosError::OutOfRange`].
+//! * transmissions (τ₂, τ₁) are interpolated in ln τ (Beer's law makes ln τ
+//!   nearly linear in air mass and absorber column); radiances linearly.
 //! * view_zenith_deg: linear in sec θ (optical air mass); 0 ≤ θ ≤ the last grid
 //!   angle (85° in the shipped tables), otherwise an error.
 //! * sky_zenith_deg: linear in sec θ; between the last grid angle (89°) and 90°
@@ -150,7 +154,11 @@ impl Atmosphere {
                 let spec = &q.data[s * q.n_wavenumber..(s + 1) * q.n_wavenumber];
                 data.extend(idx.iter().map(|&(a, b, t)| spec[a] + t * (spec[b] - spec[a])));
             }
-            Field { name: q.name.clone(), axes: q.axes.clone(), data, nw }
+            let log = name.starts_with("tau");
+            if log {
+                data.iter_mut().for_each(|v| *v = v.max(TAU_FLOOR).ln());
+            }
+            Field { name: q.name.clone(), axes: q.axes.clone(), data, nw, log }
         };
         let e_sun = field("e_sun_exo").data;
         let mut s = SpectralAtmosphere {
@@ -190,6 +198,14 @@ fn axis_kind(name: &str) -> AxisKind {
     }
 }
 
+/// Altitude coordinate for interpolation (see the module docs).
+fn altitude_coord(h_km: f64) -> f64 {
+    -0.5 * ((-h_km / 2.0).exp() + (-h_km / 8.0).exp())
+}
+
+/// Floor for ln τ interpolation.
+const TAU_FLOOR: f64 = 1e-30;
+
 fn sec_deg(d: f64) -> f64 {
     1.0 / d.to_radians().cos()
 }
@@ -199,8 +215,11 @@ fn sec_deg(d: f64) -> f64 {
 struct Field {
     name: String,
     axes: Vec<Axis>,
+    /// Values, or ln(max(value, TAU_FLOOR)) when `log`.
     data: Vec<f64>,
     nw: usize,
+    /// Interpolate in logarithms (transmissions).
+    log: bool,
 }
 
 /// (lower index, upper index, weight of upper) per axis, plus a global scale.
@@ -268,6 +287,9 @@ impl Field {
                 AxisKind::ViewZenith | AxisKind::SkyZenith | AxisKind::SunZenith if b < 90.0 => {
                     (sec_deg(x) - sec_deg(a)) / (sec_deg(b) - sec_deg(a))
                 }
+                AxisKind::Linear if ax.name == "altitude_km" => {
+                    (altitude_coord(x) - altitude_coord(a)) / (altitude_coord(b) - altitude_coord(a))
+                }
                 _ => (x - a) / (b - a),
             };
             st.push((i - 1, i, t.clamp(0.0, 1.0)));
@@ -301,6 +323,13 @@ impl Field {
             for (o, s) in out.iter_mut().zip(spec) {
                 *o += w * s;
             }
+        }
+        if self.log {
+            // weights summed to `scale`; undo it before exponentiating
+            out.iter_mut().for_each(|o| {
+                let v = (*o / scale).exp();
+                *o = if v <= TAU_FLOOR * 1.000_001 { 0.0 } else { (v * scale).min(1.0) };
+            });
         }
         Ok(())
     }
