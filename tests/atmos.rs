@@ -5,11 +5,16 @@ use std::io::Write;
 use irsig::atmos::{AtmosError, AtmosTable, Atmosphere, SpectralAtmosphere};
 
 fn full(name: &str) -> SpectralAtmosphere {
-    Atmosphere::builtin(name).unwrap_or_else(|e| panic!("{e}")).full()
+    Atmosphere::builtin(name)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .full()
 }
 
 fn idx(sa: &SpectralAtmosphere, wn: f64) -> usize {
-    sa.wavenumber_cm1.iter().position(|&w| (w - wn).abs() < 1e-6).unwrap()
+    sa.wavenumber_cm1
+        .iter()
+        .position(|&w| (w - wn).abs() < 1e-6)
+        .unwrap()
 }
 
 struct Ref {
@@ -21,13 +26,23 @@ struct Ref {
 }
 
 fn refs() -> Vec<Ref> {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/atmos_refs.csv")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/atmos_refs.csv"
+    ))
+    .unwrap();
     text.lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("atmosphere"))
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
             let n = |i: usize| f[i].parse::<f64>().unwrap();
-            Ref { atm: f[0].into(), q: f[1].into(), a: [n(2), n(3), n(4), n(5)], wn: n(6), value: n(7) }
+            Ref {
+                atm: f[0].into(),
+                q: f[1].into(),
+                a: [n(2), n(3), n(4), n(5)],
+                wn: n(6),
+                value: n(7),
+            }
         })
         .collect()
 }
@@ -51,16 +66,29 @@ fn eval(sa: &SpectralAtmosphere, r: &Ref) -> f64 {
 
 fn on_grid(r: &Ref) -> bool {
     let alt = [0.3, 0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 20.0, 100.0];
-    let vz = [0.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
-    let sky = [0.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 83.0, 85.0, 87.0, 89.0];
+    let vz = [
+        0.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0,
+    ];
+    let sky = [
+        0.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 83.0, 85.0, 87.0, 89.0,
+    ];
     let scat_sun = [0.0, 30.0, 50.0, 65.0, 80.0, 88.0];
     let has = |g: &[f64], x: f64| g.contains(&x);
     let [a, b, c, d] = r.a;
     match r.q.as_str() {
         "tau_path" | "l_ue" => has(&alt, a) && has(&vz, b),
-        "l_us" => has(&scat_sun, a) && has(&[0.0, 90.0, 180.0], b) && has(&[0.3, 1.0, 3.0, 100.0], c) && has(&[0.0, 45.0, 70.0, 85.0], d),
+        "l_us" => {
+            has(&scat_sun, a)
+                && has(&[0.0, 90.0, 180.0], b)
+                && has(&[0.3, 1.0, 3.0, 100.0], c)
+                && has(&[0.0, 45.0, 70.0, 85.0], d)
+        }
         "l_de" | "tau_sun" => has(&sky, a),
-        "l_ds" => has(&scat_sun, a) && has(&[0.0, 90.0, 180.0], b) && has(&[0.0, 30.0, 50.0, 65.0, 80.0, 88.0], c),
+        "l_ds" => {
+            has(&scat_sun, a)
+                && has(&[0.0, 90.0, 180.0], b)
+                && has(&[0.0, 30.0, 50.0, 65.0, 80.0, 88.0], c)
+        }
         _ => true,
     }
 }
@@ -75,7 +103,14 @@ fn tables_reproduce_lowtran_at_grid_points() {
         for r in refs().iter().filter(|r| r.atm == atm && on_grid(r)) {
             let got = eval(&sa, r);
             let tol = r.value.abs() * 2f64.powi(-16) + 1e-12;
-            assert!((got - r.value).abs() <= tol, "{atm} {} {:?} {} cm-1: {got:e} vs {:e}", r.q, r.a, r.wn, r.value);
+            assert!(
+                (got - r.value).abs() <= tol,
+                "{atm} {} {:?} {} cm-1: {got:e} vs {:e}",
+                r.q,
+                r.a,
+                r.wn,
+                r.value
+            );
             n += 1;
         }
     }
@@ -109,10 +144,20 @@ fn off_grid_interpolation_error_is_bounded() {
                 _ => 0.03 * r.value.abs() + 0.02 * scale,
             };
             let e = worst.entry(r.q.clone()).or_default();
-            *e = e.max(if r.q.starts_with("tau") { err } else { err / r.value.abs().max(1e-30) });
-            eprintln!("{atm} {} {:?} {} cm-1: table {got:.5e} LOWTRAN {:.5e} err {:.2e} tol {tol:.2e}", r.q, r.a, r.wn, r.value, err);
+            *e = e.max(if r.q.starts_with("tau") {
+                err
+            } else {
+                err / r.value.abs().max(1e-30)
+            });
+            eprintln!(
+                "{atm} {} {:?} {} cm-1: table {got:.5e} LOWTRAN {:.5e} err {:.2e} tol {tol:.2e}",
+                r.q, r.a, r.wn, r.value, err
+            );
             if err > tol {
-                failures.push(format!("{atm} {} {:?} {} cm-1: {got:e} vs LOWTRAN {:e}", r.q, r.a, r.wn, r.value));
+                failures.push(format!(
+                    "{atm} {} {:?} {} cm-1: {got:e} vs LOWTRAN {:e}",
+                    r.q, r.a, r.wn, r.value
+                ));
             }
         }
     }
@@ -174,10 +219,19 @@ fn all_shipped_tables_load_and_are_physical() {
 
 #[test]
 fn geometry_rules() {
-    let sa = Atmosphere::builtin("mls").unwrap().resample(&[1000.0, 2500.0]).unwrap();
+    let sa = Atmosphere::builtin("mls")
+        .unwrap()
+        .resample(&[1000.0, 2500.0])
+        .unwrap();
     let mut v = [0.0; 2];
     // no silent extrapolation
-    for (alt, vz) in [(0.1, 0.0), (150.0, 0.0), (3.0, 86.0), (3.0, -1.0), (f64::NAN, 0.0)] {
+    for (alt, vz) in [
+        (0.1, 0.0),
+        (150.0, 0.0),
+        (3.0, 86.0),
+        (3.0, -1.0),
+        (f64::NAN, 0.0),
+    ] {
         match sa.tau_path(alt, vz, &mut v) {
             Err(AtmosError::OutOfRange { .. }) => {}
             other => panic!("{alt} {vz}: {other:?}"),
@@ -201,7 +255,12 @@ fn geometry_rules() {
     sa.l_us(30.0, 240.0, 3.0, 45.0, &mut w).unwrap();
     assert!((v[0] - w[0]).abs() <= 1e-15 * v[0].abs());
     // wavenumbers outside the table
-    assert!(Atmosphere::builtin("mls").unwrap().resample(&[100.0]).is_err());
+    assert!(
+        Atmosphere::builtin("mls")
+            .unwrap()
+            .resample(&[100.0])
+            .is_err()
+    );
     // τ falls with view zenith and L_UE rises
     let (mut t0, mut t1, mut l0, mut l1) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
     sa.tau_path(3.0, 10.0, &mut t0).unwrap();
@@ -223,8 +282,22 @@ fn sky_dome_average_is_a_cosine_weighted_mean() {
     // between zenith and horizon, and above zenith (limb brightening)
     assert!(d > z[i] && d < h[i], "{} {d} {}", z[i], h[i]);
     // check against an independent quadrature: Gauss-Legendre in μ over 2∫L(μ)μ dμ
-    let (x, w) = ([-0.906_179_845_938_664, -0.538_469_310_105_683, 0.0, 0.538_469_310_105_683, 0.906_179_845_938_664],
-        [0.236_926_885_056_189, 0.478_628_670_499_366, 0.568_888_888_888_889, 0.478_628_670_499_366, 0.236_926_885_056_189]);
+    let (x, w) = (
+        [
+            -0.906_179_845_938_664,
+            -0.538_469_310_105_683,
+            0.0,
+            0.538_469_310_105_683,
+            0.906_179_845_938_664,
+        ],
+        [
+            0.236_926_885_056_189,
+            0.478_628_670_499_366,
+            0.568_888_888_888_889,
+            0.478_628_670_499_366,
+            0.236_926_885_056_189,
+        ],
+    );
     let mut gl = 0.0;
     for seg in 0..20 {
         let (a, b) = (seg as f64 / 20.0, (seg + 1) as f64 / 20.0);
@@ -242,7 +315,9 @@ fn decompressed(name: &str) -> Vec<u8> {
     use std::io::Read;
     let p = irsig::atmos::atmos_dir().join(format!("{name}.atm.gz"));
     let mut out = Vec::new();
-    flate2::read::GzDecoder::new(std::fs::File::open(p).unwrap()).read_to_end(&mut out).unwrap();
+    flate2::read::GzDecoder::new(std::fs::File::open(p).unwrap())
+        .read_to_end(&mut out)
+        .unwrap();
     out
 }
 
@@ -250,21 +325,37 @@ fn decompressed(name: &str) -> Vec<u8> {
 fn bad_files_give_clear_errors() {
     let raw = decompressed("mls_clear");
     let ok = AtmosTable::from_bytes(&raw, "x.atm").unwrap();
-    let payload_at = raw.len() - ok.quantities.iter().map(|q| q.data.len() * 4).sum::<usize>();
+    let payload_at = raw.len()
+        - ok.quantities
+            .iter()
+            .map(|q| q.data.len() * 4)
+            .sum::<usize>();
     // truncated
-    let e = AtmosTable::from_bytes(&raw[..raw.len() - 10], "cut.atm").unwrap_err().to_string();
+    let e = AtmosTable::from_bytes(&raw[..raw.len() - 10], "cut.atm")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("cut.atm") && e.contains("truncated"), "{e}");
-    let e = AtmosTable::from_bytes(&raw[..200], "cut.atm").unwrap_err().to_string();
+    let e = AtmosTable::from_bytes(&raw[..200], "cut.atm")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("cut.atm") && e.contains("header"), "{e}");
     // wrong magic / version
     let mut bad = raw.clone();
     bad[..5].copy_from_slice(b"HELLO");
-    let e = AtmosTable::from_bytes(&bad, "m.atm").unwrap_err().to_string();
-    assert!(e.contains("m.atm") && e.contains("line 1") && e.contains("IRSIG-ATMOS"), "{e}");
-    let text = String::from_utf8_lossy(&raw[..payload_at]).replace("IRSIG-ATMOS 1", "IRSIG-ATMOS 7");
+    let e = AtmosTable::from_bytes(&bad, "m.atm")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("m.atm") && e.contains("line 1") && e.contains("IRSIG-ATMOS"),
+        "{e}"
+    );
+    let text =
+        String::from_utf8_lossy(&raw[..payload_at]).replace("IRSIG-ATMOS 1", "IRSIG-ATMOS 7");
     let mut v7 = text.into_bytes();
     v7.extend_from_slice(&raw[payload_at..]);
-    let e = AtmosTable::from_bytes(&v7, "v.atm").unwrap_err().to_string();
+    let e = AtmosTable::from_bytes(&v7, "v.atm")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("version 7"), "{e}");
     // NaN in the data (a whole f32 NaN written as the 4 byte planes of element 5)
     let mut nan = raw.clone();
@@ -273,19 +364,30 @@ fn bad_files_give_clear_errors() {
     for (k, b) in f32::NAN.to_le_bytes().iter().enumerate() {
         nan[payload_at + k * n + 5] = *b;
     }
-    let e = AtmosTable::from_bytes(&nan, "nan.atm").unwrap_err().to_string();
-    assert!(e.contains("nan.atm") && e.contains("tau_path") && e.contains("non-finite"), "{e}");
+    let e = AtmosTable::from_bytes(&nan, "nan.atm")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("nan.atm") && e.contains("tau_path") && e.contains("non-finite"),
+        "{e}"
+    );
     // missing quantity
-    let text = String::from_utf8_lossy(&raw[..payload_at]).replace("quantity e_sun_exo", "quantity e_sun_zzz");
+    let text = String::from_utf8_lossy(&raw[..payload_at])
+        .replace("quantity e_sun_exo", "quantity e_sun_zzz");
     let mut mq = text.into_bytes();
     mq.extend_from_slice(&raw[payload_at..]);
-    let e = AtmosTable::from_bytes(&mq, "q.atm").unwrap_err().to_string();
+    let e = AtmosTable::from_bytes(&mq, "q.atm")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("missing quantity 'e_sun_exo'"), "{e}");
     // corrupt gzip
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("broken.atm.gz");
     let gz = std::fs::read(irsig::atmos::atmos_dir().join("mls_clear.atm.gz")).unwrap();
-    std::fs::File::create(&p).unwrap().write_all(&gz[..gz.len() / 2]).unwrap();
+    std::fs::File::create(&p)
+        .unwrap()
+        .write_all(&gz[..gz.len() / 2])
+        .unwrap();
     let e = AtmosTable::load(&p).unwrap_err().to_string();
     assert!(e.contains("broken.atm.gz") && e.contains("gzip"), "{e}");
     // plain (uncompressed) files load too

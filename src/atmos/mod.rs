@@ -36,15 +36,42 @@ pub use table::{AtmosTable, Axis, Quantity};
 #[derive(Debug, thiserror::Error)]
 pub enum AtmosError {
     #[error("cannot read {path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("{file}: header line {line}: {msg}")]
-    Format { file: String, line: usize, msg: String },
+    Format {
+        file: String,
+        line: usize,
+        msg: String,
+    },
     #[error("{file}: truncated: the header describes {expected} bytes of data, the file has {got}")]
-    Truncated { file: String, expected: usize, got: usize },
-    #[error("{file}: quantity {quantity}: non-finite value (NaN or inf) in spectrum {spectrum} at {wavenumber_cm1} cm-1")]
-    NonFinite { file: String, quantity: String, spectrum: usize, wavenumber_cm1: f64 },
-    #[error("atmosphere {atmosphere}: {quantity}: {axis} = {value} is outside the table ({min} .. {max}); no extrapolation")]
-    OutOfRange { atmosphere: String, quantity: String, axis: String, value: f64, min: f64, max: f64 },
+    Truncated {
+        file: String,
+        expected: usize,
+        got: usize,
+    },
+    #[error(
+        "{file}: quantity {quantity}: non-finite value (NaN or inf) in spectrum {spectrum} at {wavenumber_cm1} cm-1"
+    )]
+    NonFinite {
+        file: String,
+        quantity: String,
+        spectrum: usize,
+        wavenumber_cm1: f64,
+    },
+    #[error(
+        "atmosphere {atmosphere}: {quantity}: {axis} = {value} is outside the table ({min} .. {max}); no extrapolation"
+    )]
+    OutOfRange {
+        atmosphere: String,
+        quantity: String,
+        axis: String,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
     #[error("unknown atmosphere '{name}' (available: {available})")]
     Unknown { name: String, available: String },
 }
@@ -54,18 +81,32 @@ pub enum AtmosError {
 pub fn atmos_dir() -> PathBuf {
     std::env::var_os("IRSIG_ATMOS_DIR")
         .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("data").join("atmos"))
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("data")
+                .join("atmos")
+        })
 }
 
 /// Shipped tables: (name, path, description), sorted by name.
 pub fn list_builtin() -> Result<Vec<(String, PathBuf, String)>, AtmosError> {
     let dir = atmos_dir();
-    let rd = std::fs::read_dir(&dir).map_err(|e| AtmosError::Io { path: dir.display().to_string(), source: e })?;
+    let rd = std::fs::read_dir(&dir).map_err(|e| AtmosError::Io {
+        path: dir.display().to_string(),
+        source: e,
+    })?;
     let mut out = Vec::new();
     for e in rd.flatten() {
         let p = e.path();
-        let Some(fname) = p.file_name().and_then(|f| f.to_str()) else { continue };
-        let Some(name) = fname.strip_suffix(".atm.gz").or_else(|| fname.strip_suffix(".atm")) else { continue };
+        let Some(fname) = p.file_name().and_then(|f| f.to_str()) else {
+            continue;
+        };
+        let Some(name) = fname
+            .strip_suffix(".atm.gz")
+            .or_else(|| fname.strip_suffix(".atm"))
+        else {
+            continue;
+        };
         let desc = table::read_header(&p)?
             .into_iter()
             .find(|(k, _)| k == "description")
@@ -86,7 +127,9 @@ pub struct Atmosphere {
 impl Atmosphere {
     /// Loads a table file.
     pub fn load(path: &Path) -> Result<Self, AtmosError> {
-        Ok(Self { table: AtmosTable::load(path)? })
+        Ok(Self {
+            table: AtmosTable::load(path)?,
+        })
     }
 
     /// Loads a shipped table by name (`mls`, `tropical`, ...).
@@ -96,7 +139,11 @@ impl Atmosphere {
             Some((_, p, _)) => Self::load(p),
             None => Err(AtmosError::Unknown {
                 name: name.into(),
-                available: list.iter().map(|(n, _, _)| n.as_str()).collect::<Vec<_>>().join(", "),
+                available: list
+                    .iter()
+                    .map(|(n, _, _)| n.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             }),
         }
     }
@@ -104,7 +151,11 @@ impl Atmosphere {
     /// A shipped name, or else a path to a table file.
     pub fn by_name_or_path(spec: &str) -> Result<Self, AtmosError> {
         let p = Path::new(spec);
-        if p.is_file() { Self::load(p) } else { Self::builtin(spec) }
+        if p.is_file() {
+            Self::load(p)
+        } else {
+            Self::builtin(spec)
+        }
     }
 
     pub fn name(&self) -> &str {
@@ -118,7 +169,8 @@ impl Atmosphere {
 
     /// All quantities on the table's own wavenumbers (no spectral interpolation).
     pub fn full(&self) -> SpectralAtmosphere {
-        self.resample(&self.table.wavenumber_cm1.clone()).expect("own grid is in range")
+        self.resample(&self.table.wavenumber_cm1.clone())
+            .expect("own grid is in range")
     }
 
     /// Interpolates every quantity (linearly in wavenumber) onto `wavenumber_cm1`
@@ -138,7 +190,9 @@ impl Atmosphere {
                     max: hi,
                 });
             }
-            let i = src.partition_point(|&x| x <= w).clamp(1, src.len().max(2) - 1);
+            let i = src
+                .partition_point(|&x| x <= w)
+                .clamp(1, src.len().max(2) - 1);
             if src.len() == 1 {
                 idx.push((0, 0, 0.0));
             } else {
@@ -152,13 +206,22 @@ impl Atmosphere {
             let mut data = Vec::with_capacity(q.n_spectra() * nw);
             for s in 0..q.n_spectra() {
                 let spec = &q.data[s * q.n_wavenumber..(s + 1) * q.n_wavenumber];
-                data.extend(idx.iter().map(|&(a, b, t)| spec[a] + t * (spec[b] - spec[a])));
+                data.extend(
+                    idx.iter()
+                        .map(|&(a, b, t)| spec[a] + t * (spec[b] - spec[a])),
+                );
             }
             let log = name.starts_with("tau");
             if log {
                 data.iter_mut().for_each(|v| *v = v.max(TAU_FLOOR).ln());
             }
-            Field { name: q.name.clone(), axes: q.axes.clone(), data, nw, log }
+            Field {
+                name: q.name.clone(),
+                axes: q.axes.clone(),
+                data,
+                nw,
+                log,
+            }
         };
         let e_sun = field("e_sun_exo").data;
         let mut s = SpectralAtmosphere {
@@ -288,7 +351,8 @@ impl Field {
                     (sec_deg(x) - sec_deg(a)) / (sec_deg(b) - sec_deg(a))
                 }
                 AxisKind::Linear if ax.name == "altitude_km" => {
-                    (altitude_coord(x) - altitude_coord(a)) / (altitude_coord(b) - altitude_coord(a))
+                    (altitude_coord(x) - altitude_coord(a))
+                        / (altitude_coord(b) - altitude_coord(a))
                 }
                 _ => (x - a) / (b - a),
             };
@@ -299,8 +363,18 @@ impl Field {
 
     /// out = Σ corners weight · spectrum.
     fn eval(&self, atmosphere: &str, coords: &[f64], out: &mut [f64]) -> Result<(), AtmosError> {
-        assert_eq!(coords.len(), self.axes.len(), "{}: wrong number of coordinates", self.name);
-        assert_eq!(out.len(), self.nw, "{}: output slice has the wrong length", self.name);
+        assert_eq!(
+            coords.len(),
+            self.axes.len(),
+            "{}: wrong number of coordinates",
+            self.name
+        );
+        assert_eq!(
+            out.len(),
+            self.nw,
+            "{}: output slice has the wrong length",
+            self.name
+        );
         let (st, scale) = self.stencil(atmosphere, coords)?;
         out.iter_mut().for_each(|o| *o = 0.0);
         if scale == 0.0 {
@@ -328,7 +402,11 @@ impl Field {
             // weights summed to `scale`; undo it before exponentiating
             out.iter_mut().for_each(|o| {
                 let v = (*o / scale).exp();
-                *o = if v <= TAU_FLOOR * 1.000_001 { 0.0 } else { (v * scale).min(1.0) };
+                *o = if v <= TAU_FLOOR * 1.000_001 {
+                    0.0
+                } else {
+                    (v * scale).min(1.0)
+                };
             });
         }
         Ok(())
@@ -374,13 +452,25 @@ impl SpectralAtmosphere {
 
     /// τ₂: transmission target→sensor for a sensor at `altitude_km` seen from the
     /// target at `view_zenith_deg` (zenith angle at the target, θ_E).
-    pub fn tau_path(&self, altitude_km: f64, view_zenith_deg: f64, out: &mut [f64]) -> Result<(), AtmosError> {
-        self.tau_path.eval(&self.name, &[altitude_km, view_zenith_deg], out)
+    pub fn tau_path(
+        &self,
+        altitude_km: f64,
+        view_zenith_deg: f64,
+        out: &mut [f64],
+    ) -> Result<(), AtmosError> {
+        self.tau_path
+            .eval(&self.name, &[altitude_km, view_zenith_deg], out)
     }
 
     /// L_UE: path thermal radiance at the sensor.
-    pub fn l_ue(&self, altitude_km: f64, view_zenith_deg: f64, out: &mut [f64]) -> Result<(), AtmosError> {
-        self.l_ue.eval(&self.name, &[altitude_km, view_zenith_deg], out)
+    pub fn l_ue(
+        &self,
+        altitude_km: f64,
+        view_zenith_deg: f64,
+        out: &mut [f64],
+    ) -> Result<(), AtmosError> {
+        self.l_ue
+            .eval(&self.name, &[altitude_km, view_zenith_deg], out)
     }
 
     /// L_US: path solar-scattered radiance at the sensor. `rel_azimuth_deg` is the
@@ -394,7 +484,16 @@ impl SpectralAtmosphere {
         view_zenith_deg: f64,
         out: &mut [f64],
     ) -> Result<(), AtmosError> {
-        self.l_us.eval(&self.name, &[sun_zenith_deg, rel_azimuth_deg, altitude_km, view_zenith_deg], out)
+        self.l_us.eval(
+            &self.name,
+            &[
+                sun_zenith_deg,
+                rel_azimuth_deg,
+                altitude_km,
+                view_zenith_deg,
+            ],
+            out,
+        )
     }
 
     /// τ₂, L_UE and L_US together.
@@ -406,10 +505,20 @@ impl SpectralAtmosphere {
         rel_azimuth_deg: f64,
     ) -> Result<PathSpectra, AtmosError> {
         let n = self.len();
-        let mut p = PathSpectra { tau2: vec![0.0; n], l_ue_w_m2_sr_um: vec![0.0; n], l_us_w_m2_sr_um: vec![0.0; n] };
+        let mut p = PathSpectra {
+            tau2: vec![0.0; n],
+            l_ue_w_m2_sr_um: vec![0.0; n],
+            l_us_w_m2_sr_um: vec![0.0; n],
+        };
         self.tau_path(altitude_km, view_zenith_deg, &mut p.tau2)?;
         self.l_ue(altitude_km, view_zenith_deg, &mut p.l_ue_w_m2_sr_um)?;
-        self.l_us(sun_zenith_deg, rel_azimuth_deg, altitude_km, view_zenith_deg, &mut p.l_us_w_m2_sr_um)?;
+        self.l_us(
+            sun_zenith_deg,
+            rel_azimuth_deg,
+            altitude_km,
+            view_zenith_deg,
+            &mut p.l_us_w_m2_sr_um,
+        )?;
         Ok(p)
     }
 
@@ -427,7 +536,11 @@ impl SpectralAtmosphere {
         sky_zenith_deg: f64,
         out: &mut [f64],
     ) -> Result<(), AtmosError> {
-        self.l_ds.eval(&self.name, &[sun_zenith_deg, rel_azimuth_deg, sky_zenith_deg], out)
+        self.l_ds.eval(
+            &self.name,
+            &[sun_zenith_deg, rel_azimuth_deg, sky_zenith_deg],
+            out,
+        )
     }
 
     /// τ₁: transmission sun→ground at sun zenith θ (0 when the sun is down).
@@ -441,7 +554,11 @@ impl SpectralAtmosphere {
     }
 
     /// τ₁ E_S: direct solar irradiance at the ground on a surface normal to the sun, W m⁻² µm⁻¹.
-    pub fn sun_irradiance_ground(&self, sun_zenith_deg: f64, out: &mut [f64]) -> Result<(), AtmosError> {
+    pub fn sun_irradiance_ground(
+        &self,
+        sun_zenith_deg: f64,
+        out: &mut [f64],
+    ) -> Result<(), AtmosError> {
         self.tau_sun(sun_zenith_deg, out)?;
         for (o, e) in out.iter_mut().zip(&self.e_sun_exo) {
             *o *= e;

@@ -49,9 +49,20 @@ impl Quantity {
 pub const REQUIRED: &[(&str, &[&str])] = &[
     ("tau_path", &["altitude_km", "view_zenith_deg"]),
     ("l_ue", &["altitude_km", "view_zenith_deg"]),
-    ("l_us", &["sun_zenith_deg", "rel_azimuth_deg", "altitude_km", "view_zenith_deg"]),
+    (
+        "l_us",
+        &[
+            "sun_zenith_deg",
+            "rel_azimuth_deg",
+            "altitude_km",
+            "view_zenith_deg",
+        ],
+    ),
     ("l_de", &["sky_zenith_deg"]),
-    ("l_ds", &["sun_zenith_deg", "rel_azimuth_deg", "sky_zenith_deg"]),
+    (
+        "l_ds",
+        &["sun_zenith_deg", "rel_azimuth_deg", "sky_zenith_deg"],
+    ),
     ("tau_sun", &["sun_zenith_deg"]),
     ("e_sun_exo", &[]),
 ];
@@ -75,7 +86,10 @@ pub struct AtmosTable {
 impl AtmosTable {
     /// Loads a table file (gzip-compressed or plain).
     pub fn load(path: &Path) -> Result<Self, AtmosError> {
-        let bytes = std::fs::read(path).map_err(|e| AtmosError::Io { path: path.display().to_string(), source: e })?;
+        let bytes = std::fs::read(path).map_err(|e| AtmosError::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
         let mut t = Self::from_bytes(&bytes, &path.display().to_string())?;
         t.source = path.to_path_buf();
         Ok(t)
@@ -84,7 +98,11 @@ impl AtmosTable {
     /// Parses a table from its file bytes; `file` names it in errors.
     pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Self, AtmosError> {
         let raw = maybe_gunzip(bytes, file)?;
-        let fmt = |line: usize, msg: String| AtmosError::Format { file: file.to_string(), line, msg };
+        let fmt = |line: usize, msg: String| AtmosError::Format {
+            file: file.to_string(),
+            line,
+            msg,
+        };
         // header: text lines up to and including the `data ...` line
         let mut pos = 0usize;
         let mut lines: Vec<String> = Vec::new();
@@ -92,7 +110,10 @@ impl AtmosTable {
         loop {
             let rest = &raw[pos..];
             let Some(nl) = rest.iter().position(|&b| b == b'\n') else {
-                return Err(fmt(lines.len() + 1, "header ends before its 'data' line (truncated file?)".into()));
+                return Err(fmt(
+                    lines.len() + 1,
+                    "header ends before its 'data' line (truncated file?)".into(),
+                ));
             };
             let line = std::str::from_utf8(&rest[..nl])
                 .map_err(|_| fmt(lines.len() + 1, "header line is not UTF-8 text".into()))?
@@ -102,14 +123,27 @@ impl AtmosTable {
             if lines.is_empty() {
                 let mut it = line.split_whitespace();
                 if it.next() != Some("IRSIG-ATMOS") {
-                    return Err(fmt(1, format!("expected 'IRSIG-ATMOS {FORMAT_VERSION}', found '{}'", truncate(&line))));
+                    return Err(fmt(
+                        1,
+                        format!(
+                            "expected 'IRSIG-ATMOS {FORMAT_VERSION}', found '{}'",
+                            truncate(&line)
+                        ),
+                    ));
                 }
-                let v: u32 = it
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| fmt(1, format!("expected a format version after IRSIG-ATMOS, found '{line}'")))?;
+                let v: u32 = it.next().and_then(|v| v.parse().ok()).ok_or_else(|| {
+                    fmt(
+                        1,
+                        format!("expected a format version after IRSIG-ATMOS, found '{line}'"),
+                    )
+                })?;
                 if v != FORMAT_VERSION {
-                    return Err(fmt(1, format!("unsupported format version {v} (this irsig reads {FORMAT_VERSION})")));
+                    return Err(fmt(
+                        1,
+                        format!(
+                            "unsupported format version {v} (this irsig reads {FORMAT_VERSION})"
+                        ),
+                    ));
                 }
             }
             if let Some(kind) = line.strip_prefix("data ") {
@@ -119,7 +153,10 @@ impl AtmosTable {
             }
             lines.push(line);
             if lines.len() > 10_000 {
-                return Err(fmt(lines.len(), "no 'data' line in the first 10000 lines".into()));
+                return Err(fmt(
+                    lines.len(),
+                    "no 'data' line in the first 10000 lines".into(),
+                ));
             }
         }
         let mut header = Vec::new();
@@ -157,26 +194,42 @@ impl AtmosTable {
             };
             let names: Vec<&str> = q.axes.iter().map(|a| a.name.as_str()).collect();
             if names != *axes {
-                return Err(fmt(*ln, format!("quantity '{req}' must have axes {axes:?}, found {names:?}")));
+                return Err(fmt(
+                    *ln,
+                    format!("quantity '{req}' must have axes {axes:?}, found {names:?}"),
+                ));
             }
         }
         // binary payload
-        let expected: usize = quantities.iter().map(|(_, q)| q.n_spectra() * nwn * 4).sum();
+        let expected: usize = quantities
+            .iter()
+            .map(|(_, q)| q.n_spectra() * nwn * 4)
+            .sum();
         let payload = &raw[pos..];
         if payload.len() < expected {
-            return Err(AtmosError::Truncated { file: file.into(), expected, got: payload.len() });
+            return Err(AtmosError::Truncated {
+                file: file.into(),
+                expected,
+                got: payload.len(),
+            });
         }
         if payload.len() > expected {
             return Err(fmt(
                 lines.len(),
-                format!("{} bytes of data after the {expected} the header describes", payload.len() - expected),
+                format!(
+                    "{} bytes of data after the {expected} the header describes",
+                    payload.len() - expected
+                ),
             ));
         }
         let byteplanes = match data_kind.as_str() {
             "f32le" => false,
             "f32le-byteplanes" => true,
             other => {
-                return Err(fmt(lines.len(), format!("unknown data encoding '{other}' (expected f32le or f32le-byteplanes)")));
+                return Err(fmt(
+                    lines.len(),
+                    format!("unknown data encoding '{other}' (expected f32le or f32le-byteplanes)"),
+                ));
             }
         };
         let mut off = 0;
@@ -189,7 +242,12 @@ impl AtmosTable {
                     let b = if byteplanes {
                         [chunk[i], chunk[n + i], chunk[2 * n + i], chunk[3 * n + i]]
                     } else {
-                        [chunk[4 * i], chunk[4 * i + 1], chunk[4 * i + 2], chunk[4 * i + 3]]
+                        [
+                            chunk[4 * i],
+                            chunk[4 * i + 1],
+                            chunk[4 * i + 2],
+                            chunk[4 * i + 3],
+                        ]
                     };
                     f32::from_le_bytes(b) as f64
                 })
@@ -227,11 +285,13 @@ fn truncate(s: &str) -> String {
 fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
     if bytes.len() >= 2 && bytes[0] == 0x1f && bytes[1] == 0x8b {
         let mut out = Vec::new();
-        flate2::read::GzDecoder::new(bytes).read_to_end(&mut out).map_err(|e| AtmosError::Format {
-            file: file.into(),
-            line: 0,
-            msg: format!("gzip stream is corrupt or truncated: {e}"),
-        })?;
+        flate2::read::GzDecoder::new(bytes)
+            .read_to_end(&mut out)
+            .map_err(|e| AtmosError::Format {
+                file: file.into(),
+                line: 0,
+                msg: format!("gzip stream is corrupt or truncated: {e}"),
+            })?;
         Ok(out)
     } else {
         Ok(bytes.to_vec())
@@ -240,13 +300,21 @@ fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
 
 /// Reads only the header lines of a table (for listings).
 pub fn read_header(path: &Path) -> Result<Vec<(String, String)>, AtmosError> {
-    let f = std::fs::File::open(path).map_err(|e| AtmosError::Io { path: path.display().to_string(), source: e })?;
+    let f = std::fs::File::open(path).map_err(|e| AtmosError::Io {
+        path: path.display().to_string(),
+        source: e,
+    })?;
     let mut buf = Vec::new();
     let mut magic = [0u8; 2];
     let mut f = std::io::BufReader::new(f);
-    f.read_exact(&mut magic).map_err(|e| AtmosError::Io { path: path.display().to_string(), source: e })?;
+    f.read_exact(&mut magic).map_err(|e| AtmosError::Io {
+        path: path.display().to_string(),
+        source: e,
+    })?;
     let rd: Box<dyn Read> = if magic == [0x1f, 0x8b] {
-        Box::new(flate2::read::GzDecoder::new(std::io::Cursor::new(magic).chain(f)))
+        Box::new(flate2::read::GzDecoder::new(
+            std::io::Cursor::new(magic).chain(f),
+        ))
     } else {
         Box::new(std::io::Cursor::new(magic).chain(f))
     };
@@ -260,27 +328,44 @@ pub fn read_header(path: &Path) -> Result<Vec<(String, String)>, AtmosError> {
             return Ok(out);
         }
     }
-    Err(AtmosError::Format { file: path.display().to_string(), line: 0, msg: "no 'data' line in the header".into() })
+    Err(AtmosError::Format {
+        file: path.display().to_string(),
+        line: 0,
+        msg: "no 'data' line in the header".into(),
+    })
 }
 
 fn parse_wavenumbers(rest: &str) -> Result<Vec<f64>, String> {
     let rest = rest.trim();
     let v: Vec<f64> = if let Some(list) = rest.strip_prefix("list=") {
-        list.split(',').map(|x| x.trim().parse::<f64>().map_err(|_| format!("bad wavenumber '{x}'"))).collect::<Result<_, _>>()?
+        list.split(',')
+            .map(|x| {
+                x.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("bad wavenumber '{x}'"))
+            })
+            .collect::<Result<_, _>>()?
     } else {
         let f: Vec<&str> = rest.split_whitespace().collect();
         if f.len() != 3 {
-            return Err(format!("expected 'wavenumber_cm1 <start> <step> <count>' or 'wavenumber_cm1 list=...', got '{rest}'"));
+            return Err(format!(
+                "expected 'wavenumber_cm1 <start> <step> <count>' or 'wavenumber_cm1 list=...', got '{rest}'"
+            ));
         }
         let start: f64 = f[0].parse().map_err(|_| format!("bad start '{}'", f[0]))?;
         let step: f64 = f[1].parse().map_err(|_| format!("bad step '{}'", f[1]))?;
         let count: usize = f[2].parse().map_err(|_| format!("bad count '{}'", f[2]))?;
         if !(step > 0.0) || count == 0 || count > 10_000_000 {
-            return Err(format!("wavenumber grid needs step > 0 and 0 < count, got step {step}, count {count}"));
+            return Err(format!(
+                "wavenumber grid needs step > 0 and 0 < count, got step {step}, count {count}"
+            ));
         }
         (0..count).map(|i| start + step * i as f64).collect()
     };
-    if v.is_empty() || v.iter().any(|x| !(x.is_finite() && *x > 0.0)) || v.windows(2).any(|w| !(w[1] > w[0])) {
+    if v.is_empty()
+        || v.iter().any(|x| !(x.is_finite() && *x > 0.0))
+        || v.windows(2).any(|w| !(w[1] > w[0]))
+    {
         return Err("wavenumbers must be positive, finite and strictly ascending".into());
     }
     Ok(v)
@@ -292,19 +377,35 @@ fn parse_quantity(rest: &str) -> Result<Quantity, String> {
     let mut unit = String::new();
     let mut axes = Vec::new();
     for tok in it {
-        let (k, v) = tok.split_once('=').ok_or_else(|| format!("quantity {name}: expected key=value, got '{tok}'"))?;
+        let (k, v) = tok
+            .split_once('=')
+            .ok_or_else(|| format!("quantity {name}: expected key=value, got '{tok}'"))?;
         if k == "unit" {
             unit = v.replace('_', " ");
             continue;
         }
         let values: Vec<f64> = v
             .split(',')
-            .map(|x| x.parse::<f64>().map_err(|_| format!("quantity {name}: axis {k}: '{x}' is not a number")))
+            .map(|x| {
+                x.parse::<f64>()
+                    .map_err(|_| format!("quantity {name}: axis {k}: '{x}' is not a number"))
+            })
             .collect::<Result<_, _>>()?;
         if values.iter().any(|x| !x.is_finite()) || values.windows(2).any(|w| !(w[1] > w[0])) {
-            return Err(format!("quantity {name}: axis {k} must be finite and strictly ascending"));
+            return Err(format!(
+                "quantity {name}: axis {k} must be finite and strictly ascending"
+            ));
         }
-        axes.push(Axis { name: k.to_string(), values });
+        axes.push(Axis {
+            name: k.to_string(),
+            values,
+        });
     }
-    Ok(Quantity { name, unit, axes, data: Vec::new(), n_wavenumber: 0 })
+    Ok(Quantity {
+        name,
+        unit,
+        axes,
+        data: Vec::new(),
+        n_wavenumber: 0,
+    })
 }

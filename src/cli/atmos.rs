@@ -88,7 +88,9 @@ fn show(s: ShowArgs) -> anyhow::Result<i32> {
     let dome_de = sa.sky_dome_l_de().to_vec();
     let dome_ds = sa.sky_dome_l_ds(s.sun_zenith)?;
     if s.csv {
-        println!("wavenumber_cm1,wavelength_um,weight,tau2,l_ue,l_us,l_de,l_ds,l_de_dome,l_ds_dome,tau1,e_sun_ground");
+        println!(
+            "wavenumber_cm1,wavelength_um,weight,tau2,l_ue,l_us,l_de,l_ds,l_de_dome,l_ds_dome,tau1,e_sun_ground"
+        );
         for i in 0..n {
             let nu = band.wavenumber_cm1[i];
             println!(
@@ -115,8 +117,15 @@ fn show(s: ShowArgs) -> anyhow::Result<i32> {
         "geometry     sensor {} km, view zenith {}°, sky zenith {}°, sun zenith {}°, relative azimuth {}°",
         s.altitude, s.zenith, sky_zen, s.sun_zenith, s.rel_azimuth
     );
-    println!("band         {} ({} bins of {} cm-1 grid)", band.label, band.len(), grid.wavenumber_cm1.len());
-    println!("band-integrated (response-weighted mean over the band; radiance W m-2 sr-1 um-1, irradiance W m-2 um-1):");
+    println!(
+        "band         {} ({} bins of {} cm-1 grid)",
+        band.label,
+        band.len(),
+        grid.wavenumber_cm1.len()
+    );
+    println!(
+        "band-integrated (response-weighted mean over the band; radiance W m-2 sr-1 um-1, irradiance W m-2 um-1):"
+    );
     let rows: [(&str, &[f64]); 10] = [
         ("tau2 (target->sensor)", &path.tau2),
         ("L_UE path thermal", &path.l_ue_w_m2_sr_um),

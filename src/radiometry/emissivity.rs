@@ -49,11 +49,17 @@ impl C {
         Self::new(self.re - o.re, self.im - o.im)
     }
     fn mul(self, o: Self) -> Self {
-        Self::new(self.re * o.re - self.im * o.im, self.re * o.im + self.im * o.re)
+        Self::new(
+            self.re * o.re - self.im * o.im,
+            self.re * o.im + self.im * o.re,
+        )
     }
     fn div(self, o: Self) -> Self {
         let d = o.re * o.re + o.im * o.im;
-        Self::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
+        Self::new(
+            (self.re * o.re + self.im * o.im) / d,
+            (self.im * o.re - self.re * o.im) / d,
+        )
     }
     fn norm2(self) -> f64 {
         self.re * self.re + self.im * self.im
@@ -106,7 +112,11 @@ pub struct EmissivityTable {
 }
 
 impl EmissivityTable {
-    pub fn new(angles_deg: Vec<f64>, wavelengths_um: Vec<f64>, values: Vec<f64>) -> Result<Self, RadiometryError> {
+    pub fn new(
+        angles_deg: Vec<f64>,
+        wavelengths_um: Vec<f64>,
+        values: Vec<f64>,
+    ) -> Result<Self, RadiometryError> {
         let bad = |m: String| Err(RadiometryError::Emissivity(m));
         if angles_deg.is_empty() || wavelengths_um.is_empty() {
             return bad("emissivity table needs at least one angle and one wavelength".into());
@@ -121,13 +131,19 @@ impl EmissivityTable {
         }
         for (name, ax) in [("angles", &angles_deg), ("wavelengths", &wavelengths_um)] {
             if ax.windows(2).any(|w| !(w[1] > w[0])) || ax.iter().any(|v| !v.is_finite()) {
-                return bad(format!("emissivity table {name} must be finite and strictly ascending"));
+                return bad(format!(
+                    "emissivity table {name} must be finite and strictly ascending"
+                ));
             }
         }
         if let Some(v) = values.iter().find(|v| !(**v >= 0.0 && **v <= 1.0)) {
             return bad(format!("emissivity {v} outside [0, 1]"));
         }
-        Ok(Self { angles_deg, wavelengths_um, values })
+        Ok(Self {
+            angles_deg,
+            wavelengths_um,
+            values,
+        })
     }
 
     pub fn at(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
@@ -181,7 +197,10 @@ mod tests {
             let (rs, rp, r) = fresnel_reflectance(1.5, 0.0, deg);
             let (hs, hp) = hecht(1.5, deg);
             assert!((rs - hs).abs() < 1e-12 && (rp - hp).abs() < 1e-12, "{deg}");
-            assert!((rs - rs_pub).abs() < 6e-4 && (rp - rp_pub).abs() < 6e-4, "{deg}: {rs} {rp}");
+            assert!(
+                (rs - rs_pub).abs() < 6e-4 && (rp - rp_pub).abs() < 6e-4,
+                "{deg}: {rs} {rp}"
+            );
             assert!((r - 0.5 * (hs + hp)).abs() < 1e-12);
         }
         // Brewster angle atan(1.5): Rp = 0
@@ -202,8 +221,17 @@ mod tests {
 
     #[test]
     fn emissivity_plus_reflectance_is_one() {
-        let table = EmissivityTable::new(vec![0.0, 60.0, 85.0], vec![8.0, 12.0], vec![0.95, 0.9, 0.9, 0.85, 0.6, 0.5]).unwrap();
-        let ms = [Emissivity::Constant(0.93), Emissivity::Table(table), Emissivity::Fresnel { n: 1.5, k: 0.0 }];
+        let table = EmissivityTable::new(
+            vec![0.0, 60.0, 85.0],
+            vec![8.0, 12.0],
+            vec![0.95, 0.9, 0.9, 0.85, 0.6, 0.5],
+        )
+        .unwrap();
+        let ms = [
+            Emissivity::Constant(0.93),
+            Emissivity::Table(table),
+            Emissivity::Fresnel { n: 1.5, k: 0.0 },
+        ];
         for m in &ms {
             for a in 0..=18 {
                 for w in [3.0, 8.0, 10.0, 14.0] {
@@ -217,7 +245,8 @@ mod tests {
 
     #[test]
     fn table_bilinear_and_clamp() {
-        let t = EmissivityTable::new(vec![0.0, 60.0], vec![8.0, 12.0], vec![0.9, 0.8, 0.7, 0.6]).unwrap();
+        let t = EmissivityTable::new(vec![0.0, 60.0], vec![8.0, 12.0], vec![0.9, 0.8, 0.7, 0.6])
+            .unwrap();
         assert!((t.at(30.0, 10.0) - 0.75).abs() < 1e-12);
         assert!((t.at(90.0, 20.0) - 0.6).abs() < 1e-12);
         assert!(EmissivityTable::new(vec![0.0], vec![8.0], vec![1.2]).is_err());

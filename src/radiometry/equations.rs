@@ -23,12 +23,19 @@ pub struct SunIllumination {
 
 impl SunIllumination {
     /// No sun (night or shadow).
-    pub const DARK: Self = Self { e_sun_exo_w_m2_um: 0.0, tau1: 0.0, cos_incidence: 0.0, sun_flag: 0.0 };
+    pub const DARK: Self = Self {
+        e_sun_exo_w_m2_um: 0.0,
+        tau1: 0.0,
+        cos_incidence: 0.0,
+        sun_flag: 0.0,
+    };
 
     /// I · E_S/π · τ₁ · max(0, cos θ): the "radiance-equivalent" solar term, W m⁻² sr⁻¹ µm⁻¹,
     /// to be multiplied by the reflectance.
     pub fn reflected_basis_w_m2_sr_um(&self) -> f64 {
-        self.sun_flag * self.e_sun_exo_w_m2_um / std::f64::consts::PI * self.tau1 * self.cos_incidence.max(0.0)
+        self.sun_flag * self.e_sun_exo_w_m2_um / std::f64::consts::PI
+            * self.tau1
+            * self.cos_incidence.max(0.0)
     }
 }
 
@@ -44,7 +51,11 @@ pub struct PathRadiance {
 
 impl PathRadiance {
     /// A transparent, non-emitting path (sensor at the surface).
-    pub const TRANSPARENT: Self = Self { tau2: 1.0, l_ue_w_m2_sr_um: 0.0, l_us_w_m2_sr_um: 0.0 };
+    pub const TRANSPARENT: Self = Self {
+        tau2: 1.0,
+        l_ue_w_m2_sr_um: 0.0,
+        l_us_w_m2_sr_um: 0.0,
+    };
 }
 
 /// Downwelled sky radiance: thermal L_DE and solar-scattered L_DS, W m⁻² sr⁻¹ µm⁻¹.
@@ -115,7 +126,13 @@ impl RadianceTerms {
     }
 }
 
-fn surface_sky(emissivity: f64, target_bb: f64, sun: &SunIllumination, sky: &SkyRadiance, path: &PathRadiance) -> RadianceTerms {
+fn surface_sky(
+    emissivity: f64,
+    target_bb: f64,
+    sun: &SunIllumination,
+    sky: &SkyRadiance,
+    path: &PathRadiance,
+) -> RadianceTerms {
     let rho = 1.0 - emissivity;
     RadianceTerms {
         emitted: emissivity * target_bb * path.tau2,
@@ -140,7 +157,13 @@ pub fn case1_diffuse(
     sky_dome: &SkyRadiance,
     path: &PathRadiance,
 ) -> RadianceTerms {
-    surface_sky(emissivity_normal, target_blackbody_w_m2_sr_um, sun, sky_dome, path)
+    surface_sky(
+        emissivity_normal,
+        target_blackbody_w_m2_sr_um,
+        sun,
+        sky_dome,
+        path,
+    )
 }
 
 /// Eq. 2, specular surface whose reflected ray reaches the sky:
@@ -152,7 +175,13 @@ pub fn case2_specular_sky(
     sky_in_reflected_direction: &SkyRadiance,
     path: &PathRadiance,
 ) -> RadianceTerms {
-    surface_sky(emissivity_theta, target_blackbody_w_m2_sr_um, sun, sky_in_reflected_direction, path)
+    surface_sky(
+        emissivity_theta,
+        target_blackbody_w_m2_sr_um,
+        sun,
+        sky_in_reflected_direction,
+        path,
+    )
 }
 
 /// Eq. 3, specular surface whose reflected ray hits a background object:
@@ -171,7 +200,10 @@ pub fn case3_specular_background(
         reflected_solar: sun.reflected_basis_w_m2_sr_um() * rho * path.tau2,
         reflected_sky_thermal: 0.0,
         reflected_sky_scattered: 0.0,
-        reflected_background_emitted: background.emissivity * background.blackbody_w_m2_sr_um * rho * path.tau2,
+        reflected_background_emitted: background.emissivity
+            * background.blackbody_w_m2_sr_um
+            * rho
+            * path.tau2,
         reflected_background_solar: background.sun.reflected_basis_w_m2_sr_um()
             * (1.0 - background.emissivity)
             * rho
@@ -184,7 +216,11 @@ pub fn case3_specular_background(
 /// Eq. 4, the sensor ray goes to the sky: L = L_DE(θ_SK) + L_DS(θ_SK)
 /// (reported as `path_thermal` and `path_scattered`).
 pub fn case4_sky(sky: &SkyRadiance) -> RadianceTerms {
-    RadianceTerms { path_thermal: sky.l_de_w_m2_sr_um, path_scattered: sky.l_ds_w_m2_sr_um, ..Default::default() }
+    RadianceTerms {
+        path_thermal: sky.l_de_w_m2_sr_um,
+        path_scattered: sky.l_ds_w_m2_sr_um,
+        ..Default::default()
+    }
 }
 
 #[cfg(test)]
@@ -192,7 +228,12 @@ mod tests {
     use super::*;
 
     fn sun() -> SunIllumination {
-        SunIllumination { e_sun_exo_w_m2_um: 31.4159, tau1: 0.5, cos_incidence: 0.8, sun_flag: 1.0 }
+        SunIllumination {
+            e_sun_exo_w_m2_um: 31.4159,
+            tau1: 0.5,
+            cos_incidence: 0.8,
+            sun_flag: 1.0,
+        }
     }
 
     #[test]
@@ -200,8 +241,15 @@ mod tests {
         // ε = 0.9, L_T = 10, τ₂ = 0.8, E_S/π = 10.00000..., τ₁ = 0.5, cos = 0.8
         // emitted = 0.9·10·0.8 = 7.2; solar = 10·0.5·0.8·0.1·0.8 = 0.32 (E_S/π = 9.99999...)
         // sky: (3 + 0.5)·0.1·0.8 = 0.24 + 0.04; path 1.5 + 0.2
-        let p = PathRadiance { tau2: 0.8, l_ue_w_m2_sr_um: 1.5, l_us_w_m2_sr_um: 0.2 };
-        let s = SkyRadiance { l_de_w_m2_sr_um: 3.0, l_ds_w_m2_sr_um: 0.5 };
+        let p = PathRadiance {
+            tau2: 0.8,
+            l_ue_w_m2_sr_um: 1.5,
+            l_us_w_m2_sr_um: 0.2,
+        };
+        let s = SkyRadiance {
+            l_de_w_m2_sr_um: 3.0,
+            l_ds_w_m2_sr_um: 0.5,
+        };
         let t = case1_diffuse(0.9, 10.0, &sun(), &s, &p);
         let es_pi = 31.4159 / std::f64::consts::PI;
         assert!((t.emitted - 7.2).abs() < 1e-12);
@@ -223,8 +271,16 @@ mod tests {
     #[test]
     fn case3_terms_by_hand() {
         // ε = 0.2 (ρ = 0.8), τ₂ = 0.5, ε_B = 0.9, L_TB = 8, background sun basis = 10·0.5·0.8 = 4
-        let p = PathRadiance { tau2: 0.5, l_ue_w_m2_sr_um: 1.0, l_us_w_m2_sr_um: 0.1 };
-        let b = Background { emissivity: 0.9, blackbody_w_m2_sr_um: 8.0, sun: sun() };
+        let p = PathRadiance {
+            tau2: 0.5,
+            l_ue_w_m2_sr_um: 1.0,
+            l_us_w_m2_sr_um: 0.1,
+        };
+        let b = Background {
+            emissivity: 0.9,
+            blackbody_w_m2_sr_um: 8.0,
+            sun: sun(),
+        };
         let t = case3_specular_background(0.2, 10.0, &SunIllumination::DARK, &b, &p);
         assert!((t.emitted - 1.0).abs() < 1e-12);
         assert_eq!(t.reflected_solar, 0.0);
@@ -237,8 +293,15 @@ mod tests {
 
     #[test]
     fn case2_and_case4_by_hand() {
-        let p = PathRadiance { tau2: 0.7, l_ue_w_m2_sr_um: 2.0, l_us_w_m2_sr_um: 0.0 };
-        let s = SkyRadiance { l_de_w_m2_sr_um: 4.0, l_ds_w_m2_sr_um: 1.0 };
+        let p = PathRadiance {
+            tau2: 0.7,
+            l_ue_w_m2_sr_um: 2.0,
+            l_us_w_m2_sr_um: 0.0,
+        };
+        let s = SkyRadiance {
+            l_de_w_m2_sr_um: 4.0,
+            l_ds_w_m2_sr_um: 1.0,
+        };
         let t = case2_specular_sky(0.6, 9.0, &SunIllumination::DARK, &s, &p);
         assert!((t.emitted - 0.6 * 9.0 * 0.7).abs() < 1e-12);
         assert!((t.reflected_sky_thermal - 4.0 * 0.4 * 0.7).abs() < 1e-12);
@@ -255,11 +318,22 @@ mod tests {
         let b = crate::radiometry::planck::planck_radiance_w_m2_sr_um(10.0, 290.0);
         for eps in [0.0, 0.3, 0.95, 1.0] {
             for tau in [0.0, 0.4, 1.0] {
-                let p = PathRadiance { tau2: tau, l_ue_w_m2_sr_um: (1.0 - tau) * b, l_us_w_m2_sr_um: 0.0 };
-                let s = SkyRadiance { l_de_w_m2_sr_um: b, l_ds_w_m2_sr_um: 0.0 };
+                let p = PathRadiance {
+                    tau2: tau,
+                    l_ue_w_m2_sr_um: (1.0 - tau) * b,
+                    l_us_w_m2_sr_um: 0.0,
+                };
+                let s = SkyRadiance {
+                    l_de_w_m2_sr_um: b,
+                    l_ds_w_m2_sr_um: 0.0,
+                };
                 let t = case1_diffuse(eps, b, &SunIllumination::DARK, &s, &p);
                 assert!((t.total() / b - 1.0).abs() < 1e-14, "{eps} {tau}");
-                let bg = Background { emissivity: 0.7, blackbody_w_m2_sr_um: b, sun: SunIllumination::DARK };
+                let bg = Background {
+                    emissivity: 0.7,
+                    blackbody_w_m2_sr_um: b,
+                    sun: SunIllumination::DARK,
+                };
                 let t3 = case3_specular_background(eps, b, &SunIllumination::DARK, &bg, &p);
                 // ε_B B (1−ε) τ < B(1−ε)τ unless ε_B = 1: the background is not an enclosure
                 assert!(t3.total() <= b * (1.0 + 1e-14));

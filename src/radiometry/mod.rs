@@ -10,11 +10,12 @@ pub mod spectral;
 
 pub use emissivity::{Emissivity, EmissivityTable, fresnel_emissivity, fresnel_reflectance};
 pub use equations::{
-    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse, case2_specular_sky,
-    case3_specular_background, case4_sky,
+    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
+    case2_specular_sky, case3_specular_background, case4_sky,
 };
 pub use planck::{
-    brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_cm1, planck_radiance_w_m2_sr_um,
+    brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_cm1,
+    planck_radiance_w_m2_sr_um,
 };
 pub use spectral::{Band, SpectralGrid, SpectralResponse};
 
@@ -22,9 +23,16 @@ pub use spectral::{Band, SpectralGrid, SpectralResponse};
 #[derive(Debug, thiserror::Error)]
 pub enum RadiometryError {
     #[error("cannot read {path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("{file}: line {line}: {msg}")]
-    Csv { file: String, line: usize, msg: String },
+    Csv {
+        file: String,
+        line: usize,
+        msg: String,
+    },
     #[error("spectral grid: {0}")]
     Grid(String),
     #[error("emissivity: {0}")]

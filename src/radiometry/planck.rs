@@ -52,7 +52,8 @@ pub fn planck_radiance_w_m2_sr_um(wavelength_um: f64, temp_k: f64) -> f64 {
 /// L_ν(ν, T) = 2 h c² ν³ / (exp(h c ν / (k T)) − 1), ν in m⁻¹ (result per m⁻¹),
 /// times 100 to express it per cm⁻¹.
 pub fn planck_radiance_w_m2_sr_cm1(wavenumber_cm1: f64, temp_k: f64) -> f64 {
-    if wavenumber_cm1 <= 0.0 || temp_k <= 0.0 || !wavenumber_cm1.is_finite() || !temp_k.is_finite() {
+    if wavenumber_cm1 <= 0.0 || temp_k <= 0.0 || !wavenumber_cm1.is_finite() || !temp_k.is_finite()
+    {
         return 0.0;
     }
     let nu_m = wavenumber_cm1 * 100.0;
@@ -87,7 +88,8 @@ pub fn brightness_temp_k(wavelength_um: f64, radiance_w_m2_sr_um: f64) -> Option
     }
     let lam_m = wavelength_um * 1.0e-6;
     // ratio = c1L λ⁻⁵ 1e-6 / L, in logs
-    let ln_ratio = C1L_W_M2_SR.ln() - 5.0 * lam_m.ln() + (1.0e-6f64).ln() - radiance_w_m2_sr_um.ln();
+    let ln_ratio =
+        C1L_W_M2_SR.ln() - 5.0 * lam_m.ln() + (1.0e-6f64).ln() - radiance_w_m2_sr_um.ln();
     let ln_term = if ln_ratio > 36.0 {
         // ln(1 + r) = ln r + ln(1 + 1/r)
         ln_ratio + (-ln_ratio).exp().ln_1p()
@@ -113,7 +115,9 @@ pub fn planck_integral_0_to_x(x: f64) -> f64 {
 }
 
 /// π⁴/15 = ∫₀^∞ t³/(eᵗ − 1) dt.
-const PI4_15: f64 = std::f64::consts::PI * std::f64::consts::PI * std::f64::consts::PI * std::f64::consts::PI / 15.0;
+const PI4_15: f64 =
+    std::f64::consts::PI * std::f64::consts::PI * std::f64::consts::PI * std::f64::consts::PI
+        / 15.0;
 
 /// x³/3 − x⁴/8 + Σₖ B₂ₖ x^(2k+3)/((2k+3)(2k)!), for 0 ≤ x < 2π.
 fn bernoulli_series(x: f64) -> f64 {
@@ -176,7 +180,11 @@ fn tail(x: f64) -> f64 {
     let mut n = 1.0f64;
     loop {
         let e = (-n * x).exp();
-        let term = e * (x * x * x / n + 3.0 * x * x / (n * n) + 6.0 * x / (n * n * n) + 6.0 / (n * n * n * n));
+        let term = e
+            * (x * x * x / n
+                + 3.0 * x * x / (n * n)
+                + 6.0 * x / (n * n * n)
+                + 6.0 / (n * n * n * n));
         s += term;
         if term <= 1e-17 * s || n > 200.0 {
             break;
@@ -203,7 +211,10 @@ mod tests {
         for &(lam, t) in &[(10.0, 300.0), (4.0, 500.0), (0.5, 5800.0), (25.0, 50.0)] {
             let lnu = planck_radiance_w_m2_sr_cm1(1.0e4 / lam, t);
             let llam = planck_radiance_w_m2_sr_um(lam, t);
-            assert!((lnu / (llam * lam * lam / 1e4) - 1.0).abs() < 1e-12, "{lam} {t}");
+            assert!(
+                (lnu / (llam * lam * lam / 1e4) - 1.0).abs() < 1e-12,
+                "{lam} {t}"
+            );
         }
     }
 
@@ -219,7 +230,9 @@ mod tests {
         for &(lam, t) in &[(10.0, 300.0), (4.0, 250.0), (1.0, 3000.0)] {
             let d = planck_dt_w_m2_sr_um_k(lam, t);
             let h = 1e-3;
-            let fd = (planck_radiance_w_m2_sr_um(lam, t + h) - planck_radiance_w_m2_sr_um(lam, t - h)) / (2.0 * h);
+            let fd = (planck_radiance_w_m2_sr_um(lam, t + h)
+                - planck_radiance_w_m2_sr_um(lam, t - h))
+                / (2.0 * h);
             assert!((d / fd - 1.0).abs() < 1e-7, "{lam} {t} {d} {fd}");
         }
     }
@@ -230,7 +243,10 @@ mod tests {
         let sigma = 5.670_374_419e-8;
         let t = 300.0;
         let l = planck_band_integral_w_m2_sr(1e-3, 1e7, t);
-        assert!((l / (sigma * t.powi(4) / std::f64::consts::PI) - 1.0).abs() < 1e-9, "{l}");
+        assert!(
+            (l / (sigma * t.powi(4) / std::f64::consts::PI) - 1.0).abs() < 1e-9,
+            "{l}"
+        );
     }
 
     #[test]

@@ -20,7 +20,11 @@ pub struct SpectralGrid {
 impl SpectralGrid {
     /// Uniform grid start, start + step, ... (count samples).
     pub fn uniform(start_cm1: f64, step_cm1: f64, count: usize) -> Self {
-        Self { wavenumber_cm1: (0..count).map(|i| start_cm1 + step_cm1 * i as f64).collect() }
+        Self {
+            wavenumber_cm1: (0..count)
+                .map(|i| start_cm1 + step_cm1 * i as f64)
+                .collect(),
+        }
     }
 
     /// Validates a grid: at least one sample, finite, positive, strictly ascending.
@@ -30,11 +34,16 @@ impl SpectralGrid {
         }
         for w in wavenumber_cm1.windows(2) {
             if !(w[1] > w[0]) {
-                return Err(RadiometryError::Grid(format!("wavenumbers not strictly ascending at {} cm-1", w[0])));
+                return Err(RadiometryError::Grid(format!(
+                    "wavenumbers not strictly ascending at {} cm-1",
+                    w[0]
+                )));
             }
         }
         if wavenumber_cm1.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            return Err(RadiometryError::Grid("wavenumbers must be finite and positive".into()));
+            return Err(RadiometryError::Grid(
+                "wavenumbers must be finite and positive".into(),
+            ));
         }
         Ok(Self { wavenumber_cm1 })
     }
@@ -72,7 +81,9 @@ impl SpectralResponse {
     /// Ideal rectangular band: R = 1 on [lo, hi] µm, 0 elsewhere.
     pub fn ideal(lo_um: f64, hi_um: f64) -> Result<Self, RadiometryError> {
         if !(lo_um > 0.0 && hi_um > lo_um && hi_um.is_finite()) {
-            return Err(RadiometryError::Grid(format!("ideal band needs 0 < lo < hi, got {lo_um}-{hi_um} um")));
+            return Err(RadiometryError::Grid(format!(
+                "ideal band needs 0 < lo < hi, got {lo_um}-{hi_um} um"
+            )));
         }
         // a tiny ramp (1e-9 µm) keeps the piecewise-linear form exact for a box
         let eps = 1e-9;
@@ -95,11 +106,19 @@ impl SpectralResponse {
 
     /// Parses "3-5", "8-14", "8.5-12.25" (µm) into an ideal band.
     pub fn parse_band(spec: &str) -> Result<Self, RadiometryError> {
-        let (a, b) = spec
-            .split_once('-')
-            .ok_or_else(|| RadiometryError::Grid(format!("band '{spec}': expected <lo>-<hi> in um, e.g. 8-14")))?;
-        let lo: f64 = a.trim().parse().map_err(|_| RadiometryError::Grid(format!("band '{spec}': '{a}' is not a number")))?;
-        let hi: f64 = b.trim().parse().map_err(|_| RadiometryError::Grid(format!("band '{spec}': '{b}' is not a number")))?;
+        let (a, b) = spec.split_once('-').ok_or_else(|| {
+            RadiometryError::Grid(format!(
+                "band '{spec}': expected <lo>-<hi> in um, e.g. 8-14"
+            ))
+        })?;
+        let lo: f64 = a
+            .trim()
+            .parse()
+            .map_err(|_| RadiometryError::Grid(format!("band '{spec}': '{a}' is not a number")))?;
+        let hi: f64 = b
+            .trim()
+            .parse()
+            .map_err(|_| RadiometryError::Grid(format!("band '{spec}': '{b}' is not a number")))?;
         Self::ideal(lo, hi)
     }
 
@@ -108,8 +127,10 @@ impl SpectralResponse {
     /// a header. Wavelengths must be strictly ascending and positive, responses
     /// finite and ≥ 0, and at least one response > 0.
     pub fn from_csv(path: &Path) -> Result<Self, RadiometryError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| RadiometryError::Io { path: path.display().to_string(), source: e })?;
+        let text = std::fs::read_to_string(path).map_err(|e| RadiometryError::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
         Self::from_csv_str(&text, &path.display().to_string())
     }
 
@@ -125,9 +146,15 @@ impl SpectralResponse {
                 continue;
             }
             let fields: Vec<&str> = line.split([',', ';', '\t']).map(str::trim).collect();
-            let bad = |what: &str| RadiometryError::Csv { file: file.to_string(), line: line_no, msg: what.to_string() };
+            let bad = |what: &str| RadiometryError::Csv {
+                file: file.to_string(),
+                line: line_no,
+                msg: what.to_string(),
+            };
             if fields.len() < 2 {
-                return Err(bad(&format!("expected 'wavelength_um,response', got '{line}'")));
+                return Err(bad(&format!(
+                    "expected 'wavelength_um,response', got '{line}'"
+                )));
             }
             let (a, b) = (fields[0].parse::<f64>(), fields[1].parse::<f64>());
             let (a, b) = match (a, b) {
@@ -136,30 +163,50 @@ impl SpectralResponse {
                     seen_data = true; // header line
                     continue;
                 }
-                _ => return Err(bad(&format!("expected two numbers 'wavelength_um,response', got '{line}'"))),
+                _ => {
+                    return Err(bad(&format!(
+                        "expected two numbers 'wavelength_um,response', got '{line}'"
+                    )));
+                }
             };
             seen_data = true;
             if !(a.is_finite() && a > 0.0) {
-                return Err(bad(&format!("wavelength must be a positive number of um, got {a}")));
+                return Err(bad(&format!(
+                    "wavelength must be a positive number of um, got {a}"
+                )));
             }
             if !(b.is_finite() && b >= 0.0) {
                 return Err(bad(&format!("response must be finite and >= 0, got {b}")));
             }
             if let Some(&prev) = wl.last() {
                 if a <= prev {
-                    return Err(bad(&format!("wavelengths must be strictly ascending ({a} after {prev})")));
+                    return Err(bad(&format!(
+                        "wavelengths must be strictly ascending ({a} after {prev})"
+                    )));
                 }
             }
             wl.push(a);
             r.push(b);
         }
         if wl.len() < 2 {
-            return Err(RadiometryError::Csv { file: file.into(), line: 0, msg: "need at least two data rows".into() });
+            return Err(RadiometryError::Csv {
+                file: file.into(),
+                line: 0,
+                msg: "need at least two data rows".into(),
+            });
         }
         if r.iter().all(|&x| x == 0.0) {
-            return Err(RadiometryError::Csv { file: file.into(), line: 0, msg: "response is zero everywhere".into() });
+            return Err(RadiometryError::Csv {
+                file: file.into(),
+                line: 0,
+                msg: "response is zero everywhere".into(),
+            });
         }
-        Ok(Self { wavelength_um: wl, response: r, label: file.to_string() })
+        Ok(Self {
+            wavelength_um: wl,
+            response: r,
+            label: file.to_string(),
+        })
     }
 
     /// R(λ), piecewise linear, 0 outside the tabulated range.
@@ -168,7 +215,9 @@ impl SpectralResponse {
         if wavelength_um < w[0] || wavelength_um > w[w.len() - 1] {
             return 0.0;
         }
-        let i = w.partition_point(|&x| x <= wavelength_um).clamp(1, w.len() - 1);
+        let i = w
+            .partition_point(|&x| x <= wavelength_um)
+            .clamp(1, w.len() - 1);
         let t = (wavelength_um - w[i - 1]) / (w[i] - w[i - 1]);
         self.response[i - 1] + t * (self.response[i] - self.response[i - 1])
     }
@@ -184,14 +233,23 @@ impl SpectralResponse {
         let mut xs = vec![a];
         xs.extend(w.iter().copied().filter(|&x| x > a && x < b));
         xs.push(b);
-        xs.windows(2).map(|p| 0.5 * (p[1] - p[0]) * (self.at(p[0]) + self.at(p[1]))).sum()
+        xs.windows(2)
+            .map(|p| 0.5 * (p[1] - p[0]) * (self.at(p[0]) + self.at(p[1])))
+            .sum()
     }
 
     /// Wavelength range (µm) outside which R = 0.
     pub fn support_um(&self) -> (f64, f64) {
         let i0 = self.response.iter().position(|&x| x > 0.0).unwrap_or(0);
-        let i1 = self.response.iter().rposition(|&x| x > 0.0).unwrap_or(self.response.len() - 1);
-        (self.wavelength_um[i0.saturating_sub(1)], self.wavelength_um[(i1 + 1).min(self.wavelength_um.len() - 1)])
+        let i1 = self
+            .response
+            .iter()
+            .rposition(|&x| x > 0.0)
+            .unwrap_or(self.response.len() - 1);
+        (
+            self.wavelength_um[i0.saturating_sub(1)],
+            self.wavelength_um[(i1 + 1).min(self.wavelength_um.len() - 1)],
+        )
     }
 }
 
@@ -259,12 +317,20 @@ impl Band {
     /// Σ wᵢ Lᵢ for a spectrum given on this band's bins (`spectrum.len() == self.len()`).
     pub fn integrate(&self, spectrum_on_band: &[f64]) -> f64 {
         debug_assert_eq!(spectrum_on_band.len(), self.weights.len());
-        self.weights.iter().zip(spectrum_on_band).map(|(w, l)| w * l).sum()
+        self.weights
+            .iter()
+            .zip(spectrum_on_band)
+            .map(|(w, l)| w * l)
+            .sum()
     }
 
     /// Σ wᵢ L_{indices[i]} for a spectrum given on the full parent grid.
     pub fn integrate_full(&self, spectrum_on_grid: &[f64]) -> f64 {
-        self.weights.iter().zip(&self.indices).map(|(w, &i)| w * spectrum_on_grid[i]).sum()
+        self.weights
+            .iter()
+            .zip(&self.indices)
+            .map(|(w, &i)| w * spectrum_on_grid[i])
+            .sum()
     }
 
     /// Band-averaged blackbody radiance, W m⁻² sr⁻¹ µm⁻¹: Σ wᵢ L_λ(λᵢ, T).
@@ -277,7 +343,11 @@ impl Band {
     }
 
     fn planck_dt(&self, temp_k: f64) -> f64 {
-        self.weights.iter().zip(&self.wavenumber_cm1).map(|(w, nu)| w * planck_dt_w_m2_sr_um_k(1.0e4 / nu, temp_k)).sum()
+        self.weights
+            .iter()
+            .zip(&self.wavenumber_cm1)
+            .map(|(w, nu)| w * planck_dt_w_m2_sr_um_k(1.0e4 / nu, temp_k))
+            .sum()
     }
 
     /// Band apparent temperature, K: the T whose band-averaged Planck radiance equals
@@ -294,8 +364,15 @@ impl Band {
             return None;
         }
         // start from the brightness temperature at the weighted-mean wavelength
-        let mean_nu: f64 = self.weights.iter().zip(&self.wavenumber_cm1).map(|(w, n)| w * n).sum();
-        let mut t = brightness_temp_k(1.0e4 / mean_nu, l).unwrap_or(300.0).clamp(lo, hi);
+        let mean_nu: f64 = self
+            .weights
+            .iter()
+            .zip(&self.wavenumber_cm1)
+            .map(|(w, n)| w * n)
+            .sum();
+        let mut t = brightness_temp_k(1.0e4 / mean_nu, l)
+            .unwrap_or(300.0)
+            .clamp(lo, hi);
         for _ in 0..200 {
             let f = self.planck_w_m2_sr_um(t) - l;
             if f > 0.0 {
@@ -326,7 +403,11 @@ mod tests {
         let g = SpectralGrid::uniform(500.0, 20.0, 1976);
         let b = Band::new(&g, &SpectralResponse::lwir()).unwrap();
         // ∫R dλ = 6 µm for the 8-14 box (exact up to the 1e-9 µm edge ramps)
-        assert!((b.response_integral_um - 6.0).abs() < 1e-8, "{}", b.response_integral_um);
+        assert!(
+            (b.response_integral_um - 6.0).abs() < 1e-8,
+            "{}",
+            b.response_integral_um
+        );
         assert!((b.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         // only bins overlapping 714.3-1250 cm-1 are touched
         assert!(b.wavenumber_cm1.iter().all(|&n| n > 700.0 && n < 1265.0));
@@ -335,13 +416,23 @@ mod tests {
 
     #[test]
     fn csv_errors_name_file_and_line() {
-        let e = SpectralResponse::from_csv_str("wl,r\n8,0.5\n9,x\n", "resp.csv").unwrap_err().to_string();
+        let e = SpectralResponse::from_csv_str("wl,r\n8,0.5\n9,x\n", "resp.csv")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("resp.csv") && e.contains("line 3"), "{e}");
-        let e = SpectralResponse::from_csv_str("8,0.5\n7,0.6\n", "r.csv").unwrap_err().to_string();
+        let e = SpectralResponse::from_csv_str("8,0.5\n7,0.6\n", "r.csv")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 2") && e.contains("ascending"), "{e}");
-        let e = SpectralResponse::from_csv_str("8,-1\n9,1\n", "r.csv").unwrap_err().to_string();
+        let e = SpectralResponse::from_csv_str("8,-1\n9,1\n", "r.csv")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 1"), "{e}");
-        let ok = SpectralResponse::from_csv_str("# c\nwavelength_um,response\n8,0\n9,1\n10,0\n", "r.csv").unwrap();
+        let ok = SpectralResponse::from_csv_str(
+            "# c\nwavelength_um,response\n8,0\n9,1\n10,0\n",
+            "r.csv",
+        )
+        .unwrap();
         assert!((ok.at(8.5) - 0.5).abs() < 1e-12);
         assert_eq!(ok.at(11.0), 0.0);
     }
