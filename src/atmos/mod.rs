@@ -26,6 +26,9 @@
 //!   symmetry, linear.
 //! * wavenumber: linear; requested wavenumbers outside the table → error.
 
+// Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod table;
 
 use std::path::{Path, PathBuf};
@@ -315,7 +318,7 @@ impl Field {
                     x = x.clamp(min, max);
                 }
                 AxisKind::SkyZenith => {
-                    if x < 0.0 || x > 90.0 {
+                    if !(0.0..=90.0).contains(&x) {
                         return Err(err());
                     }
                     x = x.min(max);

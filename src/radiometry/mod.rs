@@ -3,6 +3,9 @@
 //! emissivity (tabulated and Fresnel), and the seed's equations 1-4 as pure
 //! functions returning every term.
 
+// Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod emissivity;
 pub mod equations;
 pub mod planck;

@@ -178,12 +178,12 @@ impl SpectralResponse {
             if !(b.is_finite() && b >= 0.0) {
                 return Err(bad(&format!("response must be finite and >= 0, got {b}")));
             }
-            if let Some(&prev) = wl.last() {
-                if a <= prev {
-                    return Err(bad(&format!(
-                        "wavelengths must be strictly ascending ({a} after {prev})"
-                    )));
-                }
+            if let Some(&prev) = wl.last()
+                && a <= prev
+            {
+                return Err(bad(&format!(
+                    "wavelengths must be strictly ascending ({a} after {prev})"
+                )));
             }
             wl.push(a);
             r.push(b);
