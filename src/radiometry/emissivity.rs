@@ -146,6 +146,88 @@ impl EmissivityTable {
         })
     }
 
+    /// Reads a CSV table: a header row `wavelength_um,<angle_deg>,<angle_deg>,...`
+    /// then one row per wavelength with the emissivity at each angle. Blank lines
+    /// and `#` comments are skipped. Errors name the file, line and what was expected.
+    pub fn from_csv_str(text: &str, file: &str) -> Result<Self, RadiometryError> {
+        let bad = |line: usize, msg: String| RadiometryError::Csv {
+            file: file.to_string(),
+            line,
+            msg,
+        };
+        let mut angles: Option<Vec<f64>> = None;
+        let mut wl = Vec::new();
+        let mut vals = Vec::new();
+        for (i, raw) in text.lines().enumerate() {
+            let ln = i + 1;
+            let line = raw.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let f: Vec<&str> = line.split([',', ';', '\t']).map(str::trim).collect();
+            match &angles {
+                None => {
+                    if f.len() < 2 {
+                        return Err(bad(
+                            ln,
+                            "expected header 'wavelength_um,<angle_deg>,...'".into(),
+                        ));
+                    }
+                    let a: Result<Vec<f64>, _> = f[1..].iter().map(|x| x.parse::<f64>()).collect();
+                    let a = a.map_err(|_| {
+                        bad(
+                            ln,
+                            format!("header angles must be numbers (deg), got '{line}'"),
+                        )
+                    })?;
+                    if a.iter().any(|x| !(0.0..=90.0).contains(x))
+                        || a.windows(2).any(|w| w[1] <= w[0])
+                    {
+                        return Err(bad(
+                            ln,
+                            "header angles must be ascending within 0-90 deg".into(),
+                        ));
+                    }
+                    angles = Some(a);
+                }
+                Some(a) => {
+                    if f.len() != a.len() + 1 {
+                        return Err(bad(
+                            ln,
+                            format!(
+                                "expected {} columns (wavelength + {} angles), got {}",
+                                a.len() + 1,
+                                a.len(),
+                                f.len()
+                            ),
+                        ));
+                    }
+                    let row: Result<Vec<f64>, _> = f.iter().map(|x| x.parse::<f64>()).collect();
+                    let row =
+                        row.map_err(|_| bad(ln, format!("expected numbers, got '{line}'")))?;
+                    if wl.last().is_some_and(|&p| row[0] <= p) {
+                        return Err(bad(ln, "wavelengths must be strictly ascending".into()));
+                    }
+                    if let Some(e) = row[1..].iter().find(|e| !(0.0..=1.0).contains(*e)) {
+                        return Err(bad(ln, format!("emissivity {e} outside [0, 1]")));
+                    }
+                    wl.push(row[0]);
+                    vals.push(row[1..].to_vec());
+                }
+            }
+        }
+        let angles = angles.ok_or_else(|| bad(0, "empty emissivity table".into()))?;
+        if wl.is_empty() {
+            return Err(bad(0, "no data rows".into()));
+        }
+        // stored angle-major
+        let mut values = Vec::with_capacity(angles.len() * wl.len());
+        for a in 0..angles.len() {
+            values.extend(vals.iter().map(|r| r[a]));
+        }
+        Self::new(angles, wl, values)
+    }
+
     pub fn at(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
         let (ia, ta) = bracket(&self.angles_deg, angle_deg);
         let (iw, tw) = bracket(&self.wavelengths_um, wavelength_um);
@@ -241,6 +323,27 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn table_from_csv() {
+        let t = EmissivityTable::from_csv_str(
+            "# glass-ish\nwavelength_um,0,60\n8,0.9,0.7\n12,0.8,0.6\n",
+            "e.csv",
+        )
+        .unwrap();
+        assert!((t.at(30.0, 10.0) - 0.75).abs() < 1e-12);
+        let e = EmissivityTable::from_csv_str("wavelength_um,0,60\n8,0.9\n", "e.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("e.csv") && e.contains("line 2") && e.contains("columns"),
+            "{e}"
+        );
+        let e = EmissivityTable::from_csv_str("wavelength_um,0,60\n8,0.9,1.3\n", "e.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("outside"), "{e}");
     }
 
     #[test]
