@@ -9,6 +9,35 @@
 //! any geometry: each is a blend of 2-16 stored spectra written into a
 //! caller-provided slice.
 //!
+//! ```no_run
+//! use irsig::atmos::Atmosphere;
+//! use irsig::radiometry::{self as rad, Band, SpectralGrid, SpectralResponse};
+//! # fn main() -> anyhow::Result<()> {
+//! let atm = Atmosphere::builtin("mls")?;                       // once
+//! let grid = SpectralGrid::new(atm.wavenumber_cm1().to_vec())?;
+//! let band = Band::new(&grid, &SpectralResponse::lwir())?;      // bins with R > 0
+//! let sa = atm.resample(&band.wavenumber_cm1)?;                 // once per band
+//! let path = sa.path(3.0, 30.0, 40.0, 90.0)?;                   // per view geometry (cacheable)
+//! let dome_de = sa.sky_dome_l_de();
+//! let dome_ds = sa.sky_dome_l_ds(40.0)?;                        // once per sun position
+//! let mut tau1 = vec![0.0; sa.len()];
+//! sa.tau_sun(40.0, &mut tau1)?;                                // τ₁(θ_sun)
+//! let terms = rad::integrate_terms(&band, |i| {
+//!     let lam_um = 1e4 / band.wavenumber_cm1[i];
+//!     rad::case1_diffuse(
+//!         0.95,
+//!         rad::planck_radiance_w_m2_sr_um(lam_um, 300.0),
+//!         &rad::SunIllumination { e_sun_exo_w_m2_um: sa.e_sun_exo()[i],
+//!             tau1: tau1[i], cos_incidence: 0.7, sun_flag: 1.0 },
+//!         &rad::SkyRadiance { l_de_w_m2_sr_um: dome_de[i], l_ds_w_m2_sr_um: dome_ds[i] },
+//!         &rad::PathRadiance { tau2: path.tau2[i], l_ue_w_m2_sr_um: path.l_ue_w_m2_sr_um[i],
+//!             l_us_w_m2_sr_um: path.l_us_w_m2_sr_um[i] },
+//!     )
+//! });
+//! let t_app = band.apparent_temp_k(terms.total());
+//! # Ok(()) }
+//! ```
+//!
 //! Interpolation (per axis, multilinear):
 //! * altitude_km: linear in u(h) = −(e^(−h/2 km) + e^(−h/8 km))/2, a proxy for the
 //!   fraction of the absorber column (water vapour scale height ≈ 2 km, dry air

@@ -126,6 +126,19 @@ impl RadianceTerms {
     }
 }
 
+/// Band-integrates per-bin terms: Σᵢ wᵢ · terms(i) over a band's bins, term by
+/// term (`terms(i)` gets the index into `band.weights` / `band.wavenumber_cm1`).
+pub fn integrate_terms<F>(band: &super::spectral::Band, mut terms: F) -> RadianceTerms
+where
+    F: FnMut(usize) -> RadianceTerms,
+{
+    let mut acc = RadianceTerms::default();
+    for (i, w) in band.weights.iter().enumerate() {
+        acc.accumulate(&terms(i), *w);
+    }
+    acc
+}
+
 fn surface_sky(
     emissivity: f64,
     target_bb: f64,
@@ -309,6 +322,33 @@ mod tests {
         let t4 = case4_sky(&s);
         assert_eq!(t4.total(), 5.0);
         assert_eq!(t4.emitted, 0.0);
+    }
+
+    #[test]
+    fn integrate_terms_weights_each_term() {
+        let g = crate::radiometry::SpectralGrid::uniform(500.0, 20.0, 1976);
+        let band =
+            crate::radiometry::Band::new(&g, &crate::radiometry::SpectralResponse::lwir()).unwrap();
+        // constant terms integrate to themselves (weights sum to 1)
+        let t = integrate_terms(&band, |_| {
+            case4_sky(&SkyRadiance {
+                l_de_w_m2_sr_um: 2.0,
+                l_ds_w_m2_sr_um: 0.5,
+            })
+        });
+        assert!((t.path_thermal - 2.0).abs() < 1e-12 && (t.path_scattered - 0.5).abs() < 1e-12);
+        // a linear-in-index spectrum integrates to Σ wᵢ i
+        let expect: f64 = band
+            .weights
+            .iter()
+            .enumerate()
+            .map(|(i, w)| w * i as f64)
+            .sum();
+        let t = integrate_terms(&band, |i| RadianceTerms {
+            emitted: i as f64,
+            ..Default::default()
+        });
+        assert!((t.emitted - expect).abs() < 1e-12 && t.total() == t.emitted);
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub mod spectral;
 pub use emissivity::{Emissivity, EmissivityTable, fresnel_emissivity, fresnel_reflectance};
 pub use equations::{
     Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
-    case2_specular_sky, case3_specular_background, case4_sky,
+    case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
 };
 pub use planck::{
     brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_cm1,
