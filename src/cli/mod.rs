@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 
 pub mod bench;
 pub mod check;
+pub mod atmos;
 pub mod crosscheck;
 pub mod sun;
 pub mod therm;
@@ -34,6 +35,8 @@ pub enum Command {
     /// Surface temperature and flux terms of one material and facet over
     /// time (THERM-style slab, DESIGN.md §4).
     Therm(therm::Args),
+    /// Atmosphere tables: list them, show what a geometry uses.
+    Atmos(atmos::Args),
 }
 
 /// Runs the parsed command line.
@@ -44,5 +47,6 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Check(a) => check::run(a),
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
+        Command::Atmos(a) => atmos::run(a),
     }
 }

@@ -1,1 +1,43 @@
-//! radiometry submodel (see DESIGN.md).
+//! Radiometry submodel (DESIGN.md §4): Planck's law and its inverse, spectral
+//! grids and sensor responses with band integration, angular spectral
+//! emissivity (tabulated and Fresnel), and the seed's equations 1-4 as pure
+//! functions returning every term.
+
+// Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod emissivity;
+pub mod equations;
+pub mod planck;
+pub mod spectral;
+
+pub use emissivity::{Emissivity, EmissivityTable, fresnel_emissivity, fresnel_reflectance};
+pub use equations::{
+    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
+    case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
+};
+pub use planck::{
+    brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_cm1,
+    planck_radiance_w_m2_sr_um,
+};
+pub use spectral::{Band, SpectralGrid, SpectralResponse};
+
+/// Errors from radiometry inputs (response files, grids, emissivity tables).
+#[derive(Debug, thiserror::Error)]
+pub enum RadiometryError {
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{file}: line {line}: {msg}")]
+    Csv {
+        file: String,
+        line: usize,
+        msg: String,
+    },
+    #[error("spectral grid: {0}")]
+    Grid(String),
+    #[error("emissivity: {0}")]
+    Emissivity(String),
+}

@@ -1,0 +1,150 @@
+//! Radiometry against independent references (issue 5 acceptance).
+
+use irsig::radiometry::planck::{
+    brightness_temp_k, planck_band_integral_w_m2_sr, planck_dt_w_m2_sr_um_k,
+    planck_radiance_w_m2_sr_cm1, planck_radiance_w_m2_sr_um,
+};
+use irsig::radiometry::{
+    Band, PathRadiance, SkyRadiance, SpectralGrid, SpectralResponse, SunIllumination, case1_diffuse,
+};
+
+/// Band integrals ∫L_λ dλ vs scipy.integrate.quad (tools/ref_planck.py → tests/data/planck_band_ref.csv),
+/// tolerance 1e-9 relative.
+#[test]
+fn planck_band_integrals_match_scipy_quadrature() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/planck_band_ref.csv"
+    ))
+    .unwrap();
+    let mut n = 0;
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("lambda"))
+    {
+        let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let got = planck_band_integral_w_m2_sr(f[0], f[1], f[2]);
+        let rel = (got / f[3] - 1.0).abs();
+        assert!(
+            rel < 1e-9,
+            "band {}-{} um at {} K: {got:e} vs {:e} (rel {rel:e})",
+            f[0],
+            f[1],
+            f[2],
+            f[3]
+        );
+        n += 1;
+    }
+    assert!(n >= 50, "only {n} reference rows");
+}
+
+/// The band quadrature on the 20 cm⁻¹ table grid (exact response weights, Planck
+/// sampled at bin centres) approximates the exact band integral: 8-14 µm and
+/// 3-5 µm at 200-400 K within 1e-3 relative. The midpoint-rule error is about
+/// (c2 Δν / T)² / 24 ≈ 9e-4 for Δν = 20 cm⁻¹ at 200 K (Wien regime).
+#[test]
+fn grid_band_average_matches_exact_integral() {
+    let g = SpectralGrid::uniform(500.0, 20.0, 1976);
+    for (resp, lo, hi) in [
+        (SpectralResponse::lwir(), 8.0, 14.0),
+        (SpectralResponse::mwir(), 3.0, 5.0),
+    ] {
+        let b = Band::new(&g, &resp).unwrap();
+        for t in [200.0, 300.0, 400.0] {
+            let exact = planck_band_integral_w_m2_sr(lo, hi, t) / (hi - lo);
+            let got = b.planck_w_m2_sr_um(t);
+            assert!(
+                (got / exact - 1.0).abs() < 1e-3,
+                "{lo}-{hi} {t}: {got} vs {exact}"
+            );
+        }
+    }
+}
+
+/// Band apparent temperature inverts the band Planck radiance to 1e-6 K, for
+/// ideal and tabulated responses, wherever the band radiance is representable
+/// (LWIR 20-6000 K, MWIR 60-6000 K: lower temperatures underflow f64 in those bands).
+#[test]
+fn band_apparent_temperature_round_trip() {
+    let g = SpectralGrid::uniform(500.0, 20.0, 1976);
+    let csv = SpectralResponse::from_csv_str("7.5,0\n8,0.6\n10,1\n12,0.8\n13,0\n", "test").unwrap();
+    for (resp, tmin) in [
+        (SpectralResponse::lwir(), 20.0),
+        (SpectralResponse::mwir(), 60.0),
+        (csv, 20.0),
+    ] {
+        let b = Band::new(&g, &resp).unwrap();
+        let mut t = tmin;
+        while t <= 6000.0 {
+            let l = b.planck_w_m2_sr_um(t);
+            let back = b.apparent_temp_k(l).unwrap();
+            assert!((back - t).abs() < 1e-6, "{}: {t} -> {back}", resp.label);
+            t *= 1.37;
+        }
+    }
+    let b = Band::new(&g, &SpectralResponse::lwir()).unwrap();
+    assert!(b.apparent_temp_k(0.0).is_none() && b.apparent_temp_k(f64::NAN).is_none());
+}
+
+/// No overflow, underflow to garbage, or NaN anywhere in 0.25-28 µm × 1-6000 K:
+/// radiance finite, ≥ 0, monotone in T; brightness temperature round-trips where L > 0.
+#[test]
+fn planck_grid_is_finite_everywhere() {
+    let n = 400;
+    for i in 0..=n {
+        let lam = 0.25 * (28.0f64 / 0.25).powf(i as f64 / n as f64);
+        let mut prev = 0.0;
+        for j in 0..=n {
+            let t = 6000.0f64.powf(j as f64 / n as f64); // 1 .. 6000 K
+            let l = planck_radiance_w_m2_sr_um(lam, t);
+            let lnu = planck_radiance_w_m2_sr_cm1(1e4 / lam, t);
+            let d = planck_dt_w_m2_sr_um_k(lam, t);
+            assert!(
+                l.is_finite()
+                    && l >= 0.0
+                    && lnu.is_finite()
+                    && lnu >= 0.0
+                    && d.is_finite()
+                    && d >= 0.0
+            );
+            assert!(l >= prev, "not monotone at {lam} um {t} K");
+            prev = l;
+            if l > 1e-300 {
+                let tb = brightness_temp_k(lam, l).unwrap();
+                assert!((tb / t - 1.0).abs() < 1e-12, "{lam} {t} {tb}");
+            }
+        }
+    }
+    // the hottest, shortest corner is large but finite; the coldest is exactly 0
+    assert!(planck_radiance_w_m2_sr_um(0.25, 6000.0) > 1e6);
+    assert_eq!(planck_radiance_w_m2_sr_um(0.25, 1.0), 0.0);
+}
+
+/// A blackbody at air temperature seen through a transparent path: the band
+/// radiance of eq. 1 equals the band Planck radiance (to 1e-12), for MWIR and LWIR.
+#[test]
+fn blackbody_transparent_path_gives_planck() {
+    let g = SpectralGrid::uniform(500.0, 20.0, 1976);
+    let t_air = 293.15;
+    for resp in [SpectralResponse::lwir(), SpectralResponse::mwir()] {
+        let b = Band::new(&g, &resp).unwrap();
+        let mut band = 0.0;
+        for (w, nu) in b.weights.iter().zip(&b.wavenumber_cm1) {
+            let bb = planck_radiance_w_m2_sr_um(1e4 / nu, t_air);
+            let sky = SkyRadiance {
+                l_de_w_m2_sr_um: 0.7 * bb,
+                l_ds_w_m2_sr_um: 0.01,
+            };
+            let sun = SunIllumination {
+                e_sun_exo_w_m2_um: 10.0,
+                tau1: 0.8,
+                cos_incidence: 0.9,
+                sun_flag: 1.0,
+            };
+            band += w * case1_diffuse(1.0, bb, &sun, &sky, &PathRadiance::TRANSPARENT).total();
+        }
+        let expect = b.planck_w_m2_sr_um(t_air);
+        assert!((band / expect - 1.0).abs() < 1e-12, "{band} {expect}");
+        assert!((b.apparent_temp_k(band).unwrap() - t_air).abs() < 1e-6);
+    }
+}
