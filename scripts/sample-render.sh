@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The sample run of the set-up: exercises the built binary on the sample
-# geometry. (Extended to a full `irsig render` of scenes/airfield as the
-# render lands.)
+# The sample run of the set-up: a real render of the paper's demo scene
+# (airfield, MWIR at 12:00 local), written to out/airfield-mwir.{exr,png,json}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mkdir -p out
-./target/release/irsig crosscheck scenes/meshes/mixed.obj --width 256 --height 256
+./target/release/irsig check scenes/airfield/scene.toml
+./target/release/irsig render scenes/airfield/scene.toml -o out/airfield-mwir.exr --stats

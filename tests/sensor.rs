@@ -63,6 +63,7 @@ fn spec(sigma: f64, amp: f64, seed: u64) -> NoiseSpec {
         periodic_amplitude: amp,
         periodic_period_px: 8.0,
         periodic_direction: Direction::Columns,
+        periodic_phase_deg: 0.0,
         seed,
     }
 }

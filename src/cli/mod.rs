@@ -3,10 +3,11 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod atmos;
 pub mod bench;
 pub mod check;
-pub mod atmos;
 pub mod crosscheck;
+pub mod render;
 pub mod sun;
 pub mod therm;
 
@@ -30,6 +31,9 @@ pub enum Command {
     /// Load and validate a scene; print a summary (objects, facets,
     /// materials, bounds, sensor footprint, what the render will need).
     Check(check::Args),
+    /// Render a scene: EXR with every plane, PNG quicklook, JSON summary
+    /// (and ENVI with --envi).
+    Render(render::Args),
     /// Solar position (NREL SPA) for a site and a UTC instant.
     Sun(sun::Args),
     /// Surface temperature and flux terms of one material and facet over
@@ -45,6 +49,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Crosscheck(a) => crosscheck::run(a),
         Command::Bench(c) => bench::run(c),
         Command::Check(a) => check::run(a),
+        Command::Render(a) => render::run(a),
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
         Command::Atmos(a) => atmos::run(a),

@@ -168,7 +168,71 @@ pub fn parse_scene(path: &Path, text: &str) -> Result<Scene, SceneError> {
 
 /// Loads a scene file, its material libraries and its OBJ files.
 pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
-    let src = TomlSource::read(path)?;
+    load_source(path, TomlSource::read(path)?)
+}
+
+/// Loads a scene file with `key = value` overrides applied to its text
+/// first (`key` a dotted TOML path such as `sensor.band` or
+/// `weather.constant.wind_m_s`; `value` a TOML value such as `"lwir"` or
+/// `4.47` — a bare word that is not valid TOML is taken as a string).
+/// Errors name the override.
+pub fn load_with_overrides(
+    path: &Path,
+    overrides: &[(String, String)],
+) -> Result<LoadedScene, SceneError> {
+    if overrides.is_empty() {
+        return load(path);
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: path.to_path_buf(),
+        error: e,
+    })?;
+    let text = apply_overrides(path, &text, overrides)?;
+    load_source(path, TomlSource::from_text(path, text))
+}
+
+/// Applies `key = value` overrides to scene text (see [`load_with_overrides`]).
+pub fn apply_overrides(
+    path: &Path,
+    text: &str,
+    overrides: &[(String, String)],
+) -> Result<String, SceneError> {
+    let bad = |msg: String| SceneError::Invalid {
+        loc: error::Location::file(path),
+        msg,
+    };
+    let mut doc: toml_edit::DocumentMut = text
+        .parse()
+        .map_err(|e| bad(format!("cannot apply overrides: {e}")))?;
+    for (k, v) in overrides {
+        let value: toml_edit::Value = v
+            .parse()
+            .unwrap_or_else(|_| toml_edit::Value::from(v.as_str()));
+        let parts: Vec<&str> = k.split('.').collect();
+        if parts.iter().any(|p| p.is_empty()) {
+            return Err(bad(format!(
+                "override `{k}`: expected a dotted key such as sensor.band"
+            )));
+        }
+        let mut item: &mut toml_edit::Item = doc.as_item_mut();
+        for part in &parts[..parts.len() - 1] {
+            let table = item
+                .as_table_like_mut()
+                .ok_or_else(|| bad(format!("override `{k}`: `{part}` is not inside a table")))?;
+            if table.get(part).is_none() {
+                table.insert(part, toml_edit::Item::Table(toml_edit::Table::new()));
+            }
+            item = table.get_mut(part).expect("just inserted");
+        }
+        let table = item
+            .as_table_like_mut()
+            .ok_or_else(|| bad(format!("override `{k}`: the parent is not a table")))?;
+        table.insert(parts[parts.len() - 1], toml_edit::Item::Value(value));
+    }
+    Ok(doc.to_string())
+}
+
+fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let scene: Scene = src.parse()?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)

@@ -26,6 +26,8 @@ pub struct NoiseSpec {
     pub periodic_amplitude: f64,
     pub periodic_period_px: f64,
     pub periodic_direction: Direction,
+    /// Phase of the periodic pattern at pixel 0, degrees.
+    pub periodic_phase_deg: f64,
     pub seed: u64,
 }
 
@@ -48,7 +50,8 @@ pub fn add_noise(img: &mut [f32], width: usize, spec: &NoiseSpec) {
                 Direction::Rows => y,
                 Direction::Diagonal => (x + y) / std::f64::consts::SQRT_2,
             };
-            *v += (spec.periodic_amplitude * (k * s).sin()) as f32;
+            *v += (spec.periodic_amplitude * (k * s + spec.periodic_phase_deg.to_radians()).sin())
+                as f32;
         }
     }
 }

@@ -1,0 +1,576 @@
+//! Step 5: the radiance of each sample by the paper's four cases (eqs.
+//! 1-4), evaluated bin by bin over the sensor band and band-integrated term
+//! by term; then the output planes (supersampling, PSF, noise,
+//! quantisation).
+//!
+//! Atmospheric geometry: τ₂, L_UE, L_US for the target→sensor path at the
+//! sensor's height above the target and the view zenith at the target;
+//! L_DE, L_DS in the specular direction θ_SK; τ₁ at the sun's zenith.
+//! Table lookups are memoised on a fine grid of their arguments (0.05° in
+//! angles, 10 m in height, 5° in relative azimuth) — deterministic, since a
+//! value depends on its key only.
+//! Documented choices:
+//! * a sensor lower than the tables' lowest altitude (0.3 km) uses the
+//!   0.3 km path scaled as a uniform layer: τ = τ₀.₃^(h/0.3),
+//!   L_UE = L_UE,0.3·(1 − τ)/(1 − τ₀.₃), L_US scaled by h/0.3;
+//! * view zeniths beyond the tables' last angle (85°) use 85° (counted);
+//! * a primary or specular ray that leaves the scene downwards sees an
+//!   infinite ground at air temperature, ε = 1 (counted);
+//! * a material with 0 < specularity < 1 is the blend
+//!   (1 − s)·eq. 1 + s·eq. 2/3.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use glam::{DVec3, Vec3};
+use serde::Serialize;
+
+use super::prepare::{Conditions, Static};
+use super::{Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
+use crate::atmos::PathSpectra;
+use crate::output::Planes;
+use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
+use crate::radiometry::{
+    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
+    case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
+};
+
+const LOWEST_ALT_KM: f64 = 0.3;
+const MAX_VIEW_ZENITH_DEG: f64 = 85.0;
+
+/// The band-integrated result of one sample.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SampleResult {
+    /// Which of the paper's cases: 1 diffuse, 2 specular→sky, 3 specular→
+    /// background, 4 sky; 0 a ray leaving the scene downwards.
+    pub case: u8,
+    pub terms: TermsJson,
+    pub radiance_w_m2_sr_um: f64,
+    /// View angle from the surface normal, degrees (NaN for the sky).
+    pub view_angle_deg: f64,
+    /// Band-averaged emissivity at the view angle.
+    pub emissivity: f64,
+}
+
+/// Band-integrated radiometric terms, W m⁻² sr⁻¹ µm⁻¹ (see
+/// [`RadianceTerms`]).
+#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+pub struct TermsJson {
+    pub emitted: f64,
+    pub reflected_solar: f64,
+    pub reflected_sky_thermal: f64,
+    pub reflected_sky_scattered: f64,
+    pub reflected_background_emitted: f64,
+    pub reflected_background_solar: f64,
+    pub path_thermal: f64,
+    pub path_scattered: f64,
+}
+
+impl From<RadianceTerms> for TermsJson {
+    fn from(t: RadianceTerms) -> Self {
+        TermsJson {
+            emitted: t.emitted,
+            reflected_solar: t.reflected_solar,
+            reflected_sky_thermal: t.reflected_sky_thermal,
+            reflected_sky_scattered: t.reflected_sky_scattered,
+            reflected_background_emitted: t.reflected_background_emitted,
+            reflected_background_solar: t.reflected_background_solar,
+            path_thermal: t.path_thermal,
+            path_scattered: t.path_scattered,
+        }
+    }
+}
+
+impl TermsJson {
+    pub fn total(&self) -> f64 {
+        self.emitted
+            + self.reflected_solar
+            + self.reflected_sky_thermal
+            + self.reflected_sky_scattered
+            + self.reflected_background_emitted
+            + self.reflected_background_solar
+            + self.path_thermal
+            + self.path_scattered
+    }
+}
+
+type SkyPair = (Vec<f64>, Vec<f64>);
+
+/// Per-frame radiometric state: sun spectra, sky dome, memoised lookups.
+pub struct RadiometryContext<'a> {
+    st: &'a Static,
+    cond: &'a Conditions,
+    camera: DVec3,
+    sun_dir: Vec3,
+    sun_zenith_deg: f64,
+    sun_azimuth_deg: f64,
+    /// E_S at the actual earth-sun distance, W m⁻² µm⁻¹.
+    e_exo: Vec<f64>,
+    tau1: Vec<f64>,
+    dome: SkyPair,
+    paths: Mutex<HashMap<(i64, i64, i64), Arc<PathSpectra>>>,
+    skies: Mutex<HashMap<(i64, i64), Arc<SkyPair>>>,
+}
+
+fn key(x: f64, quantum: f64) -> i64 {
+    (x / quantum).round() as i64
+}
+
+/// Folds an azimuth difference into [0, 180] degrees.
+fn fold_deg(d: f64) -> f64 {
+    let r = d.rem_euclid(360.0);
+    if r > 180.0 { 360.0 - r } else { r }
+}
+
+impl<'a> RadiometryContext<'a> {
+    pub fn new(st: &'a Static, cond: &'a Conditions) -> anyhow::Result<Self> {
+        let n = st.band.len();
+        let sa = &st.atmosphere;
+        let sun = &cond.sun_now;
+        let r2 = sun.earth_sun_distance_au * sun.earth_sun_distance_au;
+        let e_exo = sa.e_sun_exo().iter().map(|e| e / r2).collect();
+        let mut tau1 = vec![0.0; n];
+        sa.tau_sun(sun.zenith_deg, &mut tau1)?;
+        let dome_de = sa.sky_dome_l_de().to_vec();
+        let dome_ds = if sun.zenith_deg < 90.0 {
+            sa.sky_dome_l_ds(sun.zenith_deg)?
+        } else {
+            vec![0.0; n]
+        };
+        Ok(RadiometryContext {
+            st,
+            cond,
+            camera: DVec3::from(st.scene.camera.position_m),
+            sun_dir: DVec3::from(sun.sun_dir_enu).as_vec3(),
+            sun_zenith_deg: sun.zenith_deg,
+            sun_azimuth_deg: sun.azimuth_deg,
+            e_exo,
+            tau1,
+            dome: (dome_de, dome_ds),
+            paths: Mutex::new(HashMap::new()),
+            skies: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// τ₂, L_UE, L_US from `point` to the sensor.
+    fn path(&self, point: DVec3) -> anyhow::Result<Arc<PathSpectra>> {
+        let to_sensor = self.camera - point;
+        let h_km = (to_sensor.z / 1000.0).max(1e-4);
+        let vz = to_sensor.normalize().z.clamp(-1.0, 1.0).acos().to_degrees();
+        let los_az = azimuth_deg(-to_sensor);
+        let rel = fold_deg(self.sun_azimuth_deg - los_az);
+        let k = (key(h_km, 0.01), key(vz, 0.05), key(rel, 5.0));
+        if let Some(p) = self.paths.lock().unwrap_or_else(|e| e.into_inner()).get(&k) {
+            return Ok(p.clone());
+        }
+        let (h, vz, rel) = (k.0 as f64 * 0.01, k.1 as f64 * 0.05, k.2 as f64 * 5.0);
+        let vz = vz.min(MAX_VIEW_ZENITH_DEG);
+        let sa = &self.st.atmosphere;
+        let p = if h >= LOWEST_ALT_KM {
+            sa.path(h, vz, self.sun_zenith_deg.min(90.0), rel)?
+        } else {
+            let base = sa.path(LOWEST_ALT_KM, vz, self.sun_zenith_deg.min(90.0), rel)?;
+            let f = h.max(0.0) / LOWEST_ALT_KM;
+            let tau2: Vec<f64> = base.tau2.iter().map(|t| t.max(1e-300).powf(f)).collect();
+            let l_ue = base
+                .l_ue_w_m2_sr_um
+                .iter()
+                .zip(base.tau2.iter().zip(&tau2))
+                .map(|(l, (t0, t))| {
+                    if *t0 < 1.0 {
+                        l * (1.0 - t) / (1.0 - t0)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let l_us = base.l_us_w_m2_sr_um.iter().map(|l| l * f).collect();
+            PathSpectra {
+                tau2,
+                l_ue_w_m2_sr_um: l_ue,
+                l_us_w_m2_sr_um: l_us,
+            }
+        };
+        let p = Arc::new(p);
+        self.paths
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(k, p.clone());
+        Ok(p)
+    }
+
+    /// L_DE(θ_SK), L_DS(θ_SK) for a direction towards the sky.
+    fn sky(&self, dir: Vec3) -> anyhow::Result<Arc<SkyPair>> {
+        let z = zenith_deg(dir).min(90.0);
+        let rel = fold_deg(self.sun_azimuth_deg - azimuth_deg(dir.as_dvec3()));
+        let k = (key(z, 0.05), key(rel, 5.0));
+        if let Some(p) = self.skies.lock().unwrap_or_else(|e| e.into_inner()).get(&k) {
+            return Ok(p.clone());
+        }
+        let n = self.st.band.len();
+        let (mut de, mut ds) = (vec![0.0; n], vec![0.0; n]);
+        let sa = &self.st.atmosphere;
+        let z = k.0 as f64 * 0.05;
+        sa.l_de(z, &mut de)?;
+        if self.sun_zenith_deg < 90.0 {
+            sa.l_ds(self.sun_zenith_deg, k.1 as f64 * 5.0, z, &mut ds)?;
+        }
+        let p = Arc::new((de, ds));
+        self.skies
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(k, p.clone());
+        Ok(p)
+    }
+
+    fn sun_on(&self, s: &Surface, i: usize) -> SunIllumination {
+        SunIllumination {
+            e_sun_exo_w_m2_um: self.e_exo[i],
+            tau1: self.tau1[i],
+            cos_incidence: s.normal.dot(self.sun_dir) as f64,
+            sun_flag: if s.sun_now() { 1.0 } else { 0.0 },
+        }
+    }
+
+    fn path_at(p: &PathSpectra, i: usize) -> PathRadiance {
+        PathRadiance {
+            tau2: p.tau2[i],
+            l_ue_w_m2_sr_um: p.l_ue_w_m2_sr_um[i],
+            l_us_w_m2_sr_um: p.l_us_w_m2_sr_um[i],
+        }
+    }
+
+    /// The band-integrated radiance of one sample, every term separately.
+    pub fn evaluate(&self, s: &Sample) -> anyhow::Result<SampleResult> {
+        let st = self.st;
+        let band = &st.band;
+        let wl = &st.wavelength_um;
+        let Some(surf) = &s.surface else {
+            if s.dir.z > 0.0 {
+                // Case 4: the sensor sees the sky.
+                let sky = self.sky(s.dir)?;
+                let terms = integrate_terms(band, |i| {
+                    case4_sky(&SkyRadiance {
+                        l_de_w_m2_sr_um: sky.0[i],
+                        l_ds_w_m2_sr_um: sky.1[i],
+                    })
+                });
+                return Ok(result(4, terms, f64::NAN, f64::NAN));
+            }
+            // Leaves the scene downwards: ground at air temperature, ε = 1,
+            // seen at the ray's point on the plane z = 0.
+            let t = (-self.camera.z / s.dir.z as f64).max(0.0);
+            let p = self.camera + s.dir.as_dvec3() * t;
+            let path = self.path(p)?;
+            let ta = self.cond.air_temp_k;
+            let terms = integrate_terms(band, |i| {
+                case1_diffuse(
+                    1.0,
+                    planck_radiance_w_m2_sr_um(wl[i], ta),
+                    &SunIllumination::DARK,
+                    &SkyRadiance {
+                        l_de_w_m2_sr_um: 0.0,
+                        l_ds_w_m2_sr_um: 0.0,
+                    },
+                    &Self::path_at(&path, i),
+                )
+            });
+            return Ok(result(0, terms, f64::NAN, 1.0));
+        };
+        let m = surf.material as usize;
+        let eps = &st.emissivity[m];
+        let spec = st.specularity[m].clamp(0.0, 1.0);
+        let path_arc = self.path(surf.point.as_dvec3())?;
+        let path: &PathSpectra = &path_arc;
+        let view_angle = angle_deg(-s.dir, surf.normal);
+        let lt = |i: usize, t: f64| planck_radiance_w_m2_sr_um(wl[i], t);
+        let diffuse = |i: usize| {
+            case1_diffuse(
+                eps.at(0.0, wl[i]),
+                lt(i, surf.temp_k),
+                &self.sun_on(surf, i),
+                &SkyRadiance {
+                    l_de_w_m2_sr_um: self.dome.0[i],
+                    l_ds_w_m2_sr_um: self.dome.1[i],
+                },
+                &Self::path_at(path, i),
+            )
+        };
+        let eps_band = band
+            .weights
+            .iter()
+            .enumerate()
+            .map(|(i, w)| w * eps.at(if spec > 0.0 { view_angle } else { 0.0 }, wl[i]))
+            .sum::<f64>();
+        if spec <= 0.0 {
+            return Ok(result(
+                1,
+                integrate_terms(band, diffuse),
+                view_angle,
+                eps_band,
+            ));
+        }
+        let (rdir, bg) = s.bounce.as_ref().expect("specular samples have a bounce");
+        let (case, specular): (u8, Box<dyn Fn(usize) -> RadianceTerms + Sync>) = match bg {
+            None if rdir.z > 0.0 => {
+                let sky = self.sky(*rdir)?;
+                (
+                    2,
+                    Box::new(move |i| {
+                        case2_specular_sky(
+                            eps.at(view_angle, wl[i]),
+                            lt(i, surf.temp_k),
+                            &self.sun_on(surf, i),
+                            &SkyRadiance {
+                                l_de_w_m2_sr_um: sky.0[i],
+                                l_ds_w_m2_sr_um: sky.1[i],
+                            },
+                            &Self::path_at(path, i),
+                        )
+                    }),
+                )
+            }
+            None => {
+                let ta = self.cond.air_temp_k;
+                (
+                    3,
+                    Box::new(move |i| {
+                        case3_specular_background(
+                            eps.at(view_angle, wl[i]),
+                            lt(i, surf.temp_k),
+                            &self.sun_on(surf, i),
+                            &Background {
+                                emissivity: 1.0,
+                                blackbody_w_m2_sr_um: lt(i, ta),
+                                sun: SunIllumination::DARK,
+                            },
+                            &Self::path_at(path, i),
+                        )
+                    }),
+                )
+            }
+            Some(b) => {
+                let eps_b = &st.emissivity[b.material as usize];
+                let theta_bt = angle_deg(-*rdir, b.normal);
+                (
+                    3,
+                    Box::new(move |i| {
+                        case3_specular_background(
+                            eps.at(view_angle, wl[i]),
+                            lt(i, surf.temp_k),
+                            &self.sun_on(surf, i),
+                            &Background {
+                                emissivity: eps_b.at(theta_bt, wl[i]),
+                                blackbody_w_m2_sr_um: lt(i, b.temp_k),
+                                sun: self.sun_on(b, i),
+                            },
+                            &Self::path_at(path, i),
+                        )
+                    }),
+                )
+            }
+        };
+        let terms = integrate_terms(band, |i| {
+            let mut t = RadianceTerms::default();
+            if spec < 1.0 {
+                t.accumulate(&diffuse(i), 1.0 - spec);
+            }
+            t.accumulate(&specular(i), spec);
+            t
+        });
+        Ok(result(case, terms, view_angle, eps_band))
+    }
+}
+
+fn result(case: u8, terms: RadianceTerms, view_angle_deg: f64, emissivity: f64) -> SampleResult {
+    SampleResult {
+        case,
+        radiance_w_m2_sr_um: terms.total(),
+        terms: terms.into(),
+        view_angle_deg,
+        emissivity,
+    }
+}
+
+/// Averages the n×n samples of each output pixel and applies the sensor
+/// model; returns every output plane.
+pub fn assemble(
+    st: &Static,
+    samples: &[Sample],
+    results: &[SampleResult],
+    sw: u32,
+    sh: u32,
+    n: u32,
+    cond: &Conditions,
+) -> anyhow::Result<Planes> {
+    let (w, h) = (sw / n, sh / n);
+    let npx = (w * h) as usize;
+    let idx = |x: u32, y: u32, i: u32, j: u32| ((y * n + j) * sw + x * n + i) as usize;
+    // Mean over the n×n samples of f (NaN ignored; NaN if all NaN).
+    let mean = |f: &dyn Fn(usize) -> f64| -> Vec<f32> {
+        let mut out = Vec::with_capacity(npx);
+        for y in 0..h {
+            for x in 0..w {
+                let (mut s, mut c) = (0.0, 0u32);
+                for j in 0..n {
+                    for i in 0..n {
+                        let v = f(idx(x, y, i, j));
+                        if v.is_finite() {
+                            s += v;
+                            c += 1;
+                        }
+                    }
+                }
+                out.push(if c > 0 {
+                    (s / c as f64) as f32
+                } else {
+                    f32::NAN
+                });
+            }
+        }
+        out
+    };
+    // The sample nearest the pixel centre (for categorical planes).
+    let centre = |f: &dyn Fn(usize) -> f64| -> Vec<f32> {
+        let c = n / 2;
+        (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .map(|(x, y)| f(idx(x, y, c, c)) as f32)
+            .collect()
+    };
+    let surf = |k: usize| samples[k].surface.as_ref();
+    let mut p = Planes::new(w, h);
+    let radiance = mean(&|k| results[k].radiance_w_m2_sr_um);
+    let band = &st.band;
+    let t_app: Vec<f32> = radiance
+        .iter()
+        .map(|&l| {
+            band.apparent_temp_k(l as f64)
+                .map_or(f32::NAN, |t| t as f32)
+        })
+        .collect();
+    p.push("band_radiance", "W m-2 sr-1 um-1", radiance.clone());
+    p.push("apparent_temperature", "K", t_app);
+    p.push(
+        "surface_temperature",
+        "K",
+        mean(&|k| surf(k).map_or(f64::NAN, |s| s.temp_k)),
+    );
+    p.push(
+        "material",
+        "index (-1 none)",
+        centre(&|k| surf(k).map_or(-1.0, |s| s.material as f64)),
+    );
+    p.push(
+        "facet",
+        "triangle index (-1 none)",
+        centre(&|k| surf(k).map_or(-1.0, |s| s.prim as f64)),
+    );
+    p.push(
+        "sun_now",
+        "fraction",
+        mean(&|k| surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64)),
+    );
+    let interval_h = cond.interval_s as f64 / 3600.0;
+    p.push(
+        "hours_sunlit",
+        "h",
+        mean(&|k| {
+            surf(k).map_or(f64::NAN, |s| {
+                s.history.iter().filter(|b| **b).count() as f64 * interval_h
+            })
+        }),
+    );
+    p.push(
+        "range",
+        "m",
+        mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64)),
+    );
+    p.push("view_angle", "deg", mean(&|k| results[k].view_angle_deg));
+    p.push(
+        "case",
+        "eq. 1-4 (0 outside)",
+        centre(&|k| results[k].case as f64),
+    );
+    for (name, f) in [
+        (
+            "emitted",
+            (|t: &TermsJson| t.emitted) as fn(&TermsJson) -> f64,
+        ),
+        ("reflected_solar", |t| t.reflected_solar),
+        ("reflected_sky", |t| {
+            t.reflected_sky_thermal + t.reflected_sky_scattered
+        }),
+        ("reflected_background", |t| {
+            t.reflected_background_emitted + t.reflected_background_solar
+        }),
+        ("path_thermal", |t| t.path_thermal),
+        ("path_scattered", |t| t.path_scattered),
+    ] {
+        p.push(name, "W m-2 sr-1 um-1", mean(&|k| f(&results[k].terms)));
+    }
+    // Sensor: PSF, noise, quantisation, on the band radiance.
+    let sensor = &st.scene.scene.sensor;
+    let mut sr = radiance;
+    if let Some(k) = &st.scene.psf_kernel {
+        let kernel = crate::sensor::psf::Kernel::new(k.size, k.size, k.weights.clone())?;
+        sr = crate::sensor::psf::convolve(&sr, w as usize, h as usize, &kernel);
+    } else if let crate::scene::spec::Psf::Gaussian { sigma_px } = sensor.psf {
+        let kernel = crate::sensor::psf::Kernel::gaussian(sigma_px)?;
+        sr = crate::sensor::psf::convolve(&sr, w as usize, h as usize, &kernel);
+    }
+    let ns = &sensor.noise;
+    let (amp, period, dir, phase) = match &ns.periodic {
+        Some(pn) => (
+            pn.amplitude_w_m2_sr_um,
+            pn.period_px,
+            match pn.direction {
+                crate::scene::spec::NoiseDirection::Rows => crate::sensor::noise::Direction::Rows,
+                crate::scene::spec::NoiseDirection::Columns => {
+                    crate::sensor::noise::Direction::Columns
+                }
+            },
+            pn.phase_deg,
+        ),
+        None => (0.0, 0.0, crate::sensor::noise::Direction::Rows, 0.0),
+    };
+    crate::sensor::noise::add_noise(
+        &mut sr,
+        w as usize,
+        &crate::sensor::noise::NoiseSpec {
+            random_sigma: ns.random_sigma_w_m2_sr_um,
+            periodic_amplitude: amp,
+            periodic_period_px: period,
+            periodic_direction: dir,
+            periodic_phase_deg: phase,
+            seed: ns.seed,
+        },
+    );
+    if let Some(q) = &sensor.quantisation {
+        let quant = match (q.gain_counts_per_w_m2_sr_um, q.offset_counts) {
+            (Some(g), off) => crate::sensor::quantise::Quantiser {
+                bits: q.bits,
+                gain: g,
+                offset: -off.unwrap_or(0.0) / g,
+            },
+            _ => {
+                let fin = sr.iter().filter(|v| v.is_finite());
+                let lo = fin.clone().fold(f32::INFINITY, |a, &b| a.min(b)) as f64;
+                let hi = fin.fold(f32::NEG_INFINITY, |a, &b| a.max(b)) as f64;
+                let (lo, hi) = if lo.is_finite() && hi > lo {
+                    (lo, hi)
+                } else {
+                    (0.0, 1.0)
+                };
+                crate::sensor::quantise::Quantiser::spanning(q.bits, lo, hi)
+            }
+        };
+        p.push(
+            "dn",
+            "counts",
+            sr.iter().map(|&v| quant.dn(v as f64) as f32).collect(),
+        );
+    }
+    p.push("sensor_radiance", "W m-2 sr-1 um-1", sr);
+    Ok(p)
+}

@@ -1,0 +1,276 @@
+//! Everything a render needs, prepared once: the static part (geometry,
+//! tracer, materials, band, atmosphere — shared by every frame of a
+//! sequence or sweep) and the conditions of one frame (time, weather
+//! forcing, sun samples, thermal cache).
+
+use std::sync::Arc;
+
+use anyhow::{Context, bail};
+use chrono::{DateTime, Utc};
+use glam::Vec3;
+
+use crate::atmos::{Atmosphere, SpectralAtmosphere};
+use crate::radiometry::{Band, Emissivity, SpectralGrid, SpectralResponse};
+use crate::scene::LoadedScene;
+use crate::scene::material::{BackBoundary as SceneBack, Emissivity as SceneEmissivity, Material};
+use crate::scene::spec::{AtmosphereModel, TracerKind, WeatherFormat, WeatherSpec};
+use crate::sun::{Site, SolarPosition, solar_position};
+use crate::therm::cache::ThermCache;
+use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
+use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
+use crate::therm::weather::{ReadOptions, read_weather_file_with};
+use crate::trace::{self, Backend, Geometry, Tracer};
+
+/// The parts of a render that do not depend on time or weather.
+pub struct Static {
+    pub scene: LoadedScene,
+    pub geometry: Arc<Geometry>,
+    pub tracer: Box<dyn Tracer>,
+    /// Per material (scene material index): the slab model, the emissivity
+    /// model and the specularity.
+    pub slabs: Vec<SlabMaterial>,
+    pub emissivity: Vec<Emissivity>,
+    pub specularity: Vec<f64>,
+    pub band: Band,
+    /// Wavelength of each band bin, µm.
+    pub wavelength_um: Vec<f64>,
+    pub atmosphere: SpectralAtmosphere,
+}
+
+/// One sample of the sun/shadow history.
+#[derive(Clone, Copy, Debug)]
+pub struct SunSample {
+    /// Seconds since the start of the history.
+    pub t_s: i64,
+    /// Unit vector towards the sun (ENU).
+    pub dir: Vec3,
+    /// Sun above the horizon.
+    pub up: bool,
+}
+
+/// The conditions of one frame.
+pub struct Conditions {
+    pub image_time: DateTime<Utc>,
+    /// Start of the history (image time − history hours).
+    pub start: DateTime<Utc>,
+    pub forcing: Vec<Forcing>,
+    pub estimators: EstimatorReport,
+    /// Shadow-history samples; the last one is at the image time.
+    pub suns: Vec<SunSample>,
+    pub interval_s: i64,
+    pub sun_now: SolarPosition,
+    pub cache: ThermCache,
+    /// Air temperature at the image time, K.
+    pub air_temp_k: f64,
+}
+
+/// The thermal slab of a scene material.
+pub fn slab_of(m: &Material) -> SlabMaterial {
+    SlabMaterial {
+        density_kg_m3: m.density_kg_m3,
+        specific_heat_j_kgk: m.specific_heat_j_kgk,
+        conductivity_w_mk: m.conductivity_w_mk,
+        thickness_m: m.thickness_m,
+        solar_absorptivity: m.solar_absorptivity,
+        thermal_emissivity: m.thermal_emissivity,
+        back: match &m.back {
+            SceneBack::Insulated => BackBoundary::Insulated,
+            SceneBack::Air { exposed_area } => BackBoundary::ExposedToAir {
+                area_factor: *exposed_area,
+            },
+            SceneBack::DeepGround { temp_c } => BackBoundary::DeepGround {
+                temp_k: temp_c.map(|c| c + 273.15),
+            },
+        },
+        internal_power_w_m2: m.internal_power_w_m2,
+        ground_albedo: None,
+    }
+}
+
+/// The spectral emissivity model of a scene material.
+pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
+    Ok(match &m.emissivity {
+        SceneEmissivity::Constant => Emissivity::Constant(m.thermal_emissivity),
+        SceneEmissivity::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
+        SceneEmissivity::Table(t) => {
+            // The scene stores values by wavelength then angle; the
+            // radiometry table by angle then wavelength.
+            let (na, nw) = (t.angles_deg.len(), t.wavelengths_um.len());
+            let values = (0..na * nw)
+                .map(|k| t.values[(k % nw) * na + k / nw])
+                .collect();
+            Emissivity::Table(
+                crate::radiometry::EmissivityTable::new(
+                    t.angles_deg.clone(),
+                    t.wavelengths_um.clone(),
+                    values,
+                )
+                .with_context(|| format!("material {}: emissivity table", m.name))?,
+            )
+        }
+    })
+}
+
+/// Name of the built-in table of a standard atmosphere.
+fn atmosphere_name(m: &AtmosphereModel) -> Option<&'static str> {
+    Some(match m {
+        AtmosphereModel::Tropical => "tropical",
+        AtmosphereModel::MidLatitudeSummer => "mls",
+        AtmosphereModel::MidLatitudeWinter => "mlw",
+        AtmosphereModel::SubarcticSummer => "sas",
+        AtmosphereModel::SubarcticWinter => "saw",
+        AtmosphereModel::UsStandard1976 => "us1976",
+        AtmosphereModel::TableFile(_) => return None,
+    })
+}
+
+/// Loads the static part of a scene.
+pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::Result<Static> {
+    let positions = scene.positions.iter().map(|p| Vec3::from(*p)).collect();
+    let geometry = Arc::new(
+        Geometry::new(positions, scene.triangles.clone())
+            .with_context(|| format!("{}: bad geometry", scene.path.display()))?,
+    );
+    let backend = backend.unwrap_or(match scene.scene.render.tracer {
+        TracerKind::Embree => Backend::Embree,
+        TracerKind::Bvh => Backend::Bvh,
+    });
+    let tracer = trace::build(backend, &geometry)?;
+    let slabs: Vec<SlabMaterial> = scene.materials.iter().map(slab_of).collect();
+    let emissivity = scene
+        .materials
+        .iter()
+        .map(emissivity_of)
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let specularity = scene.materials.iter().map(|m| m.specularity).collect();
+
+    // Spectral grid: uniform in wavenumber at the scene's step over the
+    // response's support; only bins with non-zero response are kept.
+    let resp = SpectralResponse {
+        wavelength_um: scene.response.wavelength_um.clone(),
+        response: scene.response.response.clone(),
+        label: format!("{:?}", scene.scene.sensor.band),
+    };
+    let (lo_um, hi_um) = resp.support_um();
+    let step = scene.scene.render.spectral_step_cm1;
+    let (v_lo, v_hi) = (1e4 / hi_um, 1e4 / lo_um);
+    let first = (v_lo / step).floor() * step;
+    let count = (((v_hi - first) / step).ceil() as usize + 1).max(2);
+    let grid = SpectralGrid::uniform(first.max(step), step, count);
+    let band = Band::new(&grid, &resp).context("sensor band")?;
+    let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();
+
+    let atm_spec = &scene.scene.atmosphere;
+    let atm = match atmosphere_name(&atm_spec.model) {
+        Some(name) => {
+            if (atm_spec.visibility_km - 23.0).abs() > 1e-9 {
+                bail!(
+                    "{}: [atmosphere] visibility_km = {}: the shipped tables are for 23 km (rural aerosol); \
+                     generate a table for another visibility with tools/lowtran and name it with table_file",
+                    scene.path.display(),
+                    atm_spec.visibility_km
+                );
+            }
+            Atmosphere::builtin(name)?
+        }
+        None => {
+            let AtmosphereModel::TableFile(p) = &atm_spec.model else {
+                unreachable!("standard models have names")
+            };
+            Atmosphere::load(&scene.resolve(p))?
+        }
+    };
+    let atmosphere = atm
+        .resample(&band.wavenumber_cm1)
+        .context("atmosphere table over the sensor band")?;
+    Ok(Static {
+        scene,
+        geometry,
+        tracer,
+        slabs,
+        emissivity,
+        specularity,
+        band,
+        wavelength_um,
+        atmosphere,
+    })
+}
+
+/// Builds the conditions of a frame at `image_time` (UTC) from the scene's
+/// weather, history length and sampling.
+pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
+    let sc = &st.scene.scene;
+    let opts = &sc.render;
+    let site = Site {
+        lat_deg: sc.site.latitude_deg,
+        lon_deg: sc.site.longitude_deg,
+        elevation_m: sc.site.elevation_m,
+    };
+    let interval_s = (opts.shadow_interval_min * 60.0).round() as i64;
+    let n_sun = (opts.history_hours * 3600.0 / interval_s as f64)
+        .round()
+        .max(1.0) as i64;
+    let history_s = n_sun * interval_s;
+    let start = image_time - chrono::Duration::seconds(history_s);
+    let step_s = opts.thermal_step_min * 60.0;
+    let n_steps = (history_s as f64 / step_s).ceil().max(1.0) as usize;
+    let step_s = history_s as f64 / n_steps as f64;
+
+    let history = match &sc.weather {
+        WeatherSpec::File { path, format } => {
+            // The reader recognises TMY3/EPW/CSV from the file itself.
+            let _: &WeatherFormat = format;
+            let p = st.scene.resolve(path);
+            read_weather_file_with(&p, &ReadOptions::default())
+                .with_context(|| format!("weather file of {}", st.scene.path.display()))?
+                .history
+        }
+        WeatherSpec::Constant(c) => crate::therm::weather::constant_weather(
+            &crate::therm::weather::ConstantWeather {
+                wind_speed_m_s: c.wind_m_s,
+                air_temp_min_c: c.air_min_c,
+                air_temp_max_c: c.air_max_c,
+                dew_point_c: c.dew_point_c,
+                cloud_fraction: c.cloud_fraction,
+                pressure_hpa: c.pressure_pa / 100.0,
+                t_max_after_noon_h: 2.5,
+            },
+            site.lat_deg,
+            site.lon_deg,
+            start - chrono::Duration::hours(2),
+            image_time + chrono::Duration::hours(2),
+            900.0,
+        )?,
+    };
+    let (forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
+        .with_context(|| format!("weather for {}", st.scene.path.display()))?;
+    let suns = (0..=n_sun)
+        .map(|k| {
+            let t = start + chrono::Duration::seconds(k * interval_s);
+            let p = solar_position(t, site.lat_deg, site.lon_deg, site.elevation_m);
+            SunSample {
+                t_s: k * interval_s,
+                dir: glam::DVec3::from(p.sun_dir_enu).as_vec3(),
+                up: p.elevation_deg > 0.0,
+            }
+        })
+        .collect();
+    let sun_now = solar_position(image_time, site.lat_deg, site.lon_deg, site.elevation_m);
+    let settings = ThermSettings {
+        step_s,
+        spin_up_h: opts.history_hours,
+        ..ThermSettings::default()
+    };
+    let air_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
+    Ok(Conditions {
+        image_time,
+        start,
+        forcing,
+        estimators,
+        suns,
+        interval_s,
+        sun_now,
+        cache: ThermCache::new(settings, 0.0, false),
+        air_temp_k,
+    })
+}
