@@ -23,6 +23,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::prepare::{Conditions, Static};
@@ -392,6 +393,44 @@ fn result(case: u8, terms: RadianceTerms, view_angle_deg: f64, emissivity: f64) 
     }
 }
 
+/// Band apparent temperature by table: L(T) tabulated every 0.25 K over
+/// 100-1000 K, inverted by linear interpolation, then one Newton step with
+/// a central-difference derivative (error < 1e-6 K, checked against
+/// [`crate::radiometry::Band::apparent_temp_k`] in the tests). Outside the
+/// table, the band's own Newton solver is used.
+pub struct ApparentTempLut {
+    t0_k: f64,
+    dt_k: f64,
+    radiance: Vec<f64>,
+}
+
+impl ApparentTempLut {
+    pub fn new(band: &crate::radiometry::Band) -> Self {
+        let (t0_k, dt_k, n) = (100.0, 0.25, 3601);
+        let radiance = (0..n)
+            .map(|i| band.planck_w_m2_sr_um(t0_k + dt_k * i as f64))
+            .collect();
+        ApparentTempLut {
+            t0_k,
+            dt_k,
+            radiance,
+        }
+    }
+
+    pub fn apparent_temp_k(&self, band: &crate::radiometry::Band, l: f64) -> Option<f64> {
+        let r = &self.radiance;
+        if !(l > r[0] && l < r[r.len() - 1]) {
+            return band.apparent_temp_k(l);
+        }
+        let i = r.partition_point(|&x| x <= l).clamp(1, r.len() - 1);
+        let f = (l - r[i - 1]) / (r[i] - r[i - 1]);
+        let t = self.t0_k + self.dt_k * (i as f64 - 1.0 + f);
+        let h = 1e-3;
+        let d = (band.planck_w_m2_sr_um(t + h) - band.planck_w_m2_sr_um(t - h)) / (2.0 * h);
+        Some(t - (band.planck_w_m2_sr_um(t) - l) / d)
+    }
+}
+
 /// Averages the n×n samples of each output pixel and applies the sensor
 /// model; returns every output plane.
 pub fn assemble(
@@ -442,10 +481,11 @@ pub fn assemble(
     let mut p = Planes::new(w, h);
     let radiance = mean(&|k| results[k].radiance_w_m2_sr_um);
     let band = &st.band;
+    let lut = ApparentTempLut::new(band);
     let t_app: Vec<f32> = radiance
-        .iter()
+        .par_iter()
         .map(|&l| {
-            band.apparent_temp_k(l as f64)
+            lut.apparent_temp_k(band, l as f64)
                 .map_or(f32::NAN, |t| t as f32)
         })
         .collect();

@@ -25,7 +25,7 @@ use crate::trace::{self, Backend, Geometry, Tracer};
 pub struct Static {
     pub scene: LoadedScene,
     pub geometry: Arc<Geometry>,
-    pub tracer: Box<dyn Tracer>,
+    pub tracer: Arc<dyn Tracer>,
     /// Per material (scene material index): the slab model, the emissivity
     /// model and the specularity.
     pub slabs: Vec<SlabMaterial>,
@@ -135,7 +135,7 @@ pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::R
         TracerKind::Embree => Backend::Embree,
         TracerKind::Bvh => Backend::Bvh,
     });
-    let tracer = trace::build(backend, &geometry)?;
+    let tracer: Arc<dyn Tracer> = Arc::from(trace::build(backend, &geometry)?);
     let slabs: Vec<SlabMaterial> = scene.materials.iter().map(slab_of).collect();
     let emissivity = scene
         .materials
