@@ -18,6 +18,9 @@ use crate::trace::{Geometry, Hit, QueryMode, Ray, Tracer, meshgen};
 pub enum BenchCommand {
     /// Mrays/s for primary and shadow rays, per backend and query mode.
     Rays(RaysArgs),
+    /// Run time against error for each knob (thermal step, shadow sampling,
+    /// spectral step, supersampling, spin-up) against a converged reference.
+    Accuracy(super::accuracy::AccuracyArgs),
     /// Render stage times, Mrays/s and the ratio to the pure-Embree ray
     /// floor, peak memory, over image sizes and facet counts.
     Speed(SpeedArgs),
@@ -78,6 +81,7 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<i32> {
     match cmd {
         BenchCommand::Rays(a) => rays(a),
         BenchCommand::Speed(a) => speed(a),
+        BenchCommand::Accuracy(a) => super::accuracy::run(a),
     }
 }
 

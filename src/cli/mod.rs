@@ -4,6 +4,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod atmos;
+pub mod accuracy;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
