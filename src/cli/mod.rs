@@ -3,9 +3,9 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod atmos;
 pub mod bench;
 pub mod check;
-pub mod atmos;
 pub mod crosscheck;
 pub mod sun;
 pub mod therm;
