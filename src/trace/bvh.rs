@@ -119,7 +119,11 @@ fn barycentrics(tri: &Triangle, ray: &Ray) -> (f32, f32) {
     let q = s.cross(e1);
     let (u, v) = ((s.dot(p) / det).max(0.0), (d.dot(q) / det).max(0.0));
     let sum = u + v;
-    let (u, v) = if sum > 1.0 { (u / sum, v / sum) } else { (u, v) };
+    let (u, v) = if sum > 1.0 {
+        (u / sum, v / sum)
+    } else {
+        (u, v)
+    };
     (u as f32, v as f32)
 }
 
@@ -159,7 +163,10 @@ mod tests {
             v2: Vec3A::new(6.0, w, 0.0),
         };
         let target = Vec3::new(6.0 * 0.75, 6.0 * 0.5, 0.0);
-        let ray = Ray::new(target + Vec3::new(-3.0, 1.0, 2.0), Vec3::new(3.0, -1.0, -2.0));
+        let ray = Ray::new(
+            target + Vec3::new(-3.0, 1.0, 2.0),
+            Vec3::new(3.0, -1.0, -2.0),
+        );
         let (u, v) = barycentrics(&tri(6.0), &ray);
         assert!((u - 0.25).abs() < 1e-6 && (v - 0.5).abs() < 1e-6, "{u} {v}");
         let mut rng = crate::trace::meshgen::SplitMix(1);

@@ -414,11 +414,7 @@ mod tests {
     fn sliver_miss_is_an_edge_graze() {
         let g = |w: f32| {
             Geometry::new(
-                vec![
-                    Vec3::ZERO,
-                    Vec3::new(6.0, 0.0, 0.0),
-                    Vec3::new(6.0, w, 0.0),
-                ],
+                vec![Vec3::ZERO, Vec3::new(6.0, 0.0, 0.0), Vec3::new(6.0, w, 0.0)],
                 vec![[0, 1, 2]],
             )
             .unwrap()

@@ -23,19 +23,41 @@ fn translated(mut m: MeshBuilder, by: Vec3) -> MeshBuilder {
 /// stacks of coplanar overlapping facets around `c`.
 fn slivers_and_coplanar(c: Vec3) -> MeshBuilder {
     let mut m = MeshBuilder::new();
-    m.grid(c + Vec3::new(-30.0, -30.0, 0.0), (60.0, 60.0), (6, 6), |_, _| 0.0);
+    m.grid(
+        c + Vec3::new(-30.0, -30.0, 0.0),
+        (60.0, 60.0),
+        (6, 6),
+        |_, _| 0.0,
+    );
     for (k, aspect) in [1e-2f32, 1e-4, 1e-6].iter().enumerate() {
-        m.slivers(c + Vec3::new(-15.0 + 15.0 * k as f32, 10.0, 1.0), 6.0, *aspect, 32);
+        m.slivers(
+            c + Vec3::new(-15.0 + 15.0 * k as f32, 10.0, 1.0),
+            6.0,
+            *aspect,
+            32,
+        );
         // vertical slivers too
         let b = c + Vec3::new(-15.0 + 15.0 * k as f32, -10.0, 0.0);
-        m.triangle(b, b + Vec3::new(6.0 * aspect, 0.0, 0.0), b + Vec3::new(0.0, 0.0, 8.0));
+        m.triangle(
+            b,
+            b + Vec3::new(6.0 * aspect, 0.0, 0.0),
+            b + Vec3::new(0.0, 0.0, 8.0),
+        );
     }
     // the same facet five times, and shifted overlapping copies, at z = 2
     let z = c + Vec3::new(0.0, -20.0, 2.0);
     for k in 0..5 {
-        m.triangle(z, z + Vec3::new(8.0, 0.0, 0.0), z + Vec3::new(8.0, 8.0, 0.0));
+        m.triangle(
+            z,
+            z + Vec3::new(8.0, 0.0, 0.0),
+            z + Vec3::new(8.0, 8.0, 0.0),
+        );
         let s = z + Vec3::new(1.5 * k as f32, 0.7 * k as f32, 0.0);
-        m.triangle(s, s + Vec3::new(8.0, 0.0, 0.0), s + Vec3::new(0.0, 8.0, 0.0));
+        m.triangle(
+            s,
+            s + Vec3::new(8.0, 0.0, 0.0),
+            s + Vec3::new(0.0, 8.0, 0.0),
+        );
     }
     // coplanar overlapping vertical walls
     let w = c + Vec3::new(20.0, -25.0, 0.0);
@@ -48,16 +70,25 @@ fn slivers_and_coplanar(c: Vec3) -> MeshBuilder {
 fn scenes() -> Vec<(&'static str, MeshBuilder)> {
     let far = Vec3::new(50_000.0, -50_000.0, 1_000.0);
     let mut terrain_10km = meshgen::terrain(10_000.0, 48, 1_000.0);
-    terrain_10km.cuboid(Vec3::new(100.0, 100.0, 990.0), Vec3::new(130.0, 160.0, 1_030.0));
+    terrain_10km.cuboid(
+        Vec3::new(100.0, 100.0, 990.0),
+        Vec3::new(130.0, 160.0, 1_030.0),
+    );
     vec![
         ("mixed scene at origin", meshgen::mixed_scene()),
-        ("mixed scene 50 km out", translated(meshgen::mixed_scene(), far)),
+        (
+            "mixed scene 50 km out",
+            translated(meshgen::mixed_scene(), far),
+        ),
         ("10 km terrain", terrain_10km),
         (
             "10 km terrain 50 km out",
             translated(meshgen::terrain(10_000.0, 32, 0.0), far),
         ),
-        ("slivers/coplanar at origin", slivers_and_coplanar(Vec3::ZERO)),
+        (
+            "slivers/coplanar at origin",
+            slivers_and_coplanar(Vec3::ZERO),
+        ),
         ("slivers/coplanar 50 km out", slivers_and_coplanar(far)),
     ]
 }
@@ -133,11 +164,7 @@ fn check_hit(g: &Geometry, ray: &Ray, h: &Hit, ctx: &dyn Fn() -> String) {
     );
     let tol = 1e-4;
     assert!(
-        h.u.is_finite()
-            && h.v.is_finite()
-            && h.u >= -tol
-            && h.v >= -tol
-            && h.u + h.v <= 1.0 + tol,
+        h.u.is_finite() && h.v.is_finite() && h.u >= -tol && h.v >= -tol && h.u + h.v <= 1.0 + tol,
         "{}: barycentrics ({}, {})",
         ctx(),
         h.u,
@@ -177,7 +204,11 @@ fn check_hit(g: &Geometry, ray: &Ray, h: &Hit, ctx: &dyn Fn() -> String) {
     if twice_area / longest >= 0.01 * longest {
         let miss = (p.as_dvec3() - on_ray).length();
         let allowed = 2e-4 * longest + 1e-5 * reach / cos;
-        assert!(miss <= allowed, "{}: hit point {miss} m off the ray (allowed {allowed})", ctx());
+        assert!(
+            miss <= allowed,
+            "{}: hit point {miss} m off the ray (allowed {allowed})",
+            ctx()
+        );
     }
 }
 
@@ -228,7 +259,11 @@ fn tracers_finite_hits_and_robust_secondary_origins() {
                 let ctx = || format!("{name} {backend}: ray {i}, prim {}, p {p}, n {nf}", h.prim);
                 assert!(o.is_finite(), "{}: offset origin {o}", ctx());
                 let dist = plane_distance(&g, h.prim, nf, o);
-                assert!(dist > 0.0, "{}: offset origin {o} is {dist} m behind the facet", ctx());
+                assert!(
+                    dist > 0.0,
+                    "{}: offset origin {o} is {dist} m behind the facet",
+                    ctx()
+                );
                 assert!(
                     (o - p).abs().max_element() <= 1e-4 * p.abs().max_element() + 1e-4,
                     "{}: offset moved too far: {o}",
@@ -255,7 +290,13 @@ fn tracers_finite_hits_and_robust_secondary_origins() {
                 let Some(h) = h else { continue };
                 let ctx = || format!("{name} {backend}: secondary {i} {ray:?} from {}", from[i]);
                 check_hit(&g, ray, h, &ctx);
-                assert_ne!(h.prim, from[i], "{}: self-intersection at t = {}", ctx(), h.t);
+                assert_ne!(
+                    h.prim,
+                    from[i],
+                    "{}: self-intersection at t = {}",
+                    ctx(),
+                    h.t
+                );
             }
         }
     }
@@ -321,10 +362,24 @@ fn invalid_rays_never_hit() {
         Ray::new(inf, down),
         Ray::new(above, inf),
         Ray::new(above, Vec3::ZERO),
-        Ray { tnear: 10.0, tfar: 5.0, ..Ray::new(above, down) },
-        Ray { tnear: 0.0, tfar: -1.0, ..Ray::new(above, down) },
-        Ray { tnear: f32::NAN, ..Ray::new(above, down) },
-        Ray { tfar: f32::NAN, ..Ray::new(above, down) },
+        Ray {
+            tnear: 10.0,
+            tfar: 5.0,
+            ..Ray::new(above, down)
+        },
+        Ray {
+            tnear: 0.0,
+            tfar: -1.0,
+            ..Ray::new(above, down)
+        },
+        Ray {
+            tnear: f32::NAN,
+            ..Ray::new(above, down)
+        },
+        Ray {
+            tfar: f32::NAN,
+            ..Ray::new(above, down)
+        },
         Ray::new(Vec3::splat(f32::MAX), down),
         Ray::new(Vec3::new(1e19, 0.0, 0.0), down),
         Ray::new(above, Vec3::new(0.0, 0.0, -1e19)),
@@ -337,7 +392,11 @@ fn invalid_rays_never_hit() {
         let mut blocked = vec![false; rays.len()];
         tracer.occluded(&rays, &mut blocked);
         for i in 0..n_bad {
-            assert!(hits[i].is_none() && !blocked[i], "{backend}: bad ray {i} {:?} hit", rays[i]);
+            assert!(
+                hits[i].is_none() && !blocked[i],
+                "{backend}: bad ray {i} {:?} hit",
+                rays[i]
+            );
         }
         for i in n_bad..rays.len() {
             let h = hits[i].unwrap_or_else(|| panic!("{backend}: valid ray {i} missed"));
