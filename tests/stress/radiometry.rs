@@ -376,13 +376,17 @@ fn atmosphere_at_grid_edges() {
                             if sun_z >= 90.0 {
                                 assert!(p.l_us_w_m2_sr_um.iter().all(|v| *v == 0.0), "{ctx}");
                             }
-                            for i in 0..n {
-                                let bound = (1.0 - p.tau2[i]) * b_atm[i];
+                            for (i, ((l_ue, tau2), b)) in p
+                                .l_ue_w_m2_sr_um
+                                .iter()
+                                .zip(&p.tau2)
+                                .zip(&b_atm)
+                                .enumerate()
+                            {
+                                let bound = (1.0 - tau2) * b;
                                 assert!(
-                                    p.l_ue_w_m2_sr_um[i] <= bound * 1.001 + 1e-9 * b_atm[i] + 1e-12,
-                                    "{ctx}: L_UE[{i}] = {} > (1 - tau2) B = {bound} (tau2 {})",
-                                    p.l_ue_w_m2_sr_um[i],
-                                    p.tau2[i]
+                                    *l_ue <= bound * 1.001 + 1e-9 * b + 1e-12,
+                                    "{ctx}: L_UE[{i}] = {l_ue} > (1 - tau2) B = {bound} (tau2 {tau2})"
                                 );
                             }
                         }
