@@ -69,7 +69,7 @@ fn bad_input_gives_clear_errors() {
     let (code, err) = run_err(&["crosscheck", "/nonexistent/mesh.obj"], None);
     assert_eq!(code, 1);
     assert!(
-        err.contains("/nonexistent/mesh.obj") && err.contains("cannot read OBJ"),
+        err.contains("/nonexistent/mesh.obj") && err.contains("cannot read file"),
         "{err}"
     );
 
