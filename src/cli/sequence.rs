@@ -324,6 +324,38 @@ fn scene_text(c: &Common) -> anyhow::Result<String> {
     Ok(crate::scene::apply_overrides(&c.scene, &text, &overrides)?)
 }
 
+/// A swept key inside one pose table (`sensor.pose.<kind>.…`) while the
+/// scene has another pose table is an error that says how to switch.
+fn check_pose_key(text: &str, key: &str) -> anyhow::Result<()> {
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    let ["sensor", "pose", kind, _, ..] = parts.as_slice() else {
+        return Ok(());
+    };
+    let Ok(doc) = text.parse::<toml_edit::DocumentMut>() else {
+        return Ok(()); // the loader reports bad TOML
+    };
+    let others: Vec<String> = doc
+        .get("sensor")
+        .and_then(|s| s.as_table_like())
+        .and_then(|s| s.get("pose"))
+        .and_then(|p| p.as_table_like())
+        .map(|p| {
+            p.iter()
+                .map(|(k, _)| k.to_string())
+                .filter(|k| k != kind)
+                .collect()
+        })
+        .unwrap_or_default();
+    if let Some(o) = others.first() {
+        bail!(
+            "--key {key}: the scene's pose is [sensor.pose.{o}], and a pose has exactly one table; \
+             switch with --unset sensor.pose.{o} and --set sensor.pose.{kind}.<key>=<value> for its \
+             other keys, or give the whole pose: --set 'sensor.pose={{{kind}={{...}}}}'"
+        );
+    }
+    Ok(())
+}
+
 /// Keeps letters, digits, `.`, `+`, `-`; anything else becomes `_`.
 fn sanitise(s: &str) -> String {
     let t: String = s
@@ -393,6 +425,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
         bail!("--values gives {} frames; at most {MAX_FRAMES}", values.len());
     }
     let text = scene_text(c)?;
+    check_pose_key(&text, key)?;
     let last = key.rsplit('.').next().unwrap_or(key);
     // Load (and so validate) every value's scene before rendering any.
     let plans = values
