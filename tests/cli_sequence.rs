@@ -153,7 +153,10 @@ fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
         "stretch not stated in the PNG text: {text}"
     );
     for (k, d) in data.iter().enumerate() {
-        let (x0, y0) = ((k as u32 % cols) * (64 + gap), (k as u32 / cols) * (64 + gap));
+        let (x0, y0) = (
+            (k as u32 % cols) * (64 + gap),
+            (k as u32 / cols) * (64 + gap),
+        );
         let want = to_grey(d, s);
         for y in 0..64 {
             for x in 0..64 {
@@ -288,8 +291,7 @@ fn bad_flags_give_clear_errors() {
         ),
         (
             &[
-                "sequence", CONSTANT, "--from", "08:00", "--to", "09:00", "--step", "soon", "-o",
-                o,
+                "sequence", CONSTANT, "--from", "08:00", "--to", "09:00", "--step", "soon", "-o", o,
             ],
             "--step \"soon\"",
         ),
@@ -356,4 +358,39 @@ fn bad_flags_give_clear_errors() {
     }
     // Nothing was rendered or written.
     assert!(!out.join("index.json").exists());
+}
+
+/// `derive_static` shares the geometry/BVH and atmosphere exactly when the
+/// new scene leaves them unchanged.
+#[test]
+fn derive_static_shares_what_is_unchanged() {
+    use irsig::render::{derive_static, prepare_static};
+    use irsig::scene::{load_with_overrides, remove_keys};
+    let path = Path::new(CONSTANT);
+    let ov = |kv: &[(&str, &str)]| -> Vec<(String, String)> {
+        kv.iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    };
+    let base = prepare_static(load_with_overrides(path, &[]).unwrap(), None).unwrap();
+    // A new pose: geometry, BVH and atmosphere shared.
+    let posed =
+        load_with_overrides(path, &ov(&[("sensor.pose.altitude.view_zenith_deg", "30")])).unwrap();
+    let (st, r) = derive_static(Some(&base), posed, None).unwrap();
+    assert!(r.geometry && r.atmosphere, "{r:?}");
+    assert!(std::sync::Arc::ptr_eq(&st.geometry, &base.geometry));
+    // Another band: geometry shared, atmosphere rebuilt over the new bins.
+    let mwir = load_with_overrides(path, &ov(&[("sensor.band", "mwir")])).unwrap();
+    let (st2, r) = derive_static(Some(&st), mwir, None).unwrap();
+    assert!(r.geometry && !r.atmosphere, "{r:?}");
+    assert_ne!(st2.band.wavenumber_cm1, base.band.wavenumber_cm1);
+    // Another tracer backend: the BVH is rebuilt.
+    let bvh = load_with_overrides(path, &ov(&[("render.tracer", "bvh")])).unwrap();
+    let (_, r) = derive_static(Some(&st2), bvh, None).unwrap();
+    assert!(!r.geometry, "{r:?}");
+    // remove_keys drops a whole table; a missing key is an error.
+    let text = std::fs::read_to_string(path).unwrap();
+    let t = remove_keys(path, &text, &["sensor.pose.altitude".into()]).unwrap();
+    assert!(!t.contains("[sensor.pose.altitude]") && t.contains("[sensor.noise]"));
+    assert!(remove_keys(path, &text, &["sensor.pose.nope".into()]).is_err());
 }

@@ -168,7 +168,9 @@ pub fn time_steps(
     let span = (to - from).num_seconds();
     let n = span / step_s + 1;
     if n as usize > MAX_FRAMES {
-        bail!("--from {from} --to {to} --step {step_s} s would give {n} frames; at most {MAX_FRAMES}");
+        bail!(
+            "--from {from} --to {to} --step {step_s} s would give {n} frames; at most {MAX_FRAMES}"
+        );
     }
     Ok((0..n)
         .map(|k| from + chrono::Duration::seconds(k * step_s))
@@ -381,9 +383,7 @@ pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let to = parse_local_time("--to", &a.to, date)?;
     let times = time_steps(from, to, step_s)?;
     let one_day = times.iter().all(|t| t.date() == times[0].date());
-    let whole_minutes = times
-        .iter()
-        .all(|t| chrono::Timelike::second(t) == 0);
+    let whole_minutes = times.iter().all(|t| chrono::Timelike::second(t) == 0);
     let mut scene = Some(scene);
     let plans = times
         .iter()
@@ -422,7 +422,10 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
         );
     }
     if values.len() > MAX_FRAMES {
-        bail!("--values gives {} frames; at most {MAX_FRAMES}", values.len());
+        bail!(
+            "--values gives {} frames; at most {MAX_FRAMES}",
+            values.len()
+        );
     }
     let text = scene_text(c)?;
     check_pose_key(&text, key)?;
@@ -596,10 +599,7 @@ fn run_frames(
         "linear, 2-98 percentile of all frames together: {} .. {} W m-2 sr-1 um-1 -> 0 .. 255",
         stretch.lo, stretch.hi
     );
-    let labels: Vec<String> = entries
-        .iter()
-        .map(|e| e.value.clone())
-        .collect::<Vec<_>>();
+    let labels: Vec<String> = entries.iter().map(|e| e.value.clone()).collect::<Vec<_>>();
     let what = match key {
         Some(k) => format!("sweep of {k} over {}", labels.join(", ")),
         None => format!("sequence at local times {}", labels.join(", ")),
@@ -692,9 +692,9 @@ mod tests {
 
     #[test]
     fn sheet_tiles_frames_under_one_stretch() {
-        let a = vec![0.0f32; 4];
-        let b = vec![10.0f32; 4];
-        let c = vec![5.0f32; 4];
+        let a = [0.0f32; 4];
+        let b = [10.0f32; 4];
+        let c = [5.0f32; 4];
         let s = Stretch { lo: 0.0, hi: 10.0 };
         let (w, h, g, cols, rows, _, _) =
             tile_sheet(&[(2, 2, &a[..]), (2, 2, &b[..]), (2, 2, &c[..])], s, 1);
