@@ -73,7 +73,11 @@ fn err(a: &[f32], b: &[f32], f: impl Fn(f64, f64) -> f64) -> (f64, f64) {
             n += 1;
         }
     }
-    if n == 0 { (f64::NAN, f64::NAN) } else { ((s / n as f64).sqrt(), m) }
+    if n == 0 {
+        (f64::NAN, f64::NAN)
+    } else {
+        ((s / n as f64).sqrt(), m)
+    }
 }
 
 fn plane<'a>(p: &'a Planes, name: &str) -> &'a [f32] {
@@ -83,7 +87,8 @@ fn plane<'a>(p: &'a Planes, name: &str) -> &'a [f32] {
 pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     let base = super::render::parse_overrides(&a.set)?;
     let pool = super::render::thread_pool(a.threads)?;
-    std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
+    std::fs::create_dir_all(&a.output)
+        .with_context(|| format!("cannot create {}", a.output.display()))?;
     let size = a.size.to_string();
     let with = |extra: &[(String, String)]| -> Vec<(String, String)> {
         let mut v = base.clone();
@@ -92,7 +97,10 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         v.extend_from_slice(extra);
         v
     };
-    let reference: Vec<(String, String)> = KNOBS.iter().map(|(k, r, _)| (k.to_string(), r.to_string())).collect();
+    let reference: Vec<(String, String)> = KNOBS
+        .iter()
+        .map(|(k, r, _)| (k.to_string(), r.to_string()))
+        .collect();
     let run_one = |ov: Vec<(String, String)>| -> anyhow::Result<(Planes, f64, u64, u64)> {
         pool.install(|| {
             let t0 = Instant::now();
@@ -112,9 +120,21 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     eprintln!("bench accuracy: reference");
     let (rp, rt, rr, rs) = run_one(with(&reference))?;
     let row = |knob: &str, value: f64, p: &Planes, wall: f64, rays: u64, solves: u64| {
-        let (ts_rms, ts_max) = err(plane(p, "surface_temperature"), plane(&rp, "surface_temperature"), |x, y| x - y);
-        let (l_rms, l_max) = err(plane(p, "band_radiance"), plane(&rp, "band_radiance"), |x, y| 100.0 * (x - y) / y);
-        let (ta_rms, ta_max) = err(plane(p, "apparent_temperature"), plane(&rp, "apparent_temperature"), |x, y| x - y);
+        let (ts_rms, ts_max) = err(
+            plane(p, "surface_temperature"),
+            plane(&rp, "surface_temperature"),
+            |x, y| x - y,
+        );
+        let (l_rms, l_max) = err(
+            plane(p, "band_radiance"),
+            plane(&rp, "band_radiance"),
+            |x, y| 100.0 * (x - y) / y,
+        );
+        let (ta_rms, ta_max) = err(
+            plane(p, "apparent_temperature"),
+            plane(&rp, "apparent_temperature"),
+            |x, y| x - y,
+        );
         AccuracyRow {
             knob: knob.into(),
             value,
@@ -179,15 +199,23 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
 /// curve per knob; the default set as a separate point.
 fn plot(path: &std::path::Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
     let floor = 1e-4;
-    let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.wall_s, r.apparent_temp_rms_k.max(floor))).collect();
-    let (xmin, xmax) = pts.iter().fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.wall_s, r.apparent_temp_rms_k.max(floor)))
+        .collect();
+    let (xmin, xmax) = pts
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let ymax = pts.iter().fold(floor, |m, p| m.max(p.1));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
         let mut chart = ChartBuilder::on(&root)
-            .caption("irsig: apparent-temperature RMS error vs run time", ("sans-serif", 20))
+            .caption(
+                "irsig: apparent-temperature RMS error vs run time",
+                ("sans-serif", 20),
+            )
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(70)
@@ -227,7 +255,11 @@ fn plot(path: &std::path::Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
             .map(|(_, p)| *p)
             .collect();
         chart
-            .draw_series(defaults.into_iter().map(|p| Cross::new(p, 8, BLACK.stroke_width(3))))
+            .draw_series(
+                defaults
+                    .into_iter()
+                    .map(|p| Cross::new(p, 8, BLACK.stroke_width(3))),
+            )
             .map_err(|e| anyhow::anyhow!("{e}"))?
             .label("scene defaults")
             .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
@@ -239,6 +271,8 @@ fn plot(path: &std::path::Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    crate::output::write_atomic(path, |w| std::io::Write::write_all(w, svg.as_bytes()).map_err(|e| e.to_string()))?;
+    crate::output::write_atomic(path, |w| {
+        std::io::Write::write_all(w, svg.as_bytes()).map_err(|e| e.to_string())
+    })?;
     Ok(())
 }

@@ -3,8 +3,8 @@
 
 use clap::{Parser, Subcommand};
 
-pub mod atmos;
 pub mod accuracy;
+pub mod atmos;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
