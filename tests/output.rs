@@ -35,6 +35,12 @@ fn exr_round_trips_every_plane_exactly() {
             .expect("channel present");
         assert_eq!(data, &plane.data);
     }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o644, "outputs are ordinary readable files");
+    }
     // No temporary file is left behind.
     let names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
