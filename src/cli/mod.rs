@@ -7,6 +7,7 @@ pub mod atmos;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
+pub mod probe;
 pub mod render;
 pub mod sun;
 pub mod therm;
@@ -34,6 +35,9 @@ pub enum Command {
     /// Render a scene: EXR with every plane, PNG quicklook, JSON summary
     /// (and ENVI with --envi).
     Render(render::Args),
+    /// Everything about one output pixel: hit, angles, sun/shadow history,
+    /// temperature and flux terms, specular bounce, every radiometric term.
+    Probe(probe::Args),
     /// Solar position (NREL SPA) for a site and a UTC instant.
     Sun(sun::Args),
     /// Surface temperature and flux terms of one material and facet over
@@ -50,6 +54,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Bench(c) => bench::run(c),
         Command::Check(a) => check::run(a),
         Command::Render(a) => render::run(a),
+        Command::Probe(a) => probe::run(a),
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
         Command::Atmos(a) => atmos::run(a),

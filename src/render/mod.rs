@@ -498,7 +498,10 @@ pub fn trace_samples(
     let mut samples = Vec::with_capacity(pixels.len());
     for &p in pixels {
         let b = origins.binary_search(&origin(p)).expect("block traced");
-        let k = blocks[b].iter().position(|&q| q == p).expect("pixel in its block");
+        let k = blocks[b]
+            .iter()
+            .position(|&q| q == p)
+            .expect("pixel in its block");
         samples.push(traced[b][k].clone());
     }
     stats.seconds.trace += t0.elapsed().as_secs_f64();
