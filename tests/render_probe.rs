@@ -51,7 +51,10 @@ fn find(img: &Img, what: &str, interior: bool, pred: impl Fn(u32, u32) -> bool) 
 /// probe's single sample.
 fn check(img: &Img, (x, y): (u32, u32), what: &str) -> Value {
     let p = probe(x, y);
-    eprintln!("{what}: pixel ({x}, {y}), case {}", p["pixel_result"]["case"]);
+    eprintln!(
+        "{what}: pixel ({x}, {y}), case {}",
+        p["pixel_result"]["case"]
+    );
     let pr = &p["pixel_result"];
     let exr = img.at("band_radiance", x, y) as f64;
     let sum = terms_total(&pr["terms"]);
