@@ -178,6 +178,29 @@ fn probe_terms_add_up_to_the_rendered_pixel() {
     let case = s["radiometry"]["case"].as_u64().unwrap();
     assert_eq!(case, if target == "sky" { 2 } else { 3 }, "roof case");
     assert!(f(&s["radiometry"]["terms"]["reflected_sky_thermal"]) > 0.0 || case == 3);
+
+    // A specular pixel whose bounce meets the scene (case 3): a background
+    // surface with its own history and temperature.
+    let bg = find(&img, "specular-to-background", false, |x, y| {
+        img.at("case", x, y) == 3.0
+    });
+    let s = check(&img, bg, "specular to background");
+    let b = &s["bounce"];
+    match b["target"].as_str().unwrap() {
+        "surface" => {
+            let t = f(&b["background"]["thermal"]["surface_temp_k"]);
+            assert!(t > 250.0 && t < 350.0, "background temperature {t}");
+            assert!(
+                !b["background"]["history"]["sunlit"]
+                    .as_str()
+                    .unwrap()
+                    .is_empty()
+            );
+        }
+        "ground plane" => assert!(b["background"].is_null()),
+        other => panic!("case 3 with a bounce to {other}"),
+    }
+    assert!(f(&s["radiometry"]["terms"]["reflected_background_emitted"]) > 0.0);
 }
 
 #[test]

@@ -23,7 +23,9 @@ pub struct Args {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Override a scene key before loading, e.g. `--set sensor.band=lwir`
-    /// or `--set weather.constant.wind_m_s=4.47` (repeatable).
+    /// or `--set weather.constant.wind_m_s=4.47` (repeatable). An inline
+    /// table replaces a whole table, e.g. the pose of Fig. 14:
+    /// `--set 'sensor.pose={slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}'`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Also write an ENVI BSQ float32 cube of every plane.
