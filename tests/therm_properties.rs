@@ -117,6 +117,163 @@ fn back_strategy() -> impl Strategy<Value = BackBoundary> {
     ]
 }
 
+/// One stress case of [`stress_finite_and_bounded`].
+#[derive(Clone, Copy, Debug)]
+struct Extremes {
+    thick: f64,
+    k: f64,
+    rho: f64,
+    c: f64,
+    back: BackBoundary,
+    step: f64,
+    adaptive: bool,
+    wind: f64,
+    slope: f64,
+    flicker: f64,
+    alpha: f64,
+    eps: f64,
+}
+
+/// Runs one case: every output finite and within the physical bounds of
+/// the forcing (tolerance 1e-6 K).
+fn check_finite_and_bounded(x: &Extremes) -> Result<(), TestCaseError> {
+    let Extremes {
+        thick,
+        k,
+        rho,
+        c,
+        back,
+        step,
+        adaptive,
+        wind,
+        slope,
+        flicker,
+        alpha,
+        eps,
+    } = *x;
+    let mut mat = material(thick, k, rho, c, back);
+    mat.solar_absorptivity = alpha;
+    mat.thermal_emissivity = eps;
+    let o = Orientation {
+        slope_deg: slope,
+        aspect_deg: 135.0,
+    };
+    let settings = ThermSettings {
+        step_s: step,
+        tol_k: if adaptive { Some(5e-4) } else { None },
+        ..ThermSettings::default()
+    };
+    // ≤ ~20 000 steps: 1 s steps cover 5.5 h, 1 h steps 4 days.
+    let days = (20000.0 * step / 86400.0).clamp(0.25, 4.0);
+    let days = if adaptive { days.min(1.0) } else { days };
+    let forcing = clear_days(days, 900.0, 285.0, 12.0, wind);
+    let hist = SunHistory {
+        start_s: 0,
+        interval_s: flicker.round().max(1.0) as i64,
+        sunlit: (0..48).map(|i| i % 2 == 0).collect(),
+    };
+    let model = SlabModel::new(&mat, o, &settings).unwrap();
+    let sol = model.solve(&forcing, Some(&hist), true).unwrap();
+    let init = model
+        .equilibrium(
+            &forcing[0],
+            hist.sunlit_at(0.0),
+            model.deep_temp_k(&forcing),
+        )
+        .unwrap();
+    let (lo, hi) = bounds(&mat, o, &forcing, &init, &settings.convection);
+    for r in &sol.series {
+        prop_assert!(r.surface_temp_k.is_finite());
+        prop_assert!(
+            r.surface_temp_k >= lo - 1e-6 && r.surface_temp_k <= hi + 1e-6,
+            "T_s {} outside [{lo}, {hi}] at t = {}",
+            r.surface_temp_k,
+            r.t_s
+        );
+    }
+    for t in &sol.profile_k {
+        prop_assert!(t.is_finite() && *t >= lo - 1e-6 && *t <= hi + 1e-6);
+    }
+    Ok(())
+}
+
+/// The corners of the randomised stress, which random sampling need not
+/// reach: 2 m of soil at 1 s steps, 0.1 mm at 1 h steps, wind 30 m/s, the
+/// sun flickering every second (and every hour), k at both ends, ε and α at
+/// 0 and 1, a vertical and an overhanging facet, fixed and adaptive steps.
+#[test]
+fn stress_corners_finite_and_bounded() {
+    let soil = Extremes {
+        thick: 2.0,
+        k: 0.3,
+        rho: 1500.0,
+        c: 800.0,
+        back: BackBoundary::DeepGround { temp_k: None },
+        step: 1.0,
+        adaptive: false,
+        wind: 30.0,
+        slope: 0.0,
+        flicker: 1.0,
+        alpha: 1.0,
+        eps: 1.0,
+    };
+    let foil = Extremes {
+        thick: 1e-4,
+        k: 400.0,
+        rho: 8000.0,
+        c: 400.0,
+        back: BackBoundary::ExposedToAir { area_factor: 2.0 },
+        step: 3600.0,
+        adaptive: false,
+        wind: 30.0,
+        slope: 90.0,
+        flicker: 3600.0,
+        alpha: 1.0,
+        eps: 0.0,
+    };
+    let cases = [
+        soil,
+        Extremes {
+            wind: 0.0,
+            alpha: 0.0,
+            eps: 0.0,
+            ..soil
+        },
+        Extremes {
+            k: 0.02,
+            rho: 100.0,
+            back: BackBoundary::Insulated,
+            ..soil
+        },
+        Extremes {
+            adaptive: true,
+            ..soil
+        },
+        foil,
+        Extremes {
+            wind: 0.0,
+            flicker: 1.0,
+            slope: 180.0,
+            eps: 1.0,
+            ..foil
+        },
+        Extremes {
+            k: 0.02,
+            rho: 100.0,
+            c: 2000.0,
+            back: BackBoundary::Insulated,
+            ..foil
+        },
+        Extremes {
+            adaptive: true,
+            ..foil
+        },
+    ];
+    for x in &cases {
+        check_finite_and_bounded(x).unwrap_or_else(|e| panic!("{x:?}: {e}"));
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -140,32 +297,7 @@ proptest! {
         alpha in 0.0..1.0f64,
         eps in 0.0..1.0f64,
     ) {
-        let mut mat = material(thick, k, rho, c, back);
-        mat.solar_absorptivity = alpha;
-        mat.thermal_emissivity = eps;
-        let o = Orientation { slope_deg: slope, aspect_deg: 135.0 };
-        let settings = ThermSettings { step_s: step, tol_k: if adaptive { Some(5e-4) } else { None }, ..ThermSettings::default() };
-        // ≤ ~20 000 steps: 1 s steps cover 5.5 h, 1 h steps 4 days.
-        let days = (20000.0 * step / 86400.0).clamp(0.25, 4.0);
-        let days = if adaptive { days.min(1.0) } else { days };
-        let forcing = clear_days(days, 900.0, 285.0, 12.0, wind);
-        let hist = SunHistory {
-            start_s: 0,
-            interval_s: flicker.round().max(1.0) as i64,
-            sunlit: (0..48).map(|i| i % 2 == 0).collect(),
-        };
-        let model = SlabModel::new(&mat, o, &settings).unwrap();
-        let sol = model.solve(&forcing, Some(&hist), true).unwrap();
-        let init = model.equilibrium(&forcing[0], hist.sunlit_at(0.0), model.deep_temp_k(&forcing)).unwrap();
-        let (lo, hi) = bounds(&mat, o, &forcing, &init, &settings.convection);
-        for r in &sol.series {
-            prop_assert!(r.surface_temp_k.is_finite());
-            prop_assert!(r.surface_temp_k >= lo - 1e-6 && r.surface_temp_k <= hi + 1e-6,
-                "T_s {} outside [{lo}, {hi}] at t = {}", r.surface_temp_k, r.t_s);
-        }
-        for t in &sol.profile_k {
-            prop_assert!(t.is_finite() && *t >= lo - 1e-6 && *t <= hi + 1e-6);
-        }
+        check_finite_and_bounded(&Extremes { thick, k, rho, c, back, step, adaptive, wind, slope, flicker, alpha, eps })?;
     }
 
     /// No oscillation: under constant forcing from a uniform initial

@@ -3,12 +3,14 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod accuracy;
 pub mod atmos;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
 pub mod probe;
 pub mod render;
+pub mod sequence;
 pub mod sun;
 pub mod therm;
 
@@ -38,6 +40,13 @@ pub enum Command {
     /// Everything about one output pixel: hit, angles, sun/shadow history,
     /// temperature and flux terms, specular bounce, every radiometric term.
     Probe(probe::Args),
+    /// Render one frame per local clock time (e.g. --from 08:00 --to 15:00
+    /// --step 1h) plus a contact sheet under one stretch and index.json.
+    Sequence(sequence::SequenceArgs),
+    /// Render one frame per value of a scene key (e.g. --key
+    /// weather.constant.wind_m_s --values 0,4.47,8.94,13.41) plus a contact
+    /// sheet under one stretch and index.json.
+    Sweep(sequence::SweepArgs),
     /// Solar position (NREL SPA) for a site and a UTC instant.
     Sun(sun::Args),
     /// Surface temperature and flux terms of one material and facet over
@@ -55,6 +64,8 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Check(a) => check::run(a),
         Command::Render(a) => render::run(a),
         Command::Probe(a) => probe::run(a),
+        Command::Sequence(a) => sequence::run_sequence(a),
+        Command::Sweep(a) => sequence::run_sweep(a),
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
         Command::Atmos(a) => atmos::run(a),

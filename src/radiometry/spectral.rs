@@ -351,9 +351,10 @@ impl Band {
     }
 
     /// Band apparent temperature, K: the T whose band-averaged Planck radiance equals
-    /// `radiance_w_m2_sr_um` (Newton's method on the band integral with a bisection
-    /// safeguard; converges to |ΔT| < 1e-9 K). `None` for a non-positive, non-finite
-    /// radiance or one above the band radiance at 1e5 K.
+    /// `radiance_w_m2_sr_um` (Newton's method on ln L_band(T) − ln L — nearly linear in
+    /// 1/T in the Wien regime, where Newton on L itself crawls by T/x per step — with a
+    /// bisection safeguard; converges to |ΔT| < 1e-9 K). `None` for a non-positive,
+    /// non-finite radiance or one above the band radiance at 1e5 K.
     pub fn apparent_temp_k(&self, radiance_w_m2_sr_um: f64) -> Option<f64> {
         let l = radiance_w_m2_sr_um;
         if !(l > 0.0) || !l.is_finite() {
@@ -374,14 +375,19 @@ impl Band {
             .unwrap_or(300.0)
             .clamp(lo, hi);
         for _ in 0..200 {
-            let f = self.planck_w_m2_sr_um(t) - l;
-            if f > 0.0 {
+            let b = self.planck_w_m2_sr_um(t);
+            if b > l {
                 hi = t;
             } else {
                 lo = t;
             }
             let d = self.planck_dt(t);
-            let mut tn = if d > 0.0 { t - f / d } else { f64::NAN };
+            // Newton on g(T) = ln B(T) − ln L, g' = B'/B
+            let mut tn = if d > 0.0 && b > 0.0 {
+                t - (b.ln() - l.ln()) * b / d
+            } else {
+                f64::NAN
+            };
             if !(tn > lo && tn < hi) {
                 tn = 0.5 * (lo + hi);
             }
@@ -397,6 +403,25 @@ impl Band {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (stress suite): in the Wien regime (1.1 K seen through a
+    /// 0.25-20 µm band, x = c2/(λT) ≈ 650) Newton on the radiance itself moved
+    /// by only T/x per step and stopped after 200 steps at 2.05 K. Reference:
+    /// the band radiance of a blackbody at T must invert to T.
+    #[test]
+    fn apparent_temp_converges_deep_in_wien_regime() {
+        let g = SpectralGrid::uniform(500.0, 20.0, 1976);
+        for (lo, hi) in [(0.25, 20.0), (0.25, 0.3), (3.0, 5.0)] {
+            let band = Band::new(&g, &SpectralResponse::ideal(lo, hi).unwrap()).unwrap();
+            for t in [1.0, 1.102_684_164_171_709, 5.0, 20.0, 300.0, 6000.0] {
+                let l = band.planck_w_m2_sr_um(t);
+                if l > 1e-290 {
+                    let ta = band.apparent_temp_k(l).unwrap();
+                    assert!((ta / t - 1.0).abs() < 1e-9, "{lo}-{hi} um {t} K: {ta}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn ideal_band_weights_integrate_response() {

@@ -32,7 +32,7 @@ use crate::therm::balance::Orientation;
 use crate::therm::slab::{SunHistory, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
-pub use prepare::{Conditions, Static, prepare_conditions, prepare_static};
+pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
 
 /// A surface point seen by a ray.
 #[derive(Clone, Debug)]

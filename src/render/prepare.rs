@@ -126,16 +126,57 @@ fn atmosphere_name(m: &AtmosphereModel) -> Option<&'static str> {
 
 /// Loads the static part of a scene.
 pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::Result<Static> {
-    let positions = scene.positions.iter().map(|p| Vec3::from(*p)).collect();
-    let geometry = Arc::new(
-        Geometry::new(positions, scene.triangles.clone())
-            .with_context(|| format!("{}: bad geometry", scene.path.display()))?,
-    );
-    let backend = backend.unwrap_or(match scene.scene.render.tracer {
-        TracerKind::Embree => Backend::Embree,
-        TracerKind::Bvh => Backend::Bvh,
+    Ok(derive_static(None, scene, backend)?.0)
+}
+
+/// What [`derive_static`] shared with the previous [`Static`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Reused {
+    /// Geometry and tracer (BVH) shared: same vertices, triangles, backend.
+    pub geometry: bool,
+    /// Atmosphere table shared: same `[atmosphere]` and band bins.
+    pub atmosphere: bool,
+}
+
+/// The static part of `scene`, sharing with `prev` (when given) what the
+/// new scene leaves unchanged: the geometry and tracer (BVH) when the
+/// vertices, triangles and tracer backend are equal, the resampled
+/// atmosphere table when `[atmosphere]` and the band's wavenumbers are
+/// equal. Materials and band are cheap and always rebuilt. `backend` must
+/// be the one `prev` was prepared with (None: each scene's
+/// `render.tracer`). Used by sweeps over keys such as the sensor pose.
+pub fn derive_static(
+    prev: Option<&Static>,
+    scene: LoadedScene,
+    backend: Option<Backend>,
+) -> anyhow::Result<(Static, Reused)> {
+    let mut reused = Reused::default();
+    let backend_of = |s: &LoadedScene| {
+        backend.unwrap_or(match s.scene.render.tracer {
+            TracerKind::Embree => Backend::Embree,
+            TracerKind::Bvh => Backend::Bvh,
+        })
+    };
+    let same_geometry = prev.filter(|p| {
+        backend_of(&p.scene) == backend_of(&scene)
+            && p.scene.positions == scene.positions
+            && p.scene.triangles == scene.triangles
     });
-    let tracer: Arc<dyn Tracer> = Arc::from(trace::build(backend, &geometry)?);
+    let (geometry, tracer) = match same_geometry {
+        Some(p) => {
+            reused.geometry = true;
+            (p.geometry.clone(), p.tracer.clone())
+        }
+        None => {
+            let positions = scene.positions.iter().map(|p| Vec3::from(*p)).collect();
+            let geometry = Arc::new(
+                Geometry::new(positions, scene.triangles.clone())
+                    .with_context(|| format!("{}: bad geometry", scene.path.display()))?,
+            );
+            let tracer: Arc<dyn Tracer> = Arc::from(trace::build(backend_of(&scene), &geometry)?);
+            (geometry, tracer)
+        }
+    };
     let slabs: Vec<SlabMaterial> = scene.materials.iter().map(slab_of).collect();
     let emissivity = scene
         .materials
@@ -160,6 +201,35 @@ pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::R
     let band = Band::new(&grid, &resp).context("sensor band")?;
     let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();
 
+    let same_atmosphere = prev.filter(|p| {
+        p.scene.scene.atmosphere == scene.scene.atmosphere
+            && p.band.wavenumber_cm1 == band.wavenumber_cm1
+    });
+    let atmosphere = match same_atmosphere {
+        Some(p) => {
+            reused.atmosphere = true;
+            p.atmosphere.clone()
+        }
+        None => load_atmosphere(&scene, &band)?,
+    };
+    Ok((
+        Static {
+            scene,
+            geometry,
+            tracer,
+            slabs,
+            emissivity,
+            specularity,
+            band,
+            wavelength_um,
+            atmosphere,
+        },
+        reused,
+    ))
+}
+
+/// The scene's atmosphere table, resampled over the band's bins.
+fn load_atmosphere(scene: &LoadedScene, band: &Band) -> anyhow::Result<SpectralAtmosphere> {
     let atm_spec = &scene.scene.atmosphere;
     let atm = match atmosphere_name(&atm_spec.model) {
         Some(name) => {
@@ -180,20 +250,8 @@ pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::R
             Atmosphere::load(&scene.resolve(p))?
         }
     };
-    let atmosphere = atm
-        .resample(&band.wavenumber_cm1)
-        .context("atmosphere table over the sensor band")?;
-    Ok(Static {
-        scene,
-        geometry,
-        tracer,
-        slabs,
-        emissivity,
-        specularity,
-        band,
-        wavelength_um,
-        atmosphere,
-    })
+    atm.resample(&band.wavenumber_cm1)
+        .context("atmosphere table over the sensor band")
 }
 
 /// Builds the conditions of a frame at `image_time` (UTC) from the scene's

@@ -232,6 +232,45 @@ pub fn apply_overrides(
     Ok(doc.to_string())
 }
 
+/// Removes dotted keys (a value, or a whole table such as
+/// `sensor.pose.altitude`) from scene text, e.g. before overriding into
+/// another pose table. A key that is not in the text is an error.
+pub fn remove_keys(path: &Path, text: &str, keys: &[String]) -> Result<String, SceneError> {
+    let bad = |msg: String| SceneError::Invalid {
+        loc: error::Location::file(path),
+        msg,
+    };
+    let mut doc: toml_edit::DocumentMut = text
+        .parse()
+        .map_err(|e| bad(format!("cannot remove keys: {e}")))?;
+    for k in keys {
+        let parts: Vec<&str> = k.split('.').map(str::trim).collect();
+        if parts.iter().any(|p| p.is_empty()) {
+            return Err(bad(format!(
+                "unset `{k}`: expected a dotted key such as sensor.pose.altitude"
+            )));
+        }
+        let mut item: &mut toml_edit::Item = doc.as_item_mut();
+        for part in &parts[..parts.len() - 1] {
+            item = item
+                .as_table_like_mut()
+                .and_then(|t| t.get_mut(part))
+                .ok_or_else(|| bad(format!("unset `{k}`: the scene has no `{part}` there")))?;
+        }
+        let last = parts[parts.len() - 1];
+        item.as_table_like_mut()
+            .and_then(|t| t.remove(last))
+            .ok_or_else(|| bad(format!("unset `{k}`: the scene has no such key")))?;
+    }
+    Ok(doc.to_string())
+}
+
+/// Loads a scene from its text (e.g. edited by [`apply_overrides`]);
+/// `path` names the file in errors and anchors relative paths.
+pub fn load_text(path: &Path, text: String) -> Result<LoadedScene, SceneError> {
+    load_source(path, TomlSource::from_text(path, text))
+}
+
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let scene: Scene = src.parse()?;
     validate(&src, &scene)?;

@@ -18,6 +18,12 @@ pub mod offset;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+/// Largest origin or direction component a ray may have: Embree's
+/// `FLT_LARGE` (1.844e18). Embree checks `|org|, |dir| <= FLT_LARGE` per
+/// lane and aborts the process (an assertion in the library) on a larger,
+/// finite value in an active lane, so such rays are invalid (they never hit).
+pub const MAX_RAY_COORD: f32 = 1.844e18;
+
 /// A ray: origin, direction (need not be normalised; `t` is in units of
 /// `|dir|`), and the accepted interval `[tnear, tfar]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,10 +44,13 @@ impl Ray {
             tfar: f32::INFINITY,
         }
     }
-    /// True when origin and direction are finite and the direction non-zero.
+    /// True when origin and direction are finite, within Embree's range
+    /// ([`MAX_RAY_COORD`]) and the direction non-zero.
     pub fn is_valid(&self) -> bool {
         self.org.is_finite()
             && self.dir.is_finite()
+            && self.org.abs().max_element() <= MAX_RAY_COORD
+            && self.dir.abs().max_element() <= MAX_RAY_COORD
             && self.dir.length_squared() > 0.0
             && !self.tnear.is_nan()
             && !self.tfar.is_nan()

@@ -1,0 +1,396 @@
+//! `irsig sequence` and `irsig sweep` end to end, on small images and short
+//! histories: frames, the contact sheet under one common stretch, the index,
+//! the paper's Fig. 13 phenomenon (contrast falls with wind speed, steeply
+//! first), Fig. 14 (contrast falls with view zenith), and clear errors.
+
+use std::path::Path;
+use std::process::Command;
+
+use irsig::output::exr::read_exr;
+use irsig::output::quicklook::{Stretch, percentile_stretch, to_grey};
+
+const CONSTANT: &str = "scenes/airfield/scene-constant.toml";
+const SMALL: [&str; 6] = [
+    "--set",
+    "sensor.width_px=64",
+    "--set",
+    "sensor.height_px=64",
+    "--set",
+    "render.history_hours=6",
+];
+
+fn irsig(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_irsig"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+fn index(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).unwrap()).unwrap()
+}
+
+/// (width, height, grey pixels, Description text) of an 8-bit grey PNG.
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>, String) {
+    let dec = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut r = dec.read_info().unwrap();
+    let mut buf = vec![0; r.output_buffer_size()];
+    let info = r.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    let text = r
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .find(|t| t.keyword == "Description")
+        .map(|t| t.text.clone())
+        .unwrap_or_default();
+    (info.width, info.height, buf, text)
+}
+
+fn plane(exr: &Path, name: &str) -> Vec<f32> {
+    let (_, _, chans) = read_exr(exr).unwrap();
+    chans
+        .into_iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("{}: no {name}", exr.display()))
+        .1
+}
+
+fn std_app_temp(ix: &serde_json::Value) -> Vec<f64> {
+    ix["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["apparent_temperature_k"]["std"].as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("seq");
+    let mut args = vec![
+        "sequence",
+        CONSTANT,
+        "--from",
+        "09:00",
+        "--to",
+        "2001-08-08T13:00",
+        "--step",
+        "2h",
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "sensor.band=mwir",
+        "--threads",
+        "2",
+    ];
+    args.extend(SMALL);
+    let (rc, stdout, err) = irsig(&args);
+    assert_eq!(rc, 0, "{stdout}\n{err}");
+    let ix = index(&out);
+    assert_eq!(ix["command"], "sequence");
+    let frames = ix["frames"].as_array().unwrap();
+    let stems = ["frame_0900", "frame_1100", "frame_1300"];
+    assert_eq!(frames.len(), 3);
+    for (f, stem) in frames.iter().zip(stems) {
+        for ext in ["exr", "png", "json"] {
+            assert!(out.join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext}");
+        }
+        assert_eq!(f["exr"], format!("{stem}.exr"));
+        let r = &f["band_radiance_w_m2_sr_um"];
+        let (lo, mean, hi) = (
+            r["min"].as_f64().unwrap(),
+            r["mean"].as_f64().unwrap(),
+            r["max"].as_f64().unwrap(),
+        );
+        assert!(lo <= mean && mean <= hi && lo > 0.0, "{r}");
+        // The static part is prepared once: every later frame shares it.
+        assert_eq!(f["reused"]["geometry"], f["index"] != 0);
+    }
+    // Local 09:00 EDT = 13:00 UTC.
+    assert_eq!(frames[0]["image_time_utc"], "2001-08-08T13:00:00+00:00");
+    // The sun climbs from 09:00 to 13:00 (EDT; solar noon ~13:15).
+    let zen: Vec<f64> = frames
+        .iter()
+        .map(|f| f["sun_zenith_deg"].as_f64().unwrap())
+        .collect();
+    assert!(zen[0] > zen[1] && zen[1] > zen[2], "{zen:?}");
+
+    // The contact sheet: 2x2 cells of 64 px with 4 px gaps, one stretch =
+    // the 2-98 percentile of all frames' sensor_radiance together.
+    let sheet = &ix["contact_sheet"];
+    let (cols, gap) = (
+        sheet["columns"].as_u64().unwrap() as u32,
+        sheet["gap_px"].as_u64().unwrap() as u32,
+    );
+    assert_eq!((cols, sheet["rows"].as_u64().unwrap()), (2, 2));
+    let data: Vec<Vec<f32>> = stems
+        .iter()
+        .map(|s| plane(&out.join(format!("{s}.exr")), "sensor_radiance"))
+        .collect();
+    let all: Vec<f32> = data.iter().flatten().copied().collect();
+    let s = percentile_stretch(&all);
+    let stated = Stretch {
+        lo: sheet["stretch_lo"].as_f64().unwrap() as f32,
+        hi: sheet["stretch_hi"].as_f64().unwrap() as f32,
+    };
+    assert_eq!(s, stated);
+    // A common stretch differs from each frame's own (brightness comparable).
+    assert!(
+        data.iter().any(|d| percentile_stretch(d) != s),
+        "frames have identical stretches: the test cannot tell"
+    );
+    let (w, h, grey, text) = read_png(&out.join("contact_sheet.png"));
+    assert_eq!((w, h), (2 * 64 + gap, 2 * 64 + gap));
+    assert!(
+        text.contains(&format!("{} .. {}", s.lo, s.hi)),
+        "stretch not stated in the PNG text: {text}"
+    );
+    for (k, d) in data.iter().enumerate() {
+        let (x0, y0) = (
+            (k as u32 % cols) * (64 + gap),
+            (k as u32 / cols) * (64 + gap),
+        );
+        let want = to_grey(d, s);
+        for y in 0..64 {
+            for x in 0..64 {
+                assert_eq!(
+                    grey[((y0 + y) * w + x0 + x) as usize],
+                    want[(y * 64 + x) as usize],
+                    "frame {k} pixel ({x},{y})"
+                );
+            }
+        }
+    }
+    // Frame JSON says which frame it is.
+    let fj: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("frame_1100.json")).unwrap())
+            .unwrap();
+    assert_eq!(fj["frame"]["local_time"], "2001-08-08T11:00:00");
+}
+
+/// The paper's Fig. 13: at 0/10/20/30 mph the thermal contrast falls with
+/// wind speed, and falls faster first (convection h ~ 5.7 + 3.8 v: the
+/// surface-air coupling grows linearly, the temperature excess as 1/h).
+#[test]
+fn wind_sweep_contrast_falls_steeply_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("wind");
+    let mut args = vec![
+        "sweep",
+        CONSTANT,
+        "--key",
+        "weather.constant.wind_m_s",
+        "--values",
+        "0,4.47,8.94,13.41",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend(SMALL);
+    let (rc, stdout, err) = irsig(&args);
+    assert_eq!(rc, 0, "{stdout}\n{err}");
+    let ix = index(&out);
+    assert_eq!(ix["key"], "weather.constant.wind_m_s");
+    let v: Vec<f64> = ix["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["value_number"].as_f64().unwrap())
+        .collect();
+    assert_eq!(v, [0.0, 4.47, 8.94, 13.41]);
+    let s = std_app_temp(&ix);
+    assert!(s[0] > 1.0, "no contrast at 0 mph: {s:?}");
+    for k in 1..4 {
+        assert!(s[k] < s[k - 1], "contrast does not fall with wind: {s:?}");
+    }
+    assert!(
+        s[0] - s[1] > 2.0 * (s[2] - s[3]),
+        "contrast drop 0->10 mph not much larger than 20->30 mph: {s:?}"
+    );
+    // The band-radiance contrast follows.
+    let r: Vec<f64> = ix["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["band_radiance_w_m2_sr_um"]["std"].as_f64().unwrap())
+        .collect();
+    assert!(r[0] > r[1] && r[1] > r[2] && r[2] > r[3], "{r:?}");
+    // A weather key shares the whole static part.
+    for f in &ix["frames"].as_array().unwrap()[1..] {
+        assert_eq!(f["reused"]["geometry"], true);
+        assert_eq!(f["reused"]["atmosphere"], true);
+    }
+    let names = ["00_wind_m_s_0", "03_wind_m_s_13.41"];
+    for n in names {
+        assert!(out.join(format!("{n}.exr")).is_file(), "{n}");
+    }
+}
+
+/// Fig. 14: the same target at 10 km slant range seen from ever lower
+/// elevations loses contrast (longer path: lower transmission, more path
+/// radiance). Also exercises --unset to switch pose tables; the BVH is shared.
+#[test]
+fn view_zenith_sweep_loses_contrast_and_shares_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("vz");
+    let args = [
+        "sweep",
+        CONSTANT,
+        "--unset",
+        "sensor.pose.altitude",
+        "--set",
+        "sensor.pose.slant_range.slant_range_m=10000",
+        "--set",
+        "sensor.pose.slant_range.azimuth_deg=180",
+        "--key",
+        "sensor.pose.slant_range.view_zenith_deg",
+        "--values",
+        "0,45,75",
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "sensor.width_px=48",
+        "--set",
+        "sensor.height_px=48",
+        "--set",
+        "render.history_hours=6",
+    ];
+    let (rc, stdout, err) = irsig(&args);
+    assert_eq!(rc, 0, "{stdout}\n{err}");
+    let ix = index(&out);
+    let s = std_app_temp(&ix);
+    assert!(s[0] > s[1] && s[1] > s[2], "{s:?}");
+    for f in &ix["frames"].as_array().unwrap()[1..] {
+        assert_eq!(f["reused"]["geometry"], true, "{f}");
+    }
+}
+
+#[test]
+fn bad_flags_give_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bad");
+    let o = out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &[
+                "sequence", CONSTANT, "--from", "25:00", "--to", "15:00", "--step", "1h", "-o", o,
+            ],
+            "--from \"25:00\": expected a local clock time",
+        ),
+        (
+            &[
+                "sequence", CONSTANT, "--from", "08:00", "--to", "07:00", "--step", "1h", "-o", o,
+            ],
+            "is before --from",
+        ),
+        (
+            &[
+                "sequence", CONSTANT, "--from", "08:00", "--to", "09:00", "--step", "soon", "-o", o,
+            ],
+            "--step \"soon\"",
+        ),
+        (
+            &[
+                "sweep",
+                CONSTANT,
+                "--key",
+                "weather.constant.wind_ms",
+                "--values",
+                "1,2",
+                "-o",
+                o,
+            ],
+            "unknown field `wind_ms`",
+        ),
+        (
+            &[
+                "sweep",
+                CONSTANT,
+                "--key",
+                "weather.constant.wind_m_s",
+                "--values",
+                "",
+                "-o",
+                o,
+            ],
+            "--values is empty",
+        ),
+        (
+            &[
+                "sweep",
+                CONSTANT,
+                "--key",
+                "sensor.pose.slant_range.view_zenith_deg",
+                "--values",
+                "0,30",
+                "-o",
+                o,
+            ],
+            "--unset sensor.pose.altitude",
+        ),
+        (
+            &[
+                "sweep",
+                CONSTANT,
+                "--unset",
+                "sensor.nothing",
+                "--key",
+                "sensor.width_px",
+                "--values",
+                "8",
+                "-o",
+                o,
+            ],
+            "unset `sensor.nothing`",
+        ),
+    ];
+    for (args, want) in cases {
+        let (rc, _, err) = irsig(args);
+        assert_ne!(rc, 0, "{args:?} succeeded");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+        assert!(err.contains(want), "{args:?}: expected {want:?} in: {err}");
+    }
+    // Nothing was rendered or written.
+    assert!(!out.join("index.json").exists());
+}
+
+/// `derive_static` shares the geometry/BVH and atmosphere exactly when the
+/// new scene leaves them unchanged.
+#[test]
+fn derive_static_shares_what_is_unchanged() {
+    use irsig::render::{derive_static, prepare_static};
+    use irsig::scene::{load_with_overrides, remove_keys};
+    let path = Path::new(CONSTANT);
+    let ov = |kv: &[(&str, &str)]| -> Vec<(String, String)> {
+        kv.iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    };
+    let base = prepare_static(load_with_overrides(path, &[]).unwrap(), None).unwrap();
+    // A new pose: geometry, BVH and atmosphere shared.
+    let posed =
+        load_with_overrides(path, &ov(&[("sensor.pose.altitude.view_zenith_deg", "30")])).unwrap();
+    let (st, r) = derive_static(Some(&base), posed, None).unwrap();
+    assert!(r.geometry && r.atmosphere, "{r:?}");
+    assert!(std::sync::Arc::ptr_eq(&st.geometry, &base.geometry));
+    // Another band: geometry shared, atmosphere rebuilt over the new bins.
+    let mwir = load_with_overrides(path, &ov(&[("sensor.band", "mwir")])).unwrap();
+    let (st2, r) = derive_static(Some(&st), mwir, None).unwrap();
+    assert!(r.geometry && !r.atmosphere, "{r:?}");
+    assert_ne!(st2.band.wavenumber_cm1, base.band.wavenumber_cm1);
+    // Another tracer backend: the BVH is rebuilt.
+    let bvh = load_with_overrides(path, &ov(&[("render.tracer", "bvh")])).unwrap();
+    let (_, r) = derive_static(Some(&st2), bvh, None).unwrap();
+    assert!(!r.geometry, "{r:?}");
+    // remove_keys drops a whole table; a missing key is an error.
+    let text = std::fs::read_to_string(path).unwrap();
+    let t = remove_keys(path, &text, &["sensor.pose.altitude".into()]).unwrap();
+    assert!(!t.contains("[sensor.pose.altitude]") && t.contains("[sensor.noise]"));
+    assert!(remove_keys(path, &text, &["sensor.pose.nope".into()]).is_err());
+}
