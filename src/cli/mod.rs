@@ -8,6 +8,7 @@ pub mod atmos;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
+pub mod probe;
 pub mod render;
 pub mod sequence;
 pub mod sun;
@@ -36,6 +37,9 @@ pub enum Command {
     /// Render a scene: EXR with every plane, PNG quicklook, JSON summary
     /// (and ENVI with --envi).
     Render(render::Args),
+    /// Everything about one output pixel: hit, angles, sun/shadow history,
+    /// temperature and flux terms, specular bounce, every radiometric term.
+    Probe(probe::Args),
     /// Render one frame per local clock time (e.g. --from 08:00 --to 15:00
     /// --step 1h) plus a contact sheet under one stretch and index.json.
     Sequence(sequence::SequenceArgs),
@@ -59,6 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Bench(c) => bench::run(c),
         Command::Check(a) => check::run(a),
         Command::Render(a) => render::run(a),
+        Command::Probe(a) => probe::run(a),
         Command::Sequence(a) => sequence::run_sequence(a),
         Command::Sweep(a) => sequence::run_sweep(a),
         Command::Sun(a) => sun::run(a),

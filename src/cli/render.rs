@@ -9,7 +9,9 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 
 use crate::output::{envi::write_envi, exr::write_exr, quicklook::write_png};
-use crate::render::{Frame, Stats, prepare_conditions, prepare_static, render};
+use crate::render::{
+    Frame, Progress, Stage, Stats, prepare_conditions, prepare_static, render_with,
+};
 use crate::trace::Backend;
 
 #[derive(clap::Args, Debug)]
@@ -21,7 +23,9 @@ pub struct Args {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Override a scene key before loading, e.g. `--set sensor.band=lwir`
-    /// or `--set weather.constant.wind_m_s=4.47` (repeatable).
+    /// or `--set weather.constant.wind_m_s=4.47` (repeatable). An inline
+    /// table replaces a whole table, e.g. the pose of Fig. 14:
+    /// `--set 'sensor.pose={slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}'`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Also write an ENVI BSQ float32 cube of every plane.
@@ -59,6 +63,64 @@ pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
         b = b.num_threads(n as usize);
     }
     Ok(b.build()?)
+}
+
+/// A terminal progress bar over the render's stages (trace blocks, thermal
+/// solves, radiometry); reports may come from any worker thread and out of
+/// order, so the position only grows within a stage.
+pub struct ProgressBar {
+    bar: indicatif::ProgressBar,
+    state: std::sync::Mutex<Option<(Stage, u64)>>,
+}
+
+impl ProgressBar {
+    pub fn new() -> ProgressBar {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "irsig: {msg:<22} [{bar:32}] {pos}/{len} {elapsed_precise} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        ProgressBar {
+            bar,
+            state: std::sync::Mutex::new(None),
+        }
+    }
+
+    pub fn report(&self, p: Progress) {
+        let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        match *st {
+            Some((stage, done)) if stage == p.stage => {
+                if p.done > done {
+                    *st = Some((stage, p.done));
+                    self.bar.set_position(p.done);
+                }
+            }
+            _ => {
+                *st = Some((p.stage, p.done));
+                self.bar.reset();
+                self.bar.set_message(match p.stage {
+                    Stage::Trace => "tracing (blocks)",
+                    Stage::Thermal => "temperatures (samples)",
+                    Stage::Radiometry => "radiometry (samples)",
+                });
+                self.bar.set_length(p.total);
+                self.bar.set_position(p.done);
+            }
+        }
+    }
+
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Default for ProgressBar {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 /// The JSON summary written beside the image.
@@ -131,7 +193,16 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         note("weather, sun and thermal forcing");
         let cond = prepare_conditions(&st, t)?;
         note("rendering");
-        let frame = render(&st, &cond)?;
+        let bar = tty.then(ProgressBar::new);
+        let report = bar.as_ref().map(|b| move |p: Progress| b.report(p));
+        let frame = render_with(
+            &st,
+            &cond,
+            report.as_ref().map(|f| f as &(dyn Fn(Progress) + Sync)),
+        )?;
+        if let Some(b) = &bar {
+            b.finish();
+        }
         let summary = (
             st.scene.path.display().to_string(),
             t.to_rfc3339(),

@@ -18,6 +18,7 @@
 pub mod pixel;
 pub mod prepare;
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -28,7 +29,7 @@ use serde::Serialize;
 use crate::output::Planes;
 use crate::sensor::camera::Camera;
 use crate::therm::balance::Orientation;
-use crate::therm::slab::SunHistory;
+use crate::therm::slab::{SunHistory, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
 pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
@@ -112,7 +113,7 @@ fn add(c: &AtomicU64, n: usize) {
 const BLOCK: u32 = 16;
 
 /// The supersampled camera: n×n rays per output pixel.
-fn sample_camera(st: &Static) -> Camera {
+pub fn sample_camera(st: &Static) -> Camera {
     let n = st.scene.scene.render.supersample.max(1);
     let mut cam = Camera::from_geometry(&st.scene.camera);
     cam.width *= n;
@@ -258,8 +259,13 @@ fn trace_block(
     samples
 }
 
-/// Step 4: the temperature of a surface from the memoised thermal model.
-fn temperature(st: &Static, cond: &Conditions, s: &Surface) -> anyhow::Result<f64> {
+/// Step 4: the memoised thermal solution of a surface (with the whole
+/// series of flux terms when the cache keeps series).
+pub fn thermal_solution(
+    st: &Static,
+    cond: &Conditions,
+    s: &Surface,
+) -> anyhow::Result<Arc<ThermSolution>> {
     let hist = SunHistory {
         start_s: 0,
         interval_s: cond.interval_s,
@@ -268,13 +274,18 @@ fn temperature(st: &Static, cond: &Conditions, s: &Surface) -> anyhow::Result<f6
     let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
     let m = s.material as usize;
     cond.cache
-        .surface_temp_k(s.material, &st.slabs[m], o, Some(&hist), 0, &cond.forcing)
+        .solve(s.material, &st.slabs[m], o, Some(&hist), 0, &cond.forcing)
         .map_err(|e| {
             anyhow::anyhow!(
                 "thermal model, material {}: {e}",
                 st.scene.materials[m].name
             )
         })
+}
+
+/// Step 4: the temperature of a surface at the image time, K.
+fn temperature(st: &Static, cond: &Conditions, s: &Surface) -> anyhow::Result<f64> {
+    thermal_solution(st, cond, s).map(|sol| sol.surface_temp_k)
 }
 
 /// A rendered frame: the output planes (at output resolution) and stats.
@@ -286,6 +297,122 @@ pub struct Frame {
     pub sample_width: u32,
 }
 
+/// A render stage, as reported to a progress callback.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Steps 1-3 (rays); counted in blocks.
+    Trace,
+    /// Step 4 (temperatures); counted in samples.
+    Thermal,
+    /// Step 5 (radiometry); counted in samples.
+    Radiometry,
+}
+
+/// Progress of a render: `done` of `total` units of `stage` are finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    pub stage: Stage,
+    pub done: u64,
+    pub total: u64,
+}
+
+/// An optional progress callback (called from worker threads, in any
+/// order; `None` costs nothing).
+pub type ProgressFn<'a> = Option<&'a (dyn Fn(Progress) + Sync)>;
+
+/// Samples per progress report in the thermal and radiometry stages.
+const PROGRESS_CHUNK: usize = 1024;
+
+/// The supersampled pixels of block (`bx`, `by`) (its top-left sample
+/// pixel) of a `w`×`h` sample image, in 4x4 tile order: the packets a frame
+/// traces.
+fn block_pixels(bx: u32, by: u32, w: u32, h: u32) -> Vec<(u32, u32)> {
+    let (bw, bh) = (BLOCK.min(w - bx), BLOCK.min(h - by));
+    crate::sensor::camera::tile_order(bw, bh, 4)
+        .into_iter()
+        .map(|(x, y)| (bx + x, by + y))
+        .collect()
+}
+
+/// Steps 1-3 over blocks of sample pixels (rayon over blocks); fills the
+/// ray counters of `stats` (added to what is there).
+fn trace_blocks(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    blocks: &[Vec<(u32, u32)>],
+    stats: &mut Stats,
+    progress: ProgressFn,
+) -> Vec<Vec<Sample>> {
+    let counters = Counters::default();
+    let done = AtomicU64::new(0);
+    let total = blocks.len() as u64;
+    let traced: Vec<Vec<Sample>> = blocks
+        .par_iter()
+        .map(|px| {
+            let s = trace_block(st, cond, cam, px, &counters);
+            if let Some(f) = progress {
+                let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                f(Progress {
+                    stage: Stage::Trace,
+                    done: d,
+                    total,
+                });
+            }
+            s
+        })
+        .collect();
+    let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
+    stats.primary_rays += get(&counters.primary);
+    stats.primary_hits += get(&counters.hits);
+    stats.specular_rays += get(&counters.specular);
+    stats.specular_skipped_diffuse += get(&counters.spec_skipped);
+    stats.solar_rays += get(&counters.solar);
+    stats.solar_skipped_sun_down += get(&counters.sun_down);
+    stats.solar_skipped_facing_away += get(&counters.away);
+    traced
+}
+
+/// Step 4 for every surface (primary and background) of `samples`.
+fn solve_temperatures(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    stats: &mut Stats,
+    progress: ProgressFn,
+) -> anyhow::Result<()> {
+    let t1 = Instant::now();
+    let before = cond.cache.stats();
+    let done = AtomicU64::new(0);
+    let total = samples.len() as u64;
+    samples
+        .par_chunks_mut(PROGRESS_CHUNK)
+        .try_for_each(|chunk| -> anyhow::Result<()> {
+            for s in chunk.iter_mut() {
+                if let Some(surf) = s.surface.as_mut() {
+                    surf.temp_k = temperature(st, cond, surf)?;
+                }
+                if let Some((_, Some(bg))) = s.bounce.as_mut() {
+                    bg.temp_k = temperature(st, cond, bg)?;
+                }
+            }
+            if let Some(f) = progress {
+                let d = done.fetch_add(chunk.len() as u64, Ordering::Relaxed) + chunk.len() as u64;
+                f(Progress {
+                    stage: Stage::Thermal,
+                    done: d,
+                    total,
+                });
+            }
+            Ok(())
+        })?;
+    let after = cond.cache.stats();
+    stats.thermal_solves += after.misses - before.misses;
+    stats.thermal_cache_hits += after.hits - before.hits;
+    stats.seconds.thermal += t1.elapsed().as_secs_f64();
+    Ok(())
+}
+
 /// Traces a frame's geometry and histories and solves temperatures
 /// (steps 1-4); returns the samples in row-major order of the supersampled
 /// image.
@@ -294,6 +421,16 @@ pub fn trace_frame(
     cond: &Conditions,
     stats: &mut Stats,
 ) -> anyhow::Result<(Vec<Sample>, u32, u32)> {
+    trace_frame_with(st, cond, stats, None)
+}
+
+/// [`trace_frame`] with a progress callback.
+pub fn trace_frame_with(
+    st: &Static,
+    cond: &Conditions,
+    stats: &mut Stats,
+    progress: ProgressFn,
+) -> anyhow::Result<(Vec<Sample>, u32, u32)> {
     let cam = sample_camera(st);
     let (w, h) = (cam.width, cam.height);
     let t0 = Instant::now();
@@ -301,19 +438,10 @@ pub fn trace_frame(
     let mut blocks = Vec::new();
     for by in (0..h).step_by(BLOCK as usize) {
         for bx in (0..w).step_by(BLOCK as usize) {
-            let (bw, bh) = (BLOCK.min(w - bx), BLOCK.min(h - by));
-            let px: Vec<(u32, u32)> = crate::sensor::camera::tile_order(bw, bh, 4)
-                .into_iter()
-                .map(|(x, y)| (bx + x, by + y))
-                .collect();
-            blocks.push(px);
+            blocks.push(block_pixels(bx, by, w, h));
         }
     }
-    let counters = Counters::default();
-    let traced: Vec<Vec<Sample>> = blocks
-        .par_iter()
-        .map(|px| trace_block(st, cond, &cam, px, &counters))
-        .collect();
+    let traced = trace_blocks(st, cond, &cam, &blocks, stats, progress);
     let mut samples: Vec<Option<Sample>> = vec![None; (w * h) as usize];
     for (px, ss) in blocks.iter().zip(traced) {
         for (&(x, y), s) in px.iter().zip(ss) {
@@ -324,49 +452,101 @@ pub fn trace_frame(
         .into_iter()
         .map(|s| s.expect("every pixel traced"))
         .collect();
-    stats.seconds.trace = t0.elapsed().as_secs_f64();
-    stats.samples = samples.len() as u64;
-    stats.primary_rays = counters.primary.load(Ordering::Relaxed);
-    stats.primary_hits = counters.hits.load(Ordering::Relaxed);
-    stats.specular_rays = counters.specular.load(Ordering::Relaxed);
-    stats.specular_skipped_diffuse = counters.spec_skipped.load(Ordering::Relaxed);
-    stats.solar_rays = counters.solar.load(Ordering::Relaxed);
-    stats.solar_skipped_sun_down = counters.sun_down.load(Ordering::Relaxed);
-    stats.solar_skipped_facing_away = counters.away.load(Ordering::Relaxed);
-
-    let t1 = Instant::now();
-    let before = cond.cache.stats();
-    samples
-        .par_iter_mut()
-        .try_for_each(|s| -> anyhow::Result<()> {
-            if let Some(surf) = s.surface.as_mut() {
-                surf.temp_k = temperature(st, cond, surf)?;
-            }
-            if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                bg.temp_k = temperature(st, cond, bg)?;
-            }
-            Ok(())
-        })?;
-    let after = cond.cache.stats();
-    stats.thermal_solves = after.misses - before.misses;
-    stats.thermal_cache_hits = after.hits - before.hits;
-    stats.seconds.thermal = t1.elapsed().as_secs_f64();
+    stats.seconds.trace += t0.elapsed().as_secs_f64();
+    stats.samples += samples.len() as u64;
+    solve_temperatures(st, cond, &mut samples, stats, progress)?;
     Ok((samples, w, h))
+}
+
+/// The supersampled pixels of output pixel (`x`, `y`): n×n of them, row by
+/// row (the order in which [`pixel::assemble`] averages them).
+pub fn output_pixel_samples(st: &Static, x: u32, y: u32) -> Vec<(u32, u32)> {
+    let n = st.scene.scene.render.supersample.max(1);
+    (0..n)
+        .flat_map(|j| (0..n).map(move |i| (x * n + i, y * n + j)))
+        .collect()
+}
+
+/// Steps 1-4 for the given supersampled pixels only (e.g. one output
+/// pixel's n×n samples, see [`output_pixel_samples`]); returns their
+/// samples in the order asked for, exactly as [`trace_frame`] computes
+/// them. To get the very same packets (the tracer groups rays by 16 and
+/// answers small groups with single-ray queries), the rays of the blocks
+/// that hold the pixels are traced (cheap); temperatures are solved for the
+/// pixels asked for only.
+pub fn trace_samples(
+    st: &Static,
+    cond: &Conditions,
+    pixels: &[(u32, u32)],
+    stats: &mut Stats,
+) -> anyhow::Result<Vec<Sample>> {
+    let cam = sample_camera(st);
+    let (w, h) = (cam.width, cam.height);
+    if let Some(&(x, y)) = pixels.iter().find(|&&(x, y)| x >= w || y >= h) {
+        anyhow::bail!("sample pixel ({x}, {y}) is outside the {w}x{h} sample image");
+    }
+    let t0 = Instant::now();
+    let origin = |(x, y): (u32, u32)| (x / BLOCK * BLOCK, y / BLOCK * BLOCK);
+    let mut origins: Vec<(u32, u32)> = pixels.iter().map(|&p| origin(p)).collect();
+    origins.sort_unstable();
+    origins.dedup();
+    let blocks: Vec<Vec<(u32, u32)>> = origins
+        .iter()
+        .map(|&(bx, by)| block_pixels(bx, by, w, h))
+        .collect();
+    let traced = trace_blocks(st, cond, &cam, &blocks, stats, None);
+    let mut samples = Vec::with_capacity(pixels.len());
+    for &p in pixels {
+        let b = origins.binary_search(&origin(p)).expect("block traced");
+        let k = blocks[b]
+            .iter()
+            .position(|&q| q == p)
+            .expect("pixel in its block");
+        samples.push(traced[b][k].clone());
+    }
+    stats.seconds.trace += t0.elapsed().as_secs_f64();
+    stats.samples += samples.len() as u64;
+    solve_temperatures(st, cond, &mut samples, stats, None)?;
+    Ok(samples)
 }
 
 /// Renders one frame (steps 1-5 and the sensor).
 pub fn render(st: &Static, cond: &Conditions) -> anyhow::Result<Frame> {
+    render_with(st, cond, None)
+}
+
+/// [`render`] with a progress callback.
+pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyhow::Result<Frame> {
     let mut stats = Stats {
         spectral_bins: st.band.len(),
         ..Default::default()
     };
-    let (samples, w, h) = trace_frame(st, cond, &mut stats)?;
+    let (samples, w, h) = trace_frame_with(st, cond, &mut stats, progress)?;
     let t2 = Instant::now();
     let ctx = pixel::RadiometryContext::new(st, cond)?;
+    let done = AtomicU64::new(0);
+    let total = samples.len() as u64;
     let results: Vec<pixel::SampleResult> = samples
-        .par_iter()
-        .map(|s| ctx.evaluate(s))
-        .collect::<anyhow::Result<_>>()?;
+        .par_chunks(PROGRESS_CHUNK)
+        .map(|chunk| -> anyhow::Result<Vec<pixel::SampleResult>> {
+            let r = chunk
+                .iter()
+                .map(|s| ctx.evaluate(s))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            if let Some(f) = progress {
+                let n = chunk.len() as u64;
+                f(Progress {
+                    stage: Stage::Radiometry,
+                    done: done.fetch_add(n, Ordering::Relaxed) + n,
+                    total,
+                });
+            }
+            Ok(r)
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     stats.seconds.radiometry = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
     let n = st.scene.scene.render.supersample.max(1);

@@ -243,6 +243,20 @@ impl<'a> RadiometryContext<'a> {
 
     /// The band-integrated radiance of one sample, every term separately.
     pub fn evaluate(&self, s: &Sample) -> anyhow::Result<SampleResult> {
+        self.evaluate_with(s, |_, _| {})
+    }
+
+    /// [`Self::evaluate`], also handing the spectral terms of every band
+    /// bin (bin index, terms in W m⁻² sr⁻¹ µm⁻¹ before the band weight) to
+    /// `per_bin`, in bin order.
+    pub fn evaluate_with<F>(&self, s: &Sample, mut per_bin: F) -> anyhow::Result<SampleResult>
+    where
+        F: FnMut(usize, &RadianceTerms),
+    {
+        let mut tap = |i: usize, t: RadianceTerms| {
+            per_bin(i, &t);
+            t
+        };
         let st = self.st;
         let band = &st.band;
         let wl = &st.wavelength_um;
@@ -251,10 +265,13 @@ impl<'a> RadiometryContext<'a> {
                 // Case 4: the sensor sees the sky.
                 let sky = self.sky(s.dir)?;
                 let terms = integrate_terms(band, |i| {
-                    case4_sky(&SkyRadiance {
-                        l_de_w_m2_sr_um: sky.0[i],
-                        l_ds_w_m2_sr_um: sky.1[i],
-                    })
+                    tap(
+                        i,
+                        case4_sky(&SkyRadiance {
+                            l_de_w_m2_sr_um: sky.0[i],
+                            l_ds_w_m2_sr_um: sky.1[i],
+                        }),
+                    )
                 });
                 return Ok(result(4, terms, f64::NAN, f64::NAN));
             }
@@ -265,15 +282,18 @@ impl<'a> RadiometryContext<'a> {
             let path = self.path(p)?;
             let ta = self.cond.air_temp_k;
             let terms = integrate_terms(band, |i| {
-                case1_diffuse(
-                    1.0,
-                    planck_radiance_w_m2_sr_um(wl[i], ta),
-                    &SunIllumination::DARK,
-                    &SkyRadiance {
-                        l_de_w_m2_sr_um: 0.0,
-                        l_ds_w_m2_sr_um: 0.0,
-                    },
-                    &Self::path_at(&path, i),
+                tap(
+                    i,
+                    case1_diffuse(
+                        1.0,
+                        planck_radiance_w_m2_sr_um(wl[i], ta),
+                        &SunIllumination::DARK,
+                        &SkyRadiance {
+                            l_de_w_m2_sr_um: 0.0,
+                            l_ds_w_m2_sr_um: 0.0,
+                        },
+                        &Self::path_at(&path, i),
+                    ),
                 )
             });
             return Ok(result(0, terms, f64::NAN, 1.0));
@@ -306,7 +326,7 @@ impl<'a> RadiometryContext<'a> {
         if spec <= 0.0 {
             return Ok(result(
                 1,
-                integrate_terms(band, diffuse),
+                integrate_terms(band, |i| tap(i, diffuse(i))),
                 view_angle,
                 eps_band,
             ));
@@ -377,7 +397,7 @@ impl<'a> RadiometryContext<'a> {
                 t.accumulate(&diffuse(i), 1.0 - spec);
             }
             t.accumulate(&specular(i), spec);
-            t
+            tap(i, t)
         });
         Ok(result(case, terms, view_angle, eps_band))
     }

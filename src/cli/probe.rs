@@ -1,0 +1,703 @@
+//! `irsig probe <scene> --pixel x,y`: everything about one output pixel —
+//! its primary hit, the angles, the sun/shadow history, the temperature and
+//! its flux terms over the history, the specular bounce and background, every
+//! radiometric term (band-integrated, optionally per bin) and the band result.
+//!
+//! The pixel is computed by the render's own functions
+//! ([`crate::render::trace_samples`], [`crate::render::thermal_solution`],
+//! [`crate::render::pixel::RadiometryContext::evaluate_with`]), so its
+//! `band_radiance` and `apparent_temperature` are those `irsig render` writes
+//! for that pixel (before the sensor's PSF, noise and quantisation).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+use chrono::{DateTime, Duration, FixedOffset, Utc};
+use glam::Vec3;
+use serde::Serialize;
+
+use crate::radiometry::RadianceTerms;
+use crate::render::pixel::{ApparentTempLut, RadiometryContext, SampleResult, TermsJson};
+use crate::render::{
+    Conditions, Sample, Static, Stats, Surface, angle_deg, azimuth_deg, output_pixel_samples,
+    prepare_conditions, prepare_static, thermal_solution, trace_samples, zenith_deg,
+};
+use crate::therm::balance::Orientation;
+use crate::therm::cache::ThermCache;
+use crate::therm::slab::StepRecord;
+use crate::trace::Backend;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The scene file (TOML).
+    pub scene: PathBuf,
+    /// The output pixel, column and row from the top left: `x,y`.
+    #[arg(long, value_name = "X,Y")]
+    pub pixel: String,
+    /// Print JSON (every field, the whole thermal series) instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Also report the terms bin by bin over the band.
+    #[arg(long)]
+    pub spectral: bool,
+    /// Override a scene key before loading (as for `irsig render`).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Ray-tracing backend (default: the scene's `render.tracer`).
+    #[arg(long, value_enum)]
+    pub tracer: Option<Backend>,
+}
+
+/// Parses `x,y`.
+pub fn parse_pixel(s: &str) -> anyhow::Result<(u32, u32)> {
+    let err =
+        || anyhow::anyhow!("--pixel {s}: expected two non-negative integers X,Y, e.g. 256,300");
+    let (x, y) = s.split_once(',').ok_or_else(err)?;
+    Ok((
+        x.trim().parse().map_err(|_| err())?,
+        y.trim().parse().map_err(|_| err())?,
+    ))
+}
+
+/// Everything about one output pixel.
+#[derive(Serialize)]
+pub struct ProbeReport {
+    pub scene: String,
+    pub pixel: [u32; 2],
+    pub image_time_utc: String,
+    pub image_time_local: String,
+    pub band: String,
+    pub spectral_bins: usize,
+    pub supersample: u32,
+    pub sun: SunReport,
+    /// The pixel's n×n samples, row by row.
+    pub samples: Vec<SampleReport>,
+    /// What `irsig render` writes for this pixel.
+    pub pixel_result: PixelResult,
+}
+
+#[derive(Serialize)]
+pub struct SunReport {
+    pub zenith_deg: f64,
+    pub azimuth_deg: f64,
+    pub dir_enu: [f64; 3],
+}
+
+#[derive(Serialize)]
+pub struct PixelResult {
+    /// Mean of the samples' band radiance, W m⁻² sr⁻¹ µm⁻¹ (f64).
+    pub band_radiance_w_m2_sr_um: f64,
+    /// The same as the EXR stores it (f32).
+    pub band_radiance_f32: f32,
+    /// Band apparent temperature of the f32 radiance (as the render), K.
+    pub apparent_temperature_k: Option<f64>,
+    /// Mean surface temperature of the samples that hit, K.
+    pub surface_temperature_k: Option<f64>,
+    /// Mean of the samples' band-integrated terms.
+    pub terms: TermsJson,
+    /// Case of the centre sample.
+    pub case: u8,
+}
+
+#[derive(Serialize)]
+pub struct SampleReport {
+    /// Pixel of the supersampled image.
+    pub sample_px: [u32; 2],
+    /// Unit direction of the primary ray (ENU).
+    pub ray_dir: [f32; 3],
+    pub hit: Option<SurfaceReport>,
+    pub angles: Option<Angles>,
+    /// Specular bounce (specular materials only).
+    pub bounce: Option<BounceReport>,
+    pub radiometry: RadiometryReport,
+}
+
+#[derive(Serialize)]
+pub struct SurfaceReport {
+    /// Triangle index in the scene.
+    pub triangle: u32,
+    /// OBJ face index within its object.
+    pub facet: u32,
+    pub object: String,
+    pub material: String,
+    pub material_index: u32,
+    pub specularity: f64,
+    pub point_m: [f32; 3],
+    /// Unit geometric normal facing the incoming ray.
+    pub normal: [f32; 3],
+    pub slope_deg: f64,
+    pub aspect_deg: f64,
+    /// Distance along the incoming ray, m.
+    pub range_m: f32,
+    pub history: HistoryReport,
+    pub thermal: ThermalReport,
+}
+
+#[derive(Serialize)]
+pub struct HistoryReport {
+    /// Local clock time of the first sample.
+    pub start_local: String,
+    pub interval_min: f64,
+    /// One character per sample, oldest first (the last is the image time):
+    /// 1 sunlit, 0 not.
+    pub sunlit: String,
+    /// Why, per sample: `1` sunlit, `s` shadowed (a ray was blocked), `a`
+    /// facet facing away from the sun, `-` sun below the horizon.
+    pub reason: String,
+    /// Local clock time of each sample.
+    pub times_local: Vec<String>,
+    pub hours_sunlit: f64,
+    pub sun_now: bool,
+}
+
+#[derive(Serialize)]
+pub struct ThermalReport {
+    /// Local clock time of the start of the series (`t_s` = 0).
+    pub start_local: String,
+    /// Surface temperature at the image time, K.
+    pub surface_temp_k: f64,
+    pub steps_accepted: usize,
+    pub steps_rejected: usize,
+    /// One record per thermal step, seconds since the history start, with
+    /// every surface flux term (W m⁻²).
+    pub series: Vec<StepRecord>,
+}
+
+#[derive(Serialize)]
+pub struct Angles {
+    /// Angle between the line of sight (towards the sensor) and the normal.
+    pub view_angle_deg: f64,
+    /// Zenith angle of the line of sight towards the sensor, at the target.
+    pub view_zenith_deg: f64,
+    /// Azimuth of the direction target → sensor, clockwise from north.
+    pub view_azimuth_deg: f64,
+    /// Angle between the sun direction and the normal (> 90: facing away).
+    pub sun_incidence_deg: f64,
+}
+
+#[derive(Serialize)]
+pub struct BounceReport {
+    /// Unit reflected direction (ENU).
+    pub dir: [f32; 3],
+    pub zenith_deg: f64,
+    pub azimuth_deg: f64,
+    /// `sky`, `ground plane` (leaves the scene downwards) or `surface`.
+    pub target: &'static str,
+    pub background: Option<SurfaceReport>,
+}
+
+#[derive(Serialize)]
+pub struct RadiometryReport {
+    /// 1 diffuse, 2 specular→sky, 3 specular→background, 4 sky, 0 outside.
+    pub case: u8,
+    pub case_name: &'static str,
+    /// Band-integrated terms, W m⁻² sr⁻¹ µm⁻¹.
+    pub terms: TermsJson,
+    pub band_radiance_w_m2_sr_um: f64,
+    pub emissivity: f64,
+    pub spectral: Option<Vec<SpectralBin>>,
+}
+
+#[derive(Serialize)]
+pub struct SpectralBin {
+    pub wavenumber_cm1: f64,
+    pub wavelength_um: f64,
+    /// Band weight of the bin (the weights sum to 1).
+    pub weight: f64,
+    /// Spectral terms, W m⁻² sr⁻¹ µm⁻¹.
+    pub terms: TermsJson,
+}
+
+fn case_name(case: u8) -> &'static str {
+    match case {
+        1 => "1: diffuse (eq. 1)",
+        2 => "2: specular, sky (eq. 2)",
+        3 => "3: specular, background (eq. 3)",
+        4 => "4: sky (eq. 4)",
+        _ => "0: leaves the scene downwards (ground at air temperature)",
+    }
+}
+
+struct Ctx<'a> {
+    st: &'a Static,
+    cond: &'a Conditions,
+    offset: FixedOffset,
+}
+
+impl Ctx<'_> {
+    fn local(&self, t: DateTime<Utc>) -> String {
+        t.with_timezone(&self.offset)
+            .format("%Y-%m-%dT%H:%M")
+            .to_string()
+    }
+
+    fn surface(&self, s: &Surface) -> anyhow::Result<SurfaceReport> {
+        let (st, cond) = (self.st, self.cond);
+        let sc = &st.scene;
+        let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
+        let mut reason = String::new();
+        for (sun, &lit) in cond.suns.iter().zip(&s.history) {
+            reason.push(if lit {
+                '1'
+            } else if !sun.up {
+                '-'
+            } else if s.normal.dot(sun.dir) <= 0.0 {
+                'a'
+            } else {
+                's'
+            });
+        }
+        let interval = Duration::seconds(cond.interval_s);
+        let sol = thermal_solution(st, cond, s)?;
+        let tri = s.prim as usize;
+        Ok(SurfaceReport {
+            triangle: s.prim,
+            facet: sc.tri_facet[tri],
+            object: sc.objects[sc.tri_object[tri] as usize].name.clone(),
+            material: sc.materials[s.material as usize].name.clone(),
+            material_index: s.material,
+            specularity: st.specularity[s.material as usize],
+            point_m: s.point.to_array(),
+            normal: s.normal.to_array(),
+            slope_deg: o.slope_deg,
+            aspect_deg: o.aspect_deg,
+            range_m: s.range_m,
+            history: HistoryReport {
+                start_local: self.local(cond.start),
+                interval_min: cond.interval_s as f64 / 60.0,
+                sunlit: s
+                    .history
+                    .iter()
+                    .map(|&b| if b { '1' } else { '0' })
+                    .collect(),
+                reason,
+                times_local: (0..s.history.len())
+                    .map(|k| self.local(cond.start + interval * k as i32))
+                    .collect(),
+                hours_sunlit: s.history.iter().filter(|b| **b).count() as f64
+                    * cond.interval_s as f64
+                    / 3600.0,
+                sun_now: s.sun_now(),
+            },
+            thermal: ThermalReport {
+                start_local: self.local(cond.start),
+                surface_temp_k: s.temp_k,
+                steps_accepted: sol.steps_accepted,
+                steps_rejected: sol.steps_rejected,
+                series: sol.series.clone(),
+            },
+        })
+    }
+
+    fn sample(
+        &self,
+        px: (u32, u32),
+        s: &Sample,
+        r: SampleResult,
+        spectral: Option<Vec<SpectralBin>>,
+    ) -> anyhow::Result<SampleReport> {
+        let sun_dir = Vec3::from(self.cond.sun_now.sun_dir_enu.map(|v| v as f32));
+        let angles = s.surface.as_ref().map(|surf| Angles {
+            view_angle_deg: angle_deg(-s.dir, surf.normal),
+            view_zenith_deg: zenith_deg(-s.dir),
+            view_azimuth_deg: azimuth_deg(-s.dir.as_dvec3()),
+            sun_incidence_deg: angle_deg(sun_dir.normalize(), surf.normal),
+        });
+        let bounce = match &s.bounce {
+            None => None,
+            Some((d, bg)) => Some(BounceReport {
+                dir: d.to_array(),
+                zenith_deg: zenith_deg(*d),
+                azimuth_deg: azimuth_deg(d.as_dvec3()),
+                target: match bg {
+                    Some(_) => "surface",
+                    None if d.z > 0.0 => "sky",
+                    None => "ground plane",
+                },
+                background: bg.as_ref().map(|b| self.surface(b)).transpose()?,
+            }),
+        };
+        Ok(SampleReport {
+            sample_px: [px.0, px.1],
+            ray_dir: s.dir.to_array(),
+            hit: s.surface.as_ref().map(|h| self.surface(h)).transpose()?,
+            angles,
+            bounce,
+            radiometry: RadiometryReport {
+                case: r.case,
+                case_name: case_name(r.case),
+                terms: r.terms,
+                band_radiance_w_m2_sr_um: r.radiance_w_m2_sr_um,
+                emissivity: r.emissivity,
+                spectral,
+            },
+        })
+    }
+}
+
+/// Mean of the finite values (as the render averages a pixel's samples).
+fn finite_mean(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let (mut s, mut c) = (0.0, 0u32);
+    for x in v.filter(|x| x.is_finite()) {
+        s += x;
+        c += 1;
+    }
+    (c > 0).then(|| s / c as f64)
+}
+
+/// Probes output pixel (`x`, `y`) of a prepared scene. `cond.cache` should
+/// keep series (see [`ThermCache::new`]) for the thermal series to be
+/// reported; the temperatures are the same either way.
+pub fn probe(
+    st: &Static,
+    cond: &Conditions,
+    (x, y): (u32, u32),
+    spectral: bool,
+) -> anyhow::Result<ProbeReport> {
+    let cam = &st.scene.camera;
+    if x >= cam.width_px || y >= cam.height_px {
+        bail!(
+            "--pixel {x},{y}: outside the {}x{} image (columns 0..{}, rows 0..{})",
+            cam.width_px,
+            cam.height_px,
+            cam.width_px - 1,
+            cam.height_px - 1
+        );
+    }
+    let px = output_pixel_samples(st, x, y);
+    let mut stats = Stats::default();
+    let samples = trace_samples(st, cond, &px, &mut stats)?;
+    let rctx = RadiometryContext::new(st, cond)?;
+    let mut results = Vec::new();
+    let mut bins = Vec::new();
+    for s in &samples {
+        let mut spec: Vec<SpectralBin> = Vec::new();
+        let r = rctx.evaluate_with(s, |i, t: &RadianceTerms| {
+            if spectral {
+                spec.push(SpectralBin {
+                    wavenumber_cm1: st.band.wavenumber_cm1[i],
+                    wavelength_um: st.wavelength_um[i],
+                    weight: st.band.weights[i],
+                    terms: (*t).into(),
+                });
+            }
+        })?;
+        results.push(r);
+        bins.push(spectral.then_some(spec));
+    }
+    let radiance = finite_mean(results.iter().map(|r| r.radiance_w_m2_sr_um)).unwrap_or(f64::NAN);
+    let radiance_f32 = radiance as f32;
+    let lut = ApparentTempLut::new(&st.band);
+    let mut terms = TermsJson::default();
+    let k = results.len() as f64;
+    for r in &results {
+        let t = &r.terms;
+        terms.emitted += t.emitted / k;
+        terms.reflected_solar += t.reflected_solar / k;
+        terms.reflected_sky_thermal += t.reflected_sky_thermal / k;
+        terms.reflected_sky_scattered += t.reflected_sky_scattered / k;
+        terms.reflected_background_emitted += t.reflected_background_emitted / k;
+        terms.reflected_background_solar += t.reflected_background_solar / k;
+        terms.path_thermal += t.path_thermal / k;
+        terms.path_scattered += t.path_scattered / k;
+    }
+    let n = st.scene.scene.render.supersample.max(1) as usize;
+    let centre_case = results[(n / 2) * n + n / 2].case;
+    let pixel_result = PixelResult {
+        band_radiance_w_m2_sr_um: radiance,
+        band_radiance_f32: radiance_f32,
+        apparent_temperature_k: lut.apparent_temp_k(&st.band, radiance_f32 as f64),
+        surface_temperature_k: finite_mean(
+            samples
+                .iter()
+                .map(|s| s.surface.as_ref().map_or(f64::NAN, |s| s.temp_k)),
+        ),
+        terms,
+        case: centre_case,
+    };
+    let sc = &st.scene.scene;
+    let offset = FixedOffset::east_opt((sc.site.utc_offset_h * 3600.0).round() as i32)
+        .context("site utc_offset_h out of range")?;
+    let ctx = Ctx { st, cond, offset };
+    let reports = px
+        .iter()
+        .zip(&samples)
+        .zip(results)
+        .zip(bins)
+        .map(|(((&p, s), r), b)| ctx.sample(p, s, r, b))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let sun = &cond.sun_now;
+    Ok(ProbeReport {
+        scene: st.scene.path.display().to_string(),
+        pixel: [x, y],
+        image_time_utc: cond.image_time.to_rfc3339(),
+        image_time_local: ctx.local(cond.image_time),
+        band: st.band.label.clone(),
+        spectral_bins: st.band.len(),
+        supersample: n as u32,
+        sun: SunReport {
+            zenith_deg: sun.zenith_deg,
+            azimuth_deg: sun.azimuth_deg,
+            dir_enu: sun.sun_dir_enu,
+        },
+        samples: reports,
+        pixel_result,
+    })
+}
+
+fn write_terms(o: &mut String, pad: &str, t: &TermsJson) {
+    let rows = [
+        ("emitted", t.emitted),
+        ("reflected_solar", t.reflected_solar),
+        ("reflected_sky_thermal", t.reflected_sky_thermal),
+        ("reflected_sky_scattered", t.reflected_sky_scattered),
+        (
+            "reflected_background_emitted",
+            t.reflected_background_emitted,
+        ),
+        ("reflected_background_solar", t.reflected_background_solar),
+        ("path_thermal", t.path_thermal),
+        ("path_scattered", t.path_scattered),
+    ];
+    let total = t.total();
+    for (name, v) in rows {
+        let pct = if total != 0.0 { 100.0 * v / total } else { 0.0 };
+        let _ = writeln!(o, "{pad}{name:<30} {v:>13.6e}  {pct:6.2} %");
+    }
+    let _ = writeln!(o, "{pad}{:<30} {total:>13.6e}", "total");
+}
+
+/// `MM-DD HH:MM` of `start` (`%Y-%m-%dT%H:%M`) plus `t_s` seconds.
+fn local_of(start: &str, t_s: f64) -> String {
+    chrono::NaiveDateTime::parse_from_str(start, "%Y-%m-%dT%H:%M")
+        .map(|t| {
+            (t + Duration::milliseconds((t_s * 1000.0).round() as i64))
+                .format("%m-%d %H:%M")
+                .to_string()
+        })
+        .unwrap_or_else(|_| format!("{:.2} h", t_s / 3600.0))
+}
+
+fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool) {
+    let _ = writeln!(
+        o,
+        "{pad}object {} facet {} (triangle {}), material {} (#{}, specularity {})",
+        s.object, s.facet, s.triangle, s.material, s.material_index, s.specularity
+    );
+    let _ = writeln!(
+        o,
+        "{pad}point [{:.3}, {:.3}, {:.3}] m, normal [{:.4}, {:.4}, {:.4}] (slope {:.2}°, aspect {:.2}°), range {:.2} m",
+        s.point_m[0],
+        s.point_m[1],
+        s.point_m[2],
+        s.normal[0],
+        s.normal[1],
+        s.normal[2],
+        s.slope_deg,
+        s.aspect_deg,
+        s.range_m
+    );
+    let h = &s.history;
+    let _ = writeln!(
+        o,
+        "{pad}sun history from {} every {} min to the image time ({} h sunlit, sunlit now: {}):",
+        h.start_local, h.interval_min, h.hours_sunlit, h.sun_now
+    );
+    let _ = writeln!(o, "{pad}  sunlit {}", h.sunlit);
+    let _ = writeln!(
+        o,
+        "{pad}  reason {}   (1 sunlit, s shadowed, a facing away, - sun down)",
+        h.reason
+    );
+    let th = &s.thermal;
+    let _ = writeln!(
+        o,
+        "{pad}surface temperature {:.3} K ({:.2} °C); {} thermal steps ({} rejected)",
+        th.surface_temp_k,
+        th.surface_temp_k - 273.15,
+        th.steps_accepted,
+        th.steps_rejected
+    );
+    if with_series && !th.series.is_empty() {
+        let _ = writeln!(
+            o,
+            "{pad}  flux terms, W m-2 (hourly; all steps with --json):\n{pad}  {:>11} {:>8} {:>8} {:>3} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+            "local",
+            "T_s K",
+            "T_air K",
+            "sun",
+            "direct",
+            "diffuse",
+            "gnd_refl",
+            "sky_lw",
+            "gnd_lw",
+            "emitted",
+            "convect",
+            "internal",
+            "conduct"
+        );
+        let mut next_h = 0.0;
+        let last = th.series.len() - 1;
+        for (k, r) in th.series.iter().enumerate() {
+            let t_h = r.t_s / 3600.0;
+            if t_h + 1e-9 < next_h && k != last {
+                continue;
+            }
+            next_h = t_h.floor() + 1.0;
+            let f = &r.surface;
+            let _ = writeln!(
+                o,
+                "{pad}  {:>11} {:>8.2} {:>8.2} {:>3} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1}",
+                local_of(&th.start_local, r.t_s),
+                r.surface_temp_k,
+                r.air_temp_k,
+                r.sunlit as u8,
+                f.absorbed_direct_w_m2,
+                f.absorbed_diffuse_w_m2,
+                f.absorbed_ground_reflected_w_m2,
+                f.sky_longwave_in_w_m2,
+                f.ground_longwave_in_w_m2,
+                f.emitted_longwave_w_m2,
+                f.convection_w_m2,
+                f.internal_w_m2,
+                r.conduction_into_slab_w_m2
+            );
+        }
+    }
+}
+
+/// The report as text.
+pub fn to_text(r: &ProbeReport) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "pixel ({}, {}) of {}\nimage time {} local ({}), band {} ({} bins), {}x{} samples per pixel",
+        r.pixel[0],
+        r.pixel[1],
+        r.scene,
+        r.image_time_local,
+        r.image_time_utc,
+        r.band,
+        r.spectral_bins,
+        r.supersample,
+        r.supersample
+    );
+    let _ = writeln!(
+        o,
+        "sun: zenith {:.3}°, azimuth {:.3}°",
+        r.sun.zenith_deg, r.sun.azimuth_deg
+    );
+    for s in &r.samples {
+        let _ = writeln!(
+            o,
+            "\nsample ({}, {}): ray [{:.4}, {:.4}, {:.4}]",
+            s.sample_px[0], s.sample_px[1], s.ray_dir[0], s.ray_dir[1], s.ray_dir[2]
+        );
+        match &s.hit {
+            None => {
+                let _ = writeln!(o, "  no hit");
+            }
+            Some(h) => write_surface(&mut o, "  ", h, true),
+        }
+        if let Some(a) = &s.angles {
+            let _ = writeln!(
+                o,
+                "  view angle {:.3}°, view zenith {:.3}° (sensor at azimuth {:.2}°), sun incidence {:.3}°",
+                a.view_angle_deg, a.view_zenith_deg, a.view_azimuth_deg, a.sun_incidence_deg
+            );
+        }
+        if let Some(b) = &s.bounce {
+            let _ = writeln!(
+                o,
+                "  specular bounce [{:.4}, {:.4}, {:.4}] (zenith {:.3}°, azimuth {:.2}°) -> {}",
+                b.dir[0], b.dir[1], b.dir[2], b.zenith_deg, b.azimuth_deg, b.target
+            );
+            if let Some(bg) = &b.background {
+                write_surface(&mut o, "    ", bg, false);
+            }
+        }
+        let rr = &s.radiometry;
+        let _ = writeln!(
+            o,
+            "  case {}, band emissivity {:.4}; band-integrated terms, W m-2 sr-1 um-1:",
+            rr.case_name, rr.emissivity
+        );
+        write_terms(&mut o, "    ", &rr.terms);
+        if let Some(bins) = &rr.spectral {
+            let _ = writeln!(
+                o,
+                "  spectral terms, W m-2 sr-1 um-1:\n  {:>9} {:>8} {:>8} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11}",
+                "cm-1",
+                "um",
+                "weight",
+                "emitted",
+                "refl_sun",
+                "refl_sky",
+                "refl_bg",
+                "path_th",
+                "path_sc",
+                "total"
+            );
+            for b in bins {
+                let t = &b.terms;
+                let _ = writeln!(
+                    o,
+                    "  {:>9.2} {:>8.4} {:>8.5} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
+                    b.wavenumber_cm1,
+                    b.wavelength_um,
+                    b.weight,
+                    t.emitted,
+                    t.reflected_solar,
+                    t.reflected_sky_thermal + t.reflected_sky_scattered,
+                    t.reflected_background_emitted + t.reflected_background_solar,
+                    t.path_thermal,
+                    t.path_scattered,
+                    t.total()
+                );
+            }
+        }
+    }
+    let p = &r.pixel_result;
+    let _ = writeln!(o, "\npixel result (as irsig render writes it):");
+    let _ = writeln!(o, "  case (centre sample) {}", case_name(p.case));
+    write_terms(&mut o, "    ", &p.terms);
+    let _ = writeln!(
+        o,
+        "  band_radiance {:.7e} W m-2 sr-1 um-1 (f32 {:e})",
+        p.band_radiance_w_m2_sr_um, p.band_radiance_f32
+    );
+    let fmt_k = |t: Option<f64>| t.map_or("none".to_string(), |t| format!("{t:.3} K"));
+    let _ = writeln!(
+        o,
+        "  apparent_temperature {}, surface_temperature {}",
+        fmt_k(p.apparent_temperature_k),
+        fmt_k(p.surface_temperature_k)
+    );
+    o
+}
+
+pub fn run(a: Args) -> anyhow::Result<i32> {
+    let px = parse_pixel(&a.pixel)?;
+    let overrides = super::render::parse_overrides(&a.set)?;
+    let pool = super::render::thread_pool(None)?;
+    let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
+    let report = pool.install(|| -> anyhow::Result<ProbeReport> {
+        let st = prepare_static(scene, a.tracer)?;
+        let t = st.scene.scene.time.utc(&st.scene.scene.site);
+        let mut cond = prepare_conditions(&st, t)?;
+        // Keep the thermal series (the temperatures do not change).
+        cond.cache = ThermCache::new(
+            *cond.cache.settings(),
+            cond.cache.orientation_quantum_deg(),
+            true,
+        );
+        probe(&st, &cond, px, a.spectral)
+    })?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", to_text(&report));
+    }
+    Ok(0)
+}

@@ -1,0 +1,85 @@
+//! Shared helpers of the render integration tests: run the `irsig` binary,
+//! read its EXR planes back.
+#![allow(dead_code)]
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+pub fn airfield() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/airfield/scene.toml")
+}
+
+pub fn irsig() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_irsig"))
+}
+
+/// Runs `irsig` with `args`; panics with its stderr on failure; returns
+/// stdout.
+pub fn run(args: &[String]) -> String {
+    let out = irsig().args(args).output().expect("run irsig");
+    assert!(
+        out.status.success(),
+        "irsig {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+/// `--set k=v` arguments.
+pub fn sets(kv: &[&str]) -> Vec<String> {
+    kv.iter()
+        .flat_map(|s| ["--set".to_string(), s.to_string()])
+        .collect()
+}
+
+/// Decoded EXR planes.
+pub struct Img {
+    pub w: u32,
+    pub h: u32,
+    pub planes: HashMap<String, Vec<f32>>,
+}
+
+impl Img {
+    pub fn read(path: &Path) -> Img {
+        let (w, h, ch) = irsig::output::exr::read_exr(path).expect("read EXR");
+        Img {
+            w,
+            h,
+            planes: ch.into_iter().collect(),
+        }
+    }
+
+    pub fn plane(&self, name: &str) -> &[f32] {
+        self.planes
+            .get(name)
+            .unwrap_or_else(|| panic!("no plane {name}"))
+    }
+
+    pub fn at(&self, name: &str, x: u32, y: u32) -> f32 {
+        self.plane(name)[(y * self.w + x) as usize]
+    }
+}
+
+/// Renders `scene` with the overrides into `dir/name.exr` and reads it back.
+pub fn render(dir: &Path, scene: &Path, name: &str, kv: &[&str]) -> Img {
+    let exr = dir.join(format!("{name}.exr"));
+    let mut args = vec![
+        "render".to_string(),
+        scene.display().to_string(),
+        "-o".into(),
+        exr.display().to_string(),
+    ];
+    args.extend(sets(kv));
+    run(&args);
+    Img::read(&exr)
+}
+
+/// Material index by name in the scene (as loaded with these overrides).
+pub fn material_index(scene: &Path, name: &str) -> f32 {
+    let s = irsig::scene::load_with_overrides(scene, &[]).expect("load scene");
+    s.materials
+        .iter()
+        .position(|m| m.name == name)
+        .unwrap_or_else(|| panic!("no material {name}")) as f32
+}

@@ -1,0 +1,234 @@
+//! `irsig probe` reproduces what `irsig render` writes for a pixel: its
+//! terms add up to the pixel's band radiance in the EXR, for sunlit ground,
+//! shadow, an aircraft and the specular hangar roof, with the right case;
+//! and the render is bit-identical for 1 and 2 threads.
+
+mod common;
+
+use common::{Img, airfield, material_index, render, run, sets};
+use serde_json::Value;
+
+const SIZE: [&str; 2] = ["sensor.width_px=128", "sensor.height_px=128"];
+
+fn probe(x: u32, y: u32) -> Value {
+    let mut args = vec![
+        "probe".to_string(),
+        airfield().display().to_string(),
+        "--pixel".into(),
+        format!("{x},{y}"),
+        "--json".into(),
+    ];
+    args.extend(sets(&SIZE));
+    serde_json::from_str(&run(&args)).expect("probe JSON")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+fn terms_total(t: &Value) -> f64 {
+    t.as_object().expect("terms").values().map(f).sum()
+}
+
+/// First pixel that satisfies `pred`, interior (3x3 neighbourhood of the
+/// same material) when `interior`.
+fn find(img: &Img, what: &str, interior: bool, pred: impl Fn(u32, u32) -> bool) -> (u32, u32) {
+    let m = img.plane("material");
+    for y in 1..img.h - 1 {
+        for x in 1..img.w - 1 {
+            let c = m[(y * img.w + x) as usize];
+            let inside =
+                (0..3).all(|j| (0..3).all(|i| m[((y + j - 1) * img.w + x + i - 1) as usize] == c));
+            if (inside || !interior) && pred(x, y) {
+                return (x, y);
+            }
+        }
+    }
+    panic!("no {what} pixel in the image");
+}
+
+/// Checks the probe of (x, y) against the rendered planes; returns the
+/// probe's single sample.
+fn check(img: &Img, (x, y): (u32, u32), what: &str) -> Value {
+    let p = probe(x, y);
+    eprintln!(
+        "{what}: pixel ({x}, {y}), case {}",
+        p["pixel_result"]["case"]
+    );
+    let pr = &p["pixel_result"];
+    let exr = img.at("band_radiance", x, y) as f64;
+    let sum = terms_total(&pr["terms"]);
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-30);
+    assert!(
+        rel(sum, exr) < 1e-5,
+        "{what} ({x},{y}): probe terms sum to {sum}, EXR band_radiance {exr}"
+    );
+    assert!(rel(f(&pr["band_radiance_w_m2_sr_um"]), exr) < 1e-5);
+    assert_eq!(
+        f(&pr["band_radiance_f32"]) as f32,
+        exr as f32,
+        "{what}: f32 radiance"
+    );
+    // Each term against its own plane (absolute floor for near-zero terms).
+    let t = &pr["terms"];
+    for (plane, v) in [
+        ("emitted", f(&t["emitted"])),
+        ("reflected_solar", f(&t["reflected_solar"])),
+        (
+            "reflected_sky",
+            f(&t["reflected_sky_thermal"]) + f(&t["reflected_sky_scattered"]),
+        ),
+        (
+            "reflected_background",
+            f(&t["reflected_background_emitted"]) + f(&t["reflected_background_solar"]),
+        ),
+        ("path_thermal", f(&t["path_thermal"])),
+        ("path_scattered", f(&t["path_scattered"])),
+    ] {
+        let e = img.at(plane, x, y) as f64;
+        assert!(
+            (v - e).abs() <= 1e-5 * exr,
+            "{what} ({x},{y}): {plane} probe {v}, EXR {e}"
+        );
+    }
+    let t_app = f(&pr["apparent_temperature_k"]);
+    assert!(
+        (t_app - img.at("apparent_temperature", x, y) as f64).abs() < 1e-3,
+        "{what}: apparent temperature {t_app} vs {}",
+        img.at("apparent_temperature", x, y)
+    );
+    let s = &p["samples"][0];
+    let hit = &s["hit"];
+    let t_s = f(&hit["thermal"]["surface_temp_k"]);
+    assert!(rel(t_s, img.at("surface_temperature", x, y) as f64) < 1e-6);
+    // The series ends at the image time, at the same temperature.
+    let series = hit["thermal"]["series"].as_array().expect("series");
+    assert!(
+        series.len() > 24,
+        "{what}: a thermal series over the history"
+    );
+    assert!((f(&series[series.len() - 1]["surface_temp_k"]) - t_s).abs() < 1e-9);
+    // Hit, case and history agree with the planes.
+    assert_eq!(
+        f(&hit["triangle"]) as f32,
+        img.at("facet", x, y),
+        "{what}: facet"
+    );
+    assert_eq!(f(&hit["material_index"]) as f32, img.at("material", x, y));
+    assert_eq!(f(&pr["case"]) as f32, img.at("case", x, y), "{what}: case");
+    let h = &hit["history"];
+    let flags = h["sunlit"].as_str().expect("sunlit string");
+    assert_eq!(flags.len(), 49, "24 h at 30 min, both ends");
+    assert_eq!(
+        flags.ends_with('1') as u8 as f32,
+        img.at("sun_now", x, y),
+        "{what}: sun now"
+    );
+    assert!((f(&h["hours_sunlit"]) - img.at("hours_sunlit", x, y) as f64).abs() < 1e-6);
+    assert!((f(&s["angles"]["view_angle_deg"]) - img.at("view_angle", x, y) as f64).abs() < 1e-3);
+    // The sample's own terms add up to its radiance.
+    let r = &s["radiometry"];
+    assert!(rel(terms_total(&r["terms"]), f(&r["band_radiance_w_m2_sr_um"])) < 1e-12);
+    s.clone()
+}
+
+#[test]
+fn probe_terms_add_up_to_the_rendered_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = airfield();
+    let img = render(dir.path(), &scene, "noon", &SIZE);
+    let ground = [
+        material_index(&scene, "concrete"),
+        material_index(&scene, "asphalt"),
+        material_index(&scene, "grass"),
+    ];
+    let skin = material_index(&scene, "aircraft_skin");
+    let roof = material_index(&scene, "painted_steel_roof");
+    let is = |x, y, m: &[f32]| m.contains(&img.at("material", x, y));
+
+    let lit = find(&img, "sunlit ground", true, |x, y| {
+        is(x, y, &ground) && img.at("sun_now", x, y) == 1.0
+    });
+    let s = check(&img, lit, "sunlit ground");
+    assert_eq!(s["radiometry"]["case"], 1);
+    assert!(f(&s["radiometry"]["terms"]["reflected_solar"]) > 0.0);
+
+    let shade = find(&img, "shadowed ground", true, |x, y| {
+        is(x, y, &ground) && img.at("sun_now", x, y) == 0.0
+    });
+    let s = check(&img, shade, "shadowed ground");
+    assert_eq!(s["radiometry"]["case"], 1);
+    assert_eq!(f(&s["radiometry"]["terms"]["reflected_solar"]), 0.0);
+    assert!(
+        s["hit"]["history"]["reason"]
+            .as_str()
+            .unwrap()
+            .ends_with('s')
+    );
+
+    let plane = find(&img, "aircraft", false, |x, y| is(x, y, &[skin]));
+    let s = check(&img, plane, "aircraft");
+    assert!(s["hit"]["object"].as_str().unwrap().starts_with("aircraft"));
+
+    let r = find(&img, "hangar roof", true, |x, y| is(x, y, &[roof]));
+    let s = check(&img, r, "hangar roof");
+    // Specular: the bounce leaves for the sky (case 2) or meets a facet
+    // (case 3), and the case says which.
+    let target = s["bounce"]["target"].as_str().expect("a specular bounce");
+    let case = s["radiometry"]["case"].as_u64().unwrap();
+    assert_eq!(case, if target == "sky" { 2 } else { 3 }, "roof case");
+    assert!(f(&s["radiometry"]["terms"]["reflected_sky_thermal"]) > 0.0 || case == 3);
+
+    // A specular pixel whose bounce meets the scene (case 3): a background
+    // surface with its own history and temperature.
+    let bg = find(&img, "specular-to-background", false, |x, y| {
+        img.at("case", x, y) == 3.0
+    });
+    let s = check(&img, bg, "specular to background");
+    let b = &s["bounce"];
+    match b["target"].as_str().unwrap() {
+        "surface" => {
+            let t = f(&b["background"]["thermal"]["surface_temp_k"]);
+            assert!(t > 250.0 && t < 350.0, "background temperature {t}");
+            assert!(
+                !b["background"]["history"]["sunlit"]
+                    .as_str()
+                    .unwrap()
+                    .is_empty()
+            );
+        }
+        "ground plane" => assert!(b["background"].is_null()),
+        other => panic!("case 3 with a bounce to {other}"),
+    }
+    assert!(f(&s["radiometry"]["terms"]["reflected_background_emitted"]) > 0.0);
+}
+
+#[test]
+fn render_is_identical_for_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = airfield();
+    let mut imgs = Vec::new();
+    for threads in ["1", "2"] {
+        let exr = dir.path().join(format!("t{threads}.exr"));
+        let mut args = vec![
+            "render".to_string(),
+            scene.display().to_string(),
+            "-o".into(),
+            exr.display().to_string(),
+            "--threads".into(),
+            threads.into(),
+        ];
+        args.extend(sets(&["sensor.width_px=96", "sensor.height_px=96"]));
+        run(&args);
+        imgs.push(Img::read(&exr));
+    }
+    let (a, b) = (&imgs[0], &imgs[1]);
+    assert_eq!((a.w, a.h), (b.w, b.h));
+    assert_eq!(a.planes.len(), b.planes.len());
+    assert!(a.planes.len() >= 15, "every plane written");
+    for (name, pa) in &a.planes {
+        let pb = &b.planes[name];
+        let same = pa.iter().zip(pb).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same, "plane {name} differs between 1 and 2 threads");
+    }
+}
