@@ -339,6 +339,9 @@ fn speed(a: SpeedArgs) -> anyhow::Result<i32> {
         let mut ov = overrides.clone();
         ov.push(("sensor.width_px".into(), size.to_string()));
         ov.push(("sensor.height_px".into(), size.to_string()));
+        // Reset the peak-RSS mark so that each row reports its own peak
+        // (Linux: writing 5 to clear_refs resets VmHWM).
+        let _ = std::fs::write("/proc/self/clear_refs", "5");
         let row = pool.install(|| -> anyhow::Result<SpeedRow> {
             let t0 = Instant::now();
             let mut scene = crate::scene::load_with_overrides(&a.scene, &ov)?;
