@@ -18,7 +18,7 @@ use glam::Vec3;
 use serde::Serialize;
 
 use crate::radiometry::RadianceTerms;
-use crate::render::pixel::{ApparentTempLut, RadiometryContext, SampleResult, TermsJson};
+use crate::render::pixel::{ApparentTempLut, RadiometryContext, SampleResult};
 use crate::render::{
     Conditions, Sample, Static, Stats, Surface, angle_deg, azimuth_deg, output_pixel_samples,
     prepare_conditions, prepare_static, thermal_solution, trace_samples, zenith_deg,
@@ -95,7 +95,7 @@ pub struct PixelResult {
     /// Mean surface temperature of the samples that hit, K.
     pub surface_temperature_k: Option<f64>,
     /// Mean of the samples' band-integrated terms.
-    pub terms: TermsJson,
+    pub terms: RadianceTerms,
     /// Case of the centre sample.
     pub case: u8,
 }
@@ -193,7 +193,7 @@ pub struct RadiometryReport {
     pub case: u8,
     pub case_name: &'static str,
     /// Band-integrated terms, W m⁻² sr⁻¹ µm⁻¹.
-    pub terms: TermsJson,
+    pub terms: RadianceTerms,
     pub band_radiance_w_m2_sr_um: f64,
     pub emissivity: f64,
     pub spectral: Option<Vec<SpectralBin>>,
@@ -206,7 +206,7 @@ pub struct SpectralBin {
     /// Band weight of the bin (the weights sum to 1).
     pub weight: f64,
     /// Spectral terms, W m⁻² sr⁻¹ µm⁻¹.
-    pub terms: TermsJson,
+    pub terms: RadianceTerms,
 }
 
 fn case_name(case: u8) -> &'static str {
@@ -379,7 +379,7 @@ pub fn probe(
                     wavenumber_cm1: st.band.wavenumber_cm1[i],
                     wavelength_um: st.wavelength_um[i],
                     weight: st.band.weights[i],
-                    terms: (*t).into(),
+                    terms: *t,
                 });
             }
         })?;
@@ -389,18 +389,10 @@ pub fn probe(
     let radiance = finite_mean(results.iter().map(|r| r.radiance_w_m2_sr_um)).unwrap_or(f64::NAN);
     let radiance_f32 = radiance as f32;
     let lut = ApparentTempLut::new(&st.band);
-    let mut terms = TermsJson::default();
+    let mut terms = RadianceTerms::default();
     let k = results.len() as f64;
     for r in &results {
-        let t = &r.terms;
-        terms.emitted += t.emitted / k;
-        terms.reflected_solar += t.reflected_solar / k;
-        terms.reflected_sky_thermal += t.reflected_sky_thermal / k;
-        terms.reflected_sky_scattered += t.reflected_sky_scattered / k;
-        terms.reflected_background_emitted += t.reflected_background_emitted / k;
-        terms.reflected_background_solar += t.reflected_background_solar / k;
-        terms.path_thermal += t.path_thermal / k;
-        terms.path_scattered += t.path_scattered / k;
+        terms.accumulate(&r.terms, 1.0 / k);
     }
     let n = st.scene.scene.render.supersample.max(1) as usize;
     let centre_case = results[(n / 2) * n + n / 2].case;
@@ -446,7 +438,7 @@ pub fn probe(
     })
 }
 
-fn write_terms(o: &mut String, pad: &str, t: &TermsJson) {
+fn write_terms(o: &mut String, pad: &str, t: &RadianceTerms) {
     let rows = [
         ("emitted", t.emitted),
         ("reflected_solar", t.reflected_solar),

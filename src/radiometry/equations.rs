@@ -80,7 +80,7 @@ pub struct Background {
 
 /// Every term of eqs. 1-4 at the sensor, W m⁻² sr⁻¹ µm⁻¹ (or band-averaged after
 /// [`RadianceTerms::accumulate`]). Terms that a case does not have are 0.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct RadianceTerms {
     /// ε L_T τ₂: target self-emission.
     pub emitted: f64,

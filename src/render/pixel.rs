@@ -45,54 +45,12 @@ pub struct SampleResult {
     /// Which of the paper's cases: 1 diffuse, 2 specular→sky, 3 specular→
     /// background, 4 sky; 0 a ray leaving the scene downwards.
     pub case: u8,
-    pub terms: TermsJson,
+    pub terms: RadianceTerms,
     pub radiance_w_m2_sr_um: f64,
     /// View angle from the surface normal, degrees (NaN for the sky).
     pub view_angle_deg: f64,
     /// Band-averaged emissivity at the view angle.
     pub emissivity: f64,
-}
-
-/// Band-integrated radiometric terms, W m⁻² sr⁻¹ µm⁻¹ (see
-/// [`RadianceTerms`]).
-#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
-pub struct TermsJson {
-    pub emitted: f64,
-    pub reflected_solar: f64,
-    pub reflected_sky_thermal: f64,
-    pub reflected_sky_scattered: f64,
-    pub reflected_background_emitted: f64,
-    pub reflected_background_solar: f64,
-    pub path_thermal: f64,
-    pub path_scattered: f64,
-}
-
-impl From<RadianceTerms> for TermsJson {
-    fn from(t: RadianceTerms) -> Self {
-        TermsJson {
-            emitted: t.emitted,
-            reflected_solar: t.reflected_solar,
-            reflected_sky_thermal: t.reflected_sky_thermal,
-            reflected_sky_scattered: t.reflected_sky_scattered,
-            reflected_background_emitted: t.reflected_background_emitted,
-            reflected_background_solar: t.reflected_background_solar,
-            path_thermal: t.path_thermal,
-            path_scattered: t.path_scattered,
-        }
-    }
-}
-
-impl TermsJson {
-    pub fn total(&self) -> f64 {
-        self.emitted
-            + self.reflected_solar
-            + self.reflected_sky_thermal
-            + self.reflected_sky_scattered
-            + self.reflected_background_emitted
-            + self.reflected_background_solar
-            + self.path_thermal
-            + self.path_scattered
-    }
 }
 
 type SkyPair = (Vec<f64>, Vec<f64>);
@@ -407,7 +365,7 @@ fn result(case: u8, terms: RadianceTerms, view_angle_deg: f64, emissivity: f64) 
     SampleResult {
         case,
         radiance_w_m2_sr_um: terms.total(),
-        terms: terms.into(),
+        terms,
         view_angle_deg,
         emissivity,
     }
@@ -555,7 +513,7 @@ pub fn assemble(
     for (name, f) in [
         (
             "emitted",
-            (|t: &TermsJson| t.emitted) as fn(&TermsJson) -> f64,
+            (|t: &RadianceTerms| t.emitted) as fn(&RadianceTerms) -> f64,
         ),
         ("reflected_solar", |t| t.reflected_solar),
         ("reflected_sky", |t| {
