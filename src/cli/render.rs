@@ -177,6 +177,10 @@ pub fn write_frame(
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    // Check the output path before spending time on the render.
+    if a.output.extension().and_then(|e| e.to_str()) != Some("exr") {
+        bail!("-o {}: the output must be an .exr path", a.output.display());
+    }
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;
     let tty = std::io::stderr().is_terminal();

@@ -1,0 +1,134 @@
+//! `irsig render` end to end: EXR, PNG, JSON and ENVI in MWIR and LWIR,
+//! nothing partial left behind, clear errors for bad flags.
+
+use std::path::Path;
+use std::process::Command;
+
+fn irsig() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_irsig"))
+}
+
+fn scene() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/airfield/scene.toml")
+}
+
+#[test]
+fn render_writes_exr_png_json_and_envi_in_both_bands() {
+    let dir = tempfile::tempdir().unwrap();
+    for band in ["mwir", "lwir"] {
+        let exr = dir.path().join(format!("a-{band}.exr"));
+        let out = irsig()
+            .arg("render")
+            .arg(scene())
+            .arg("-o")
+            .arg(&exr)
+            .args([
+                "--envi",
+                "--stats",
+                "--set",
+                "sensor.width_px=48",
+                "--set",
+                "sensor.height_px=48",
+            ])
+            .args(["--set", &format!("sensor.band={band}")])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (w, h, chans) = irsig::output::exr::read_exr(&exr).unwrap();
+        assert_eq!((w, h), (48, 48));
+        let names: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
+        for want in [
+            "band_radiance",
+            "apparent_temperature",
+            "surface_temperature",
+            "material",
+            "facet",
+            "sun_now",
+            "hours_sunlit",
+            "range",
+            "view_angle",
+            "emitted",
+            "reflected_solar",
+            "path_thermal",
+            "sensor_radiance",
+            "dn",
+        ] {
+            assert!(names.contains(&want), "{want} missing from {names:?}");
+        }
+        let img = std::fs::metadata(exr.with_extension("img")).unwrap().len();
+        assert_eq!(img, (chans.len() * 48 * 48 * 4) as u64);
+        let hdr = std::fs::read_to_string(exr.with_extension("hdr")).unwrap();
+        assert!(hdr.contains(&format!("bands = {}", chans.len())), "{hdr}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(exr.with_extension("json")).unwrap())
+                .unwrap();
+        assert!(json["stats"]["primary_rays"].as_u64().unwrap() >= 48 * 48);
+        assert!(json["quicklook"].as_str().unwrap().contains("percentile"));
+        assert!(std::fs::metadata(exr.with_extension("png")).unwrap().len() > 100);
+        // Apparent temperatures are physical (a summer noon scene).
+        let (_, t) = chans
+            .iter()
+            .find(|(n, _)| n == "apparent_temperature")
+            .unwrap();
+        assert!(t.iter().all(|v| v.is_finite() && *v > 250.0 && *v < 360.0));
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".irsig-partial"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
+fn render_bad_flags_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let out = irsig().args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(!err.contains("panicked"), "{err}");
+        (out.status.success(), err)
+    };
+    let png = dir.path().join("x.png");
+    let (ok, err) = run(&[
+        "render",
+        scene().to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--set",
+        "sensor.width_px=8",
+        "--set",
+        "sensor.height_px=8",
+    ]);
+    assert!(!ok && err.contains("must be an .exr path"), "{err}");
+    assert!(!png.exists());
+    let exr = dir.path().join("x.exr");
+    let (ok, err) = run(&[
+        "render",
+        scene().to_str().unwrap(),
+        "-o",
+        exr.to_str().unwrap(),
+        "--set",
+        "nonsense",
+    ]);
+    assert!(!ok && err.contains("expected KEY=VALUE"), "{err}");
+    let (ok, err) = run(&["render", "/no/such/scene.toml", "-o", exr.to_str().unwrap()]);
+    assert!(!ok && err.contains("/no/such/scene.toml"), "{err}");
+    let (ok, err) = run(&[
+        "render",
+        scene().to_str().unwrap(),
+        "-o",
+        exr.to_str().unwrap(),
+        "--set",
+        "sensor.widht_px=8",
+    ]);
+    assert!(
+        !ok && err.contains("widht_px") && err.contains("width_px"),
+        "{err}"
+    );
+    assert!(!exr.exists());
+}
