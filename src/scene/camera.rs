@@ -121,12 +121,10 @@ impl CameraGeometry {
     /// Unit ray direction through image point (`col`, `row`) in pixel
     /// units (pixel centres at i + 0.5).
     pub fn ray_direction(&self, col: f64, row: f64) -> [f64; 3] {
-        let tx = (self.fov_h_deg.to_radians() / 2.0).tan();
-        let ty = (self.fov_v_deg.to_radians() / 2.0).tan();
-        let u = (2.0 * col / self.width_px as f64 - 1.0) * tx;
-        let v = (1.0 - 2.0 * row / self.height_px as f64) * ty;
-        let d = DVec3::from(self.forward) + DVec3::from(self.right) * u + DVec3::from(self.up) * v;
-        d.normalize().to_array()
+        // One projection formula for the whole program: the sensor's.
+        crate::sensor::camera::Camera::from_geometry(self)
+            .direction(col, row)
+            .to_array()
     }
 
     /// Where the ray through (`col`, `row`) meets the horizontal plane
