@@ -6,14 +6,14 @@ use std::process::Command;
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
 
 const MATS: &str = r#"
-[materials.asphalt]
+[material.asphalt]
 density_kg_m3 = 2100.0
 specific_heat_j_kgk = 920.0
 conductivity_w_mk = 0.75
 thickness_m = 0.3
 solar_absorptivity = 0.9
 thermal_emissivity = 0.93
-back = { deep_ground = { temp_k = 290.0 } }
+back = { deep_ground = { temp_c = 16.85 } }
 "#;
 
 fn irsig(args: &[&str]) -> std::process::Output {
@@ -124,7 +124,7 @@ fn therm_bad_inputs_give_clear_errors() {
     let out = base(mats.to_str().unwrap(), "concrete");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        !out.status.success() && err.contains("no material 'concrete'"),
+        !out.status.success() && err.contains("no material `concrete`") && err.contains("asphalt"),
         "{err}"
     );
     let bad_forcing = dir.path().join("f.csv");

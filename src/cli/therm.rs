@@ -20,7 +20,8 @@
 //!   daily UTC time-of-day ranges `HH:MM-HH:MM`; the pixel is shaded
 //!   (no direct sun) inside them. The history is sampled at every forcing
 //!   time (nearest-sample rule of `SunHistory`).
-//! * Materials file: see [`crate::therm::materials`].
+//! * Materials file: a material library as the scenes use
+//!   (`[material.NAME]` tables, docs/scene-format.md), e.g. scenes/materials.toml.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -31,12 +32,12 @@ use serde::Serialize;
 
 use crate::therm::balance::Orientation;
 use crate::therm::forcing::Forcing;
-use crate::therm::materials::load_material;
 use crate::therm::slab::{SlabMaterial, SlabModel, StepRecord, SunHistory, ThermSettings};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Materials file (TOML, `[materials.NAME]` tables).
+    /// Material library (TOML, `[material.NAME]` tables, as the scenes use;
+    /// e.g. scenes/materials.toml).
     #[arg(long)]
     pub materials: PathBuf,
     /// Material name in the materials file.
@@ -269,6 +270,22 @@ struct Report<'a> {
     settings: ThermSettings,
     nodes: usize,
     rows: Vec<Row>,
+}
+
+/// The slab of material `name` in a material library (the scene format).
+pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
+    let lib = crate::scene::material::load_library(path)?;
+    match lib.iter().find(|m| m.name == name) {
+        Some(m) => Ok(crate::render::prepare::slab_of(m)),
+        None => bail!(
+            "{}: no material `{name}`; the library defines: {}",
+            path.display(),
+            lib.iter()
+                .map(|m| m.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {

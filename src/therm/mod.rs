@@ -8,6 +8,5 @@
 pub mod balance;
 pub mod cache;
 pub mod forcing;
-pub mod materials;
 pub mod slab;
 pub mod weather;
