@@ -193,30 +193,24 @@ fn trace_block(
 
     // Solar-history rays from every surface point; packets of 16 points
     // share one sun direction.
+    // Every surface point (primary and background): which sample it belongs
+    // to, its shadow-ray origin (offset once) and its normal.
     let mut points: Vec<(usize, bool)> = Vec::new(); // (sample, is_background)
+    let mut pts: Vec<(Vec3, Vec3)> = Vec::new(); // (ray origin, normal)
     for (i, s) in samples.iter().enumerate() {
-        if s.surface.is_some() {
+        if let Some(surf) = &s.surface {
             points.push((i, false));
+            pts.push((offset_origin(surf.point, surf.normal), surf.normal));
         }
-        if let Some((_, Some(_))) = &s.bounce {
+        if let Some((_, Some(bg))) = &s.bounce {
             points.push((i, true));
+            pts.push((offset_origin(bg.point, bg.normal), bg.normal));
         }
     }
-    let surf = |samples: &[Sample], (i, bg): (usize, bool)| -> Surface {
-        if bg {
-            samples[i]
-                .bounce
-                .as_ref()
-                .and_then(|b| b.1.clone())
-                .expect("background point")
-        } else {
-            samples[i].surface.clone().expect("surface point")
-        }
-    };
-    let pts: Vec<Surface> = points.iter().map(|&p| surf(&samples, p)).collect();
     let nsun = cond.suns.len();
     let mut lit = vec![vec![false; nsun]; pts.len()];
-    for chunk in (0..pts.len()).collect::<Vec<_>>().chunks(16) {
+    for start in (0..pts.len()).step_by(16) {
+        let chunk = start..(start + 16).min(pts.len());
         for (k, sun) in cond.suns.iter().enumerate() {
             if !sun.up {
                 add(&c.sun_down, chunk.len());
@@ -224,12 +218,10 @@ fn trace_block(
             }
             let mut rays = Vec::with_capacity(16);
             let mut which = Vec::with_capacity(16);
-            for &p in chunk {
-                if pts[p].normal.dot(sun.dir) > 0.0 {
-                    rays.push(Ray::new(
-                        offset_origin(pts[p].point, pts[p].normal),
-                        sun.dir,
-                    ));
+            for p in chunk.clone() {
+                let (origin, normal) = pts[p];
+                if normal.dot(sun.dir) > 0.0 {
+                    rays.push(Ray::new(origin, sun.dir));
                     which.push(p);
                 } else {
                     add(&c.away, 1);
