@@ -32,8 +32,8 @@ use crate::atmos::PathSpectra;
 use crate::output::Planes;
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
 use crate::radiometry::{
-    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
-    case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
+    Background, Emissivity, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination,
+    case1_diffuse, case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
 };
 
 const LOWEST_ALT_KM: f64 = 0.3;
@@ -290,64 +290,64 @@ impl<'a> RadiometryContext<'a> {
             ));
         }
         let (rdir, bg) = s.bounce.as_ref().expect("specular samples have a bounce");
-        let (case, specular): (u8, Box<dyn Fn(usize) -> RadianceTerms + Sync>) = match bg {
-            None if rdir.z > 0.0 => {
-                let sky = self.sky(*rdir)?;
-                (
-                    2,
-                    Box::new(move |i| {
-                        case2_specular_sky(
-                            eps.at(view_angle, wl[i]),
-                            lt(i, surf.temp_k),
-                            &self.sun_on(surf, i),
-                            &SkyRadiance {
-                                l_de_w_m2_sr_um: sky.0[i],
-                                l_ds_w_m2_sr_um: sky.1[i],
-                            },
-                            &Self::path_at(path, i),
-                        )
-                    }),
-                )
-            }
-            None => {
-                let ta = self.cond.air_temp_k;
-                (
-                    3,
-                    Box::new(move |i| {
-                        case3_specular_background(
-                            eps.at(view_angle, wl[i]),
-                            lt(i, surf.temp_k),
-                            &self.sun_on(surf, i),
-                            &Background {
-                                emissivity: 1.0,
-                                blackbody_w_m2_sr_um: lt(i, ta),
-                                sun: SunIllumination::DARK,
-                            },
-                            &Self::path_at(path, i),
-                        )
-                    }),
-                )
-            }
-            Some(b) => {
-                let eps_b = &st.emissivity[b.material as usize];
-                let theta_bt = angle_deg(-*rdir, b.normal);
-                (
-                    3,
-                    Box::new(move |i| {
-                        case3_specular_background(
-                            eps.at(view_angle, wl[i]),
-                            lt(i, surf.temp_k),
-                            &self.sun_on(surf, i),
-                            &Background {
-                                emissivity: eps_b.at(theta_bt, wl[i]),
-                                blackbody_w_m2_sr_um: lt(i, b.temp_k),
-                                sun: self.sun_on(b, i),
-                            },
-                            &Self::path_at(path, i),
-                        )
-                    }),
-                )
-            }
+        // What the mirror ray sees: the sky (eq. 2), or a background (eq. 3)
+        // that is either a facet or the ground beyond the scene.
+        enum Mirror<'m> {
+            Sky(Arc<SkyPair>),
+            Ground {
+                temp_k: f64,
+            },
+            Facet {
+                b: &'m Surface,
+                eps_b: &'m Emissivity,
+                theta_bt_deg: f64,
+            },
+        }
+        let mirror = match bg {
+            None if rdir.z > 0.0 => Mirror::Sky(self.sky(*rdir)?),
+            None => Mirror::Ground {
+                temp_k: self.cond.air_temp_k,
+            },
+            Some(b) => Mirror::Facet {
+                b,
+                eps_b: &st.emissivity[b.material as usize],
+                theta_bt_deg: angle_deg(-*rdir, b.normal),
+            },
+        };
+        let case = if matches!(mirror, Mirror::Sky(_)) {
+            2
+        } else {
+            3
+        };
+        let specular = |i: usize| {
+            let eps_theta = eps.at(view_angle, wl[i]);
+            let target = lt(i, surf.temp_k);
+            let sun = self.sun_on(surf, i);
+            let path = Self::path_at(path, i);
+            let background = match &mirror {
+                Mirror::Sky(sky) => {
+                    let sky = SkyRadiance {
+                        l_de_w_m2_sr_um: sky.0[i],
+                        l_ds_w_m2_sr_um: sky.1[i],
+                    };
+                    return case2_specular_sky(eps_theta, target, &sun, &sky, &path);
+                }
+                Mirror::Ground { temp_k } => Background {
+                    emissivity: 1.0,
+                    blackbody_w_m2_sr_um: lt(i, *temp_k),
+                    sun: SunIllumination::DARK,
+                },
+                Mirror::Facet {
+                    b,
+                    eps_b,
+                    theta_bt_deg,
+                } => Background {
+                    emissivity: eps_b.at(*theta_bt_deg, wl[i]),
+                    blackbody_w_m2_sr_um: lt(i, b.temp_k),
+                    sun: self.sun_on(b, i),
+                },
+            };
+            case3_specular_background(eps_theta, target, &sun, &background, &path)
         };
         let terms = integrate_terms(band, |i| {
             let mut t = RadianceTerms::default();
