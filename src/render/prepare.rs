@@ -13,7 +13,7 @@ use crate::atmos::{Atmosphere, SpectralAtmosphere};
 use crate::radiometry::{Band, Emissivity, SpectralGrid, SpectralResponse};
 use crate::scene::LoadedScene;
 use crate::scene::material::{BackBoundary as SceneBack, Emissivity as SceneEmissivity, Material};
-use crate::scene::spec::{AtmosphereModel, TracerKind, WeatherFormat, WeatherSpec};
+use crate::scene::spec::{AtmosphereModel, TracerKind, WeatherSpec};
 use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
@@ -275,9 +275,9 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let step_s = history_s as f64 / n_steps as f64;
 
     let history = match &sc.weather {
-        WeatherSpec::File { path, format } => {
-            // The reader recognises TMY3/EPW/CSV from the file itself.
-            let _: &WeatherFormat = format;
+        WeatherSpec::File { path, .. } => {
+            // The reader recognises TMY3/EPW/CSV from the file itself; the
+            // scene's `format` key is not cross-checked (yet).
             let p = st.scene.resolve(path);
             read_weather_file_with(&p, &ReadOptions::default())
                 .with_context(|| format!("weather file of {}", st.scene.path.display()))?
