@@ -48,6 +48,9 @@ fn therm_csv_matches_reference() {
         "2021-05-04T05:00:00Z",
         "--to",
         "2021-05-06T05:00:00Z",
+        // The reference starts from the steady state at its first sample.
+        "--spin-up-start",
+        "first-sample",
         "--csv",
     ]);
     assert!(

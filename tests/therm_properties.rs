@@ -4,7 +4,9 @@
 
 use irsig::therm::balance::{Convection, Orientation, STEFAN_BOLTZMANN_W_M2K4};
 use irsig::therm::forcing::Forcing;
-use irsig::therm::slab::{BackBoundary, SlabMaterial, SlabModel, SunHistory, ThermSettings};
+use irsig::therm::slab::{
+    BackBoundary, SlabMaterial, SlabModel, SpinUpStart, SunHistory, ThermSettings,
+};
 use proptest::prelude::*;
 
 /// A synthetic clear day at 36° N on the equinox, repeated: sun from the
@@ -467,4 +469,92 @@ fn contrast_falls_with_wind_fast_then_slowly() {
         drops[0] > drops[1] && drops[1] > drops[2],
         "drops {drops:?}"
     );
+}
+
+/// Spin-up from the mean-forcing steady state against the periodic
+/// solution. Reference: the same slab marched for 20 identical clear days
+/// (a 0.5-m soil slab on deep ground forgets its start with time constant
+/// L²/κ ≈ 4 days, so day 20 is periodic to far below 1 mK). A 24-h march
+/// started from the steady state under the day's mean drive must end
+/// within 0.1 K of it at every hour of the last day; the THERM start (steady
+/// state at the first sample) is shown to be worse, so the test can fail.
+#[test]
+fn mean_forcing_spin_up_matches_the_periodic_state() {
+    let soil = material(
+        0.5,
+        0.8,
+        1600.0,
+        1000.0,
+        BackBoundary::DeepGround { temp_k: None },
+    );
+    let long = clear_days(20.0, 900.0, 295.0, 6.0, 2.0);
+    let n_day = 96;
+    // The deep temperature must be the same in both runs: fix it at the mean
+    // air temperature (what `temp_k: None` gives for whole days).
+    let soil = SlabMaterial {
+        back: BackBoundary::DeepGround {
+            temp_k: Some(295.0),
+        },
+        ..soil
+    };
+    let o = Orientation::HORIZONTAL;
+    // A pixel shaded from 13:00 to 16:00 solar time (samples every 30 min);
+    // before its first sample a history repeats itself every 24 h.
+    let shade = |start_s: i64| SunHistory {
+        start_s,
+        interval_s: 1800,
+        sunlit: (0..48).map(|i| !(26..32).contains(&i)).collect(),
+    };
+    let (shade_long, shade_day) = (shade(19 * 86400), shade(0));
+    for (hl, hd) in [(None, None), (Some(&shade_long), Some(&shade_day))] {
+        let run = |start: SpinUpStart, forcing: &[Forcing], hist: Option<&SunHistory>| {
+            let s = ThermSettings {
+                spin_up_start: start,
+                ..ThermSettings::default()
+            };
+            SlabModel::new(&soil, o, &s)
+                .unwrap()
+                .solve(forcing, hist, true)
+                .unwrap()
+        };
+        let periodic = run(SpinUpStart::FirstSample, &long, hl);
+        let last_day: Vec<f64> = periodic.series[periodic.series.len() - n_day - 1..]
+            .iter()
+            .map(|r| r.surface_temp_k)
+            .collect();
+        let one_day = &long[long.len() - n_day - 1..];
+        // Shift the clock so the one-day series starts at 0 like its history.
+        let one_day: Vec<Forcing> = one_day
+            .iter()
+            .map(|f| Forcing {
+                t_s: f.t_s - one_day[0].t_s,
+                ..*f
+            })
+            .collect();
+        // Worst error over the second half of the day (the first hours
+        // carry the start's diurnal offset, which the march forgets).
+        let worst = |start| {
+            let sol = run(start, &one_day, hd);
+            sol.series
+                .iter()
+                .zip(&last_day)
+                .skip(n_day / 2)
+                .map(|(r, p)| (r.surface_temp_k - p).abs())
+                .fold(0.0f64, f64::max)
+        };
+        let mean_err = worst(SpinUpStart::MeanForcing);
+        let first_err = worst(SpinUpStart::FirstSample);
+        eprintln!(
+            "24-h spin-up, worst error over the last 12 h: mean-forcing start {mean_err:.4} K, first-sample start {first_err:.4} K"
+        );
+        assert!(
+            mean_err < 0.1,
+            "mean-forcing start: {mean_err} K from the periodic state (shade: {})",
+            hd.is_some()
+        );
+        assert!(
+            first_err > 2.0 * mean_err,
+            "first-sample start {first_err} K vs mean-forcing {mean_err} K"
+        );
+    }
 }

@@ -1,8 +1,10 @@
 //! `irsig bench accuracy <scene>`: run time against error, knob by knob.
 //! A converged reference is rendered (fine thermal step, 96 shadow samples
-//! per 24 h, fine spectral step, 4x4 supersampling, 48-h spin-up); then,
+//! per 24 h, fine spectral step, tight thermal tolerance, 4x4 supersampling,
+//! 72-h spin-up); then,
 //! for each knob alone (the others at their reference values), a ladder of
-//! cheaper settings, and the scene's default set. Each row reports wall
+//! cheaper settings, and irsig's default set (the code's defaults of
+//! `[render]`, whatever the scene file says). Each row reports wall
 //! time, rays, thermal solves and the error against the reference: RMS and
 //! max of surface temperature (K), band radiance (%) and apparent
 //! temperature (K). Writes CSV, JSON and an SVG plot (error vs time, one
@@ -34,15 +36,24 @@ pub struct AccuracyArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<u32>,
+    /// Run only these knobs' ladders (repeatable; e.g. `history_hours`);
+    /// default: all of them.
+    #[arg(long = "knob", value_name = "NAME")]
+    pub knobs: Vec<String>,
 }
 
 /// A knob, its reference value and its ladder of cheaper settings.
 pub const KNOBS: &[(&str, f64, &[f64])] = &[
     ("render.thermal_step_min", 5.0, &[60.0, 30.0, 15.0, 10.0]),
+    (
+        "render.thermal_tol_k",
+        0.0005,
+        &[0.1, 0.05, 0.02, 0.005, 0.002],
+    ),
     ("render.shadow_interval_min", 15.0, &[120.0, 60.0, 30.0]),
     ("render.spectral_step_cm1", 2.0, &[40.0, 20.0, 10.0, 5.0]),
     ("render.supersample", 4.0, &[1.0, 2.0]),
-    ("render.history_hours", 48.0, &[6.0, 12.0, 24.0]),
+    ("render.history_hours", 72.0, &[12.0, 24.0, 36.0, 48.0]),
 ];
 
 /// One row of the table.
@@ -86,6 +97,21 @@ fn plane<'a>(p: &'a Planes, name: &str) -> &'a [f32] {
 
 pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     let base = super::render::parse_overrides(&a.set)?;
+    for n in &a.knobs {
+        if !KNOBS
+            .iter()
+            .any(|(k, _, _)| k == n || k.trim_start_matches("render.") == n)
+        {
+            anyhow::bail!(
+                "--knob {n}: not a knob; expected one of {}",
+                KNOBS
+                    .iter()
+                    .map(|(k, _, _)| k.trim_start_matches("render."))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
     let pool = super::render::thread_pool(a.threads)?;
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot create {}", a.output.display()))?;
@@ -150,7 +176,12 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         }
     };
     let mut rows = vec![row("reference", 0.0, &rp, rt, rr, rs)];
-    for (knob, _, ladder) in KNOBS {
+    for (knob, _, ladder) in KNOBS.iter().filter(|(k, _, _)| {
+        a.knobs.is_empty()
+            || a.knobs
+                .iter()
+                .any(|n| *k == n || k.trim_start_matches("render.") == n)
+    }) {
         for &v in *ladder {
             eprintln!("bench accuracy: {knob} = {v}");
             let mut ov = reference.clone();
@@ -160,8 +191,20 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
             rows.push(row(knob, v, &p, t, r, s));
         }
     }
-    eprintln!("bench accuracy: scene defaults");
-    let (p, t, r, s) = run_one(with(&[]))?;
+    eprintln!("bench accuracy: irsig defaults");
+    let d = crate::scene::spec::RenderOptions::default();
+    let defaults: Vec<(String, String)> = [
+        ("render.thermal_step_min", d.thermal_step_min),
+        ("render.thermal_tol_k", d.thermal_tol_k),
+        ("render.shadow_interval_min", d.shadow_interval_min),
+        ("render.spectral_step_cm1", d.spectral_step_cm1),
+        ("render.supersample", d.supersample as f64),
+        ("render.history_hours", d.history_hours),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.to_string()))
+    .collect();
+    let (p, t, r, s) = run_one(with(&defaults))?;
     rows.push(row("default", 0.0, &p, t, r, s));
 
     let mut csv = String::from(

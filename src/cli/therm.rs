@@ -6,10 +6,12 @@
 //!             (--weather <TMY3|EPW|CSV> | --forcing <forcing.csv>)
 //!             --lat 36.1 --lon -79.95 [--elevation 273]
 //!             --slope 0 --aspect 180 --from 2021-05-05T05:00:00Z --to 2021-05-06T05:00:00Z
-//!             --step 15 [--spin-up-h 24] [--shadow RANGES] [--csv | --json]
+//!             --step 15 [--spin-up-h 24] [--spin-up-start mean-forcing|first-sample]
+//!             [--shadow RANGES] [--csv | --json]
 //! ```
 //!
-//! * The march starts `--spin-up-h` hours before `--from` (from equilibrium)
+//! * The march starts `--spin-up-h` hours before `--from` (from a steady
+//!   state, `--spin-up-start`: under the mean forcing, or the first sample)
 //!   and prints one row per forcing sample from `--from` to `--to`.
 //! * `--forcing` takes a forcing CSV with the columns
 //!   `t_s,air_temp_k,sky_temp_k,wind_speed_m_s,dni_w_m2,dhi_w_m2,ghi_w_m2,sun_e,sun_n,sun_u`
@@ -32,7 +34,16 @@ use serde::Serialize;
 
 use crate::therm::balance::Orientation;
 use crate::therm::forcing::Forcing;
-use crate::therm::slab::{SlabMaterial, SlabModel, StepRecord, SunHistory, ThermSettings};
+use crate::therm::slab::{
+    SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, ThermSettings,
+};
+
+/// `--spin-up-start` (see [`SpinUpStart`]).
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum SpinUpArg {
+    MeanForcing,
+    FirstSample,
+}
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -80,6 +91,10 @@ pub struct Args {
     /// Hours of spin-up before --from.
     #[arg(long, default_value_t = 24.0)]
     pub spin_up_h: f64,
+    /// Initial profile of the spin-up: the steady state under the mean
+    /// forcing of the whole run, or under its first sample (THERM's).
+    #[arg(long, value_enum, default_value_t = SpinUpArg::MeanForcing)]
+    pub spin_up_start: SpinUpArg,
     /// Shadow ranges (see module docs).
     #[arg(long, allow_hyphen_values = true)]
     pub shadow: Option<String>,
@@ -360,6 +375,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     };
     let settings = ThermSettings {
         spin_up_h: a.spin_up_h,
+        spin_up_start: match a.spin_up_start {
+            SpinUpArg::MeanForcing => SpinUpStart::MeanForcing,
+            SpinUpArg::FirstSample => SpinUpStart::FirstSample,
+        },
         ..ThermSettings::default()
     };
     let model =

@@ -266,7 +266,7 @@ pub fn thermal_solution(
     let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
     let m = s.material as usize;
     cond.cache
-        .solve(s.material, &st.slabs[m], o, Some(&hist), 0, &cond.forcing)
+        .solve(s.material, &cond.slabs[m], o, Some(&hist), 0, &cond.forcing)
         .map_err(|e| {
             anyhow::anyhow!(
                 "thermal model, material {}: {e}",

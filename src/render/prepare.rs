@@ -18,7 +18,7 @@ use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
 use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
-use crate::therm::weather::{ReadOptions, read_weather_file_with};
+use crate::therm::weather::{ReadOptions, WeatherHistory, read_weather_file_with};
 use crate::trace::{self, Backend, Geometry, Tracer};
 
 /// The parts of a render that do not depend on time or weather.
@@ -62,6 +62,12 @@ pub struct Conditions {
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
     pub air_temp_k: f64,
+    /// Deep-ground temperature of `deep_ground = {}` materials, K
+    /// ([`deep_ground_temp_k`]).
+    pub deep_ground_k: f64,
+    /// The scene's slabs with `deep_ground = {}` set to `deep_ground_k`
+    /// (indexed like the scene's materials).
+    pub slabs: Vec<SlabMaterial>,
 }
 
 /// The thermal slab of a scene material.
@@ -254,6 +260,40 @@ fn load_atmosphere(scene: &LoadedScene, band: &Band) -> anyhow::Result<SpectralA
         .context("atmosphere table over the sensor band")
 }
 
+/// Hours of air temperature averaged into the deep-ground temperature.
+pub const DEEP_GROUND_WINDOW_H: i64 = 72;
+
+/// The deep-ground temperature of `deep_ground = {}` materials: the mean air
+/// temperature (trapezoid rule on hourly samples) over the
+/// [`DEEP_GROUND_WINDOW_H`] hours before the image time, or over the whole
+/// history when that is longer, clipped to the start of the weather record.
+/// At the depth of the airfield's ground slabs (0.3-0.5 m, two to four
+/// diurnal damping depths) the soil follows the multi-day mean, not the
+/// day's. The window does not depend on the history length, so the
+/// `history_hours` knob changes the spin-up only, not the boundary.
+pub fn deep_ground_temp_k(
+    history: &WeatherHistory,
+    site: &Site,
+    history_start: DateTime<Utc>,
+    image_time: DateTime<Utc>,
+) -> anyhow::Result<f64> {
+    let mut from = history_start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H));
+    if let Some(&first) = history.times.first() {
+        from = from.max(first);
+    }
+    let span_s = (image_time - from).num_milliseconds() as f64 / 1e3;
+    if span_s <= 0.0 {
+        anyhow::bail!("the weather record starts after the image time");
+    }
+    let n = (span_s / 3600.0).ceil().max(1.0) as usize;
+    let (f, _) = build_forcing(history, site, from, span_s / n as f64, n)?;
+    let sum: f64 = f
+        .windows(2)
+        .map(|w| 0.5 * (w[0].air_temp_k + w[1].air_temp_k))
+        .sum();
+    Ok(sum / n as f64)
+}
+
 /// Builds the conditions of a frame at `image_time` (UTC) from the scene's
 /// weather, history length and sampling.
 pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
@@ -295,13 +335,29 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
             },
             site.lat_deg,
             site.lon_deg,
-            start - chrono::Duration::hours(2),
+            start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H))
+                - chrono::Duration::hours(2),
             image_time + chrono::Duration::hours(2),
             900.0,
         )?,
     };
     let (forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
         .with_context(|| format!("weather for {}", st.scene.path.display()))?;
+    let deep_ground_k = deep_ground_temp_k(&history, &site, start, image_time)
+        .with_context(|| format!("weather for {}", st.scene.path.display()))?;
+    let slabs = st
+        .slabs
+        .iter()
+        .map(|m| match m.back {
+            BackBoundary::DeepGround { temp_k: None } => SlabMaterial {
+                back: BackBoundary::DeepGround {
+                    temp_k: Some(deep_ground_k),
+                },
+                ..*m
+            },
+            _ => *m,
+        })
+        .collect();
     let suns = (0..=n_sun)
         .map(|k| {
             let t = start + chrono::Duration::seconds(k * interval_s);
@@ -316,6 +372,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let sun_now = solar_position(image_time, site.lat_deg, site.lon_deg, site.elevation_m);
     let settings = ThermSettings {
         step_s,
+        tol_k: Some(opts.thermal_tol_k),
         spin_up_h: opts.history_hours,
         ..ThermSettings::default()
     };
@@ -330,5 +387,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
         air_temp_k,
+        deep_ground_k,
+        slabs,
     })
 }

@@ -1003,6 +1003,14 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         " minutes",
     )?;
     c.range(
+        &q("thermal_tol_k"),
+        "thermal_tol_k",
+        r.thermal_tol_k,
+        1e-6,
+        1.0,
+        " K",
+    )?;
+    c.range(
         &q("shadow_interval_min"),
         "shadow_interval_min",
         r.shadow_interval_min,

@@ -568,6 +568,9 @@ pub struct RenderOptions {
     /// Thermal model time step, minutes (0 < step <= 60).
     #[serde(default = "d_thermal_step")]
     pub thermal_step_min: f64,
+    /// Local error tolerance of the adaptive thermal steps, K (1e-6 to 1).
+    #[serde(default = "d_thermal_tol")]
+    pub thermal_tol_k: f64,
     /// Sun/shadow history sampling interval, minutes (0 < interval <= 120).
     #[serde(default = "d_shadow_interval")]
     pub shadow_interval_min: f64,
@@ -588,6 +591,9 @@ fn d_spectral_step() -> f64 {
 fn d_thermal_step() -> f64 {
     15.0
 }
+fn d_thermal_tol() -> f64 {
+    crate::therm::slab::DEFAULT_TOL_K
+}
 fn d_shadow_interval() -> f64 {
     30.0
 }
@@ -601,6 +607,7 @@ impl Default for RenderOptions {
             supersample: d_supersample(),
             spectral_step_cm1: d_spectral_step(),
             thermal_step_min: d_thermal_step(),
+            thermal_tol_k: d_thermal_tol(),
             shadow_interval_min: d_shadow_interval(),
             history_hours: d_history_hours(),
             tracer: TracerKind::default(),

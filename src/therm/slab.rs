@@ -37,10 +37,16 @@
 //! midpoint (steps never straddle a flag switch, so this is the flag in
 //! force over the whole step).
 //!
-//! **Spin-up.** The march starts from the steady state under the first
-//! forcing sample (see [`SlabModel::equilibrium`]); the caller chooses how far
-//! before the image time the forcing starts (`ThermSettings::spin_up_h`, 24 h
-//! by default, is what forcing builders should use).
+//! **Spin-up.** The march starts from a steady state ([`SpinUpStart`]): by
+//! default the steady state under the *time-mean* surface drive of the whole
+//! forcing series (the pixel's sun/shadow history included); optionally, as
+//! in THERM, under the first forcing sample. For a linear slab under
+//! periodic forcing the mean of the periodic solution is exactly the steady
+//! state under the mean forcing (the heat equation commutes with time
+//! averaging), so the slow, deep part of the profile starts where a long
+//! spin-up would leave it and only the diurnal wave (which forgets its
+//! start within hours) must be marched in. The caller chooses how far before
+//! the image time the forcing starts (`ThermSettings::spin_up_h`).
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -229,6 +235,22 @@ impl SunHistory {
     }
 }
 
+/// The initial profile of a march started by [`SlabModel::solve`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpinUpStart {
+    /// Steady state under the time-mean surface drive of the whole forcing
+    /// series, with the sun/shadow flag of each sample (see the module docs).
+    #[default]
+    MeanForcing,
+    /// Steady state under the first forcing sample and its sun flag (the
+    /// paper's THERM practice; needs a longer spin-up for deep slabs).
+    FirstSample,
+}
+
+/// Default local error tolerance per adaptive step, K.
+pub const DEFAULT_TOL_K: f64 = 0.0005;
+
 /// Numerical settings of the slab solver. The defaults were chosen on the
 /// accuracy tests (`tests/therm_reference.rs`: < 0.1 K against a 500-node
 /// stiff method-of-lines reference over 48 h of TMY3 weather).
@@ -244,6 +266,8 @@ pub struct ThermSettings {
     /// Hours of forcing before the image time that forcing builders should
     /// provide (the solver marches whatever forcing it is given).
     pub spin_up_h: f64,
+    /// The initial profile of the march.
+    pub spin_up_start: SpinUpStart,
     /// Minimum number of nodes through the slab.
     pub nodes: usize,
     /// Upper bound on the number of nodes.
@@ -259,9 +283,10 @@ impl Default for ThermSettings {
     fn default() -> Self {
         ThermSettings {
             step_s: 900.0,
-            tol_k: Some(0.0005),
+            tol_k: Some(DEFAULT_TOL_K),
             min_step_s: 0.05,
             spin_up_h: 24.0,
+            spin_up_start: SpinUpStart::MeanForcing,
             nodes: 8,
             max_nodes: 200,
             surface_time_s: 30.0,
@@ -708,7 +733,82 @@ impl SlabModel {
         Ok(new)
     }
 
-    /// Marches from the equilibrium at the first forcing sample to the last
+    /// Steady state under the time-mean surface drive of `forcing` (each
+    /// sample's drive with its sun/shadow flag, trapezoid weights in time):
+    /// every term of [`SurfaceDrive`] is averaged, and the back face sees the
+    /// mean air temperature and wind. See the module docs for why.
+    pub fn mean_equilibrium(
+        &self,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        deep: Option<f64>,
+    ) -> Result<Vec<f64>, ThermError> {
+        let n = forcing.len();
+        let mut mean = SurfaceDrive {
+            absorbed_direct_w_m2: 0.0,
+            absorbed_diffuse_w_m2: 0.0,
+            absorbed_ground_reflected_w_m2: 0.0,
+            sky_longwave_in_w_m2: 0.0,
+            ground_longwave_in_w_m2: 0.0,
+            internal_w_m2: 0.0,
+            air_temp_k: 0.0,
+            wind_speed_m_s: 0.0,
+        };
+        let mut total_w = 0.0;
+        for (i, f) in forcing.iter().enumerate() {
+            // Trapezoid weights; a single sample has weight 1.
+            let w = if n == 1 {
+                1.0
+            } else {
+                let a = forcing[i.saturating_sub(1)].t_s;
+                let b = forcing[(i + 1).min(n - 1)].t_s;
+                0.5 * (b - a)
+            };
+            let d = self.drive(f, shadow.is_none_or(|h| h.sunlit_at(f.t_s)));
+            mean.absorbed_direct_w_m2 += w * d.absorbed_direct_w_m2;
+            mean.absorbed_diffuse_w_m2 += w * d.absorbed_diffuse_w_m2;
+            mean.absorbed_ground_reflected_w_m2 += w * d.absorbed_ground_reflected_w_m2;
+            mean.sky_longwave_in_w_m2 += w * d.sky_longwave_in_w_m2;
+            mean.ground_longwave_in_w_m2 += w * d.ground_longwave_in_w_m2;
+            mean.internal_w_m2 += w * d.internal_w_m2;
+            mean.air_temp_k += w * d.air_temp_k;
+            mean.wind_speed_m_s += w * d.wind_speed_m_s;
+            total_w += w;
+        }
+        if total_w <= 0.0 || !total_w.is_finite() {
+            return Err(ThermError::BadInput(
+                "forcing samples must span a positive time".into(),
+            ));
+        }
+        let inv = 1.0 / total_w;
+        mean.absorbed_direct_w_m2 *= inv;
+        mean.absorbed_diffuse_w_m2 *= inv;
+        mean.absorbed_ground_reflected_w_m2 *= inv;
+        mean.sky_longwave_in_w_m2 *= inv;
+        mean.ground_longwave_in_w_m2 *= inv;
+        mean.internal_w_m2 *= inv;
+        mean.air_temp_k *= inv;
+        mean.wind_speed_m_s *= inv;
+        let f_mean = Forcing {
+            air_temp_k: mean.air_temp_k,
+            wind_speed_m_s: mean.wind_speed_m_s,
+            ..forcing[0]
+        };
+        let nodes = self.nodes();
+        let old = vec![mean.air_temp_k; nodes];
+        let mut new = old.clone();
+        let mut w = Work::new(nodes);
+        if !self.implicit_step(&old, &mut new, 1e12, &f_mean, &mean, deep, &mut w) {
+            return Err(ThermError::NoConvergence {
+                t_s: forcing[0].t_s,
+                why: "no steady state under the mean forcing for the spin-up".into(),
+            });
+        }
+        Ok(new)
+    }
+
+    /// Marches from the spin-up start ([`ThermSettings::spin_up_start`]) at
+    /// the first forcing sample to the last
     /// one; the returned surface temperature is at the last forcing time.
     pub fn solve(
         &self,
@@ -721,8 +821,13 @@ impl SlabModel {
             h.validate()?;
         }
         let deep = self.deep_temp_k(forcing);
-        let sunlit0 = shadow.is_none_or(|h| h.sunlit_at(forcing[0].t_s));
-        let init = self.equilibrium(&forcing[0], sunlit0, deep)?;
+        let init = match self.settings.spin_up_start {
+            SpinUpStart::FirstSample => {
+                let sunlit0 = shadow.is_none_or(|h| h.sunlit_at(forcing[0].t_s));
+                self.equilibrium(&forcing[0], sunlit0, deep)?
+            }
+            SpinUpStart::MeanForcing => self.mean_equilibrium(forcing, shadow, deep)?,
+        };
         self.march(init, forcing, shadow, record)
     }
 
