@@ -52,7 +52,7 @@ pub const KNOBS: &[(&str, f64, &[f64])] = &[
     ),
     ("render.shadow_interval_min", 15.0, &[120.0, 60.0, 30.0]),
     ("render.spectral_step_cm1", 2.0, &[40.0, 20.0, 10.0, 5.0]),
-    ("render.supersample", 4.0, &[1.0, 2.0]),
+    ("render.supersample", 4.0, &[1.0, 2.0, 3.0]),
     ("render.history_hours", 72.0, &[12.0, 24.0, 36.0, 48.0]),
 ];
 

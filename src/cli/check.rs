@@ -391,7 +391,7 @@ mod tests {
         assert_eq!(sum.needs.spectral_samples, 134);
         assert_eq!(
             (sum.needs.thermal_steps, sum.needs.shadow_samples),
-            (96, 48)
+            (144, 72)
         );
         // footprint contains the target; JSON serialises
         let fp = sum.footprint_m.map(|p| p.unwrap());

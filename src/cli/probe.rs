@@ -18,7 +18,7 @@ use glam::Vec3;
 use serde::Serialize;
 
 use crate::radiometry::RadianceTerms;
-use crate::render::pixel::{ApparentTempLut, RadiometryContext, SampleResult};
+use crate::render::pixel::{ApparentTempLut, RadiometryContext, SampleResult, representatives};
 use crate::render::{
     Conditions, Sample, Static, Stats, Surface, angle_deg, azimuth_deg, output_pixel_samples,
     prepare_conditions, prepare_static, thermal_solution, trace_samples, zenith_deg,
@@ -199,7 +199,7 @@ pub struct RadiometryReport {
     pub spectral: Option<Vec<SpectralBin>>,
 }
 
-#[derive(Serialize)]
+#[derive(Clone, Serialize)]
 pub struct SpectralBin {
     pub wavenumber_cm1: f64,
     pub wavelength_um: f64,
@@ -369,9 +369,18 @@ pub fn probe(
     let mut stats = Stats::default();
     let samples = trace_samples(st, cond, &px, &mut stats)?;
     let rctx = RadiometryContext::new(st, cond)?;
-    let mut results = Vec::new();
+    let n = st.scene.scene.render.supersample.max(1);
+    // As the render: a uniform pixel evaluates its centre sample only and
+    // reports that result for each of its samples.
+    let rep = representatives(&samples.iter().collect::<Vec<_>>(), n);
+    let mut results: Vec<SampleResult> = Vec::new();
     let mut bins = Vec::new();
-    for s in &samples {
+    for (k, s) in samples.iter().enumerate() {
+        if rep[k] != k {
+            results.push(SampleResult::default());
+            bins.push(None);
+            continue;
+        }
         let mut spec: Vec<SpectralBin> = Vec::new();
         let r = rctx.evaluate_with(s, |i, t: &RadianceTerms| {
             if spectral {
@@ -386,6 +395,12 @@ pub fn probe(
         results.push(r);
         bins.push(spectral.then_some(spec));
     }
+    for k in 0..results.len() {
+        if rep[k] != k {
+            results[k] = results[rep[k]].clone();
+            bins[k] = bins[rep[k]].clone();
+        }
+    }
     let radiance = finite_mean(results.iter().map(|r| r.radiance_w_m2_sr_um)).unwrap_or(f64::NAN);
     let radiance_f32 = radiance as f32;
     let lut = ApparentTempLut::new(&st.band);
@@ -394,8 +409,7 @@ pub fn probe(
     for r in &results {
         terms.accumulate(&r.terms, 1.0 / k);
     }
-    let n = st.scene.scene.render.supersample.max(1) as usize;
-    let centre_case = results[(n / 2) * n + n / 2].case;
+    let centre_case = results[((n / 2) * n + n / 2) as usize].case;
     let pixel_result = PixelResult {
         band_radiance_w_m2_sr_um: radiance,
         band_radiance_f32: radiance_f32,
@@ -427,7 +441,7 @@ pub fn probe(
         image_time_local: ctx.local(cond.image_time),
         band: st.band.label.clone(),
         spectral_bins: st.band.len(),
-        supersample: n as u32,
+        supersample: n,
         sun: SunReport {
             zenith_deg: sun.zenith_deg,
             azimuth_deg: sun.azimuth_deg,

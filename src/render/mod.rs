@@ -81,6 +81,9 @@ pub struct Stats {
     pub solar_skipped_facing_away: u64,
     pub thermal_solves: u64,
     pub thermal_cache_hits: u64,
+    /// Samples whose band integral was evaluated (uniform pixels evaluate
+    /// one of their n×n samples).
+    pub radiometry_samples: u64,
     pub spectral_bins: usize,
     pub seconds: StageTimes,
 }
@@ -516,20 +519,25 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
     let (samples, w, h) = trace_frame_with(st, cond, &mut stats, progress)?;
     let t2 = Instant::now();
     let ctx = pixel::RadiometryContext::new(st, cond)?;
+    let n = st.scene.scene.render.supersample.max(1);
+    // Uniform pixels evaluate one sample (see pixel::representatives).
+    let rep = pixel::representatives_frame(&samples, w, h, n);
+    let todo: Vec<usize> = (0..samples.len()).filter(|&k| rep[k] == k).collect();
+    stats.radiometry_samples = todo.len() as u64;
     let done = AtomicU64::new(0);
-    let total = samples.len() as u64;
-    let results: Vec<pixel::SampleResult> = samples
+    let total = todo.len() as u64;
+    let evaluated: Vec<pixel::SampleResult> = todo
         .par_chunks(PROGRESS_CHUNK)
         .map(|chunk| -> anyhow::Result<Vec<pixel::SampleResult>> {
             let r = chunk
                 .iter()
-                .map(|s| ctx.evaluate(s))
+                .map(|&k| ctx.evaluate(&samples[k]))
                 .collect::<anyhow::Result<Vec<_>>>()?;
             if let Some(f) = progress {
-                let n = chunk.len() as u64;
+                let c = chunk.len() as u64;
                 f(Progress {
                     stage: Stage::Radiometry,
-                    done: done.fetch_add(n, Ordering::Relaxed) + n,
+                    done: done.fetch_add(c, Ordering::Relaxed) + c,
                     total,
                 });
             }
@@ -539,9 +547,14 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
         .into_iter()
         .flatten()
         .collect();
+    let mut slot = vec![usize::MAX; samples.len()];
+    for (i, &k) in todo.iter().enumerate() {
+        slot[k] = i;
+    }
+    let results: Vec<pixel::SampleResult> =
+        rep.iter().map(|&r| evaluated[slot[r]].clone()).collect();
     stats.seconds.radiometry = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
-    let n = st.scene.scene.render.supersample.max(1);
     let planes = pixel::assemble(st, &samples, &results, w, h, n, cond)?;
     stats.seconds.sensor = t3.elapsed().as_secs_f64();
     Ok(Frame {

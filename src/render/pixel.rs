@@ -71,6 +71,72 @@ pub struct RadiometryContext<'a> {
     skies: Mutex<HashMap<(i64, i64), Arc<SkyPair>>>,
 }
 
+/// Two surfaces the radiometry cannot tell apart (up to the view
+/// direction): same material, facet plane normal, temperature and sun flag.
+fn same_surface(a: &Surface, b: &Surface) -> bool {
+    a.material == b.material
+        && a.normal == b.normal
+        && a.temp_k.to_bits() == b.temp_k.to_bits()
+        && a.sun_now() == b.sun_now()
+}
+
+/// Two samples whose radiometry differs only through the small change of
+/// view direction and range inside one pixel.
+fn same_radiometry(a: &Sample, b: &Sample) -> bool {
+    let surf = |x: &Option<Surface>, y: &Option<Surface>| match (x, y) {
+        (None, None) => true,
+        (Some(x), Some(y)) => same_surface(x, y),
+        _ => false,
+    };
+    surf(&a.surface, &b.surface)
+        && match (&a.bounce, &b.bounce) {
+            (None, None) => true,
+            (Some((_, x)), Some((_, y))) => surf(x, y),
+            _ => false,
+        }
+}
+
+/// The sample whose radiometry stands for each of one output pixel's n×n
+/// samples (row-major, as [`super::output_pixel_samples`] lists them).
+///
+/// **Uniform-pixel collapse.** When every sample of the pixel sees the same
+/// material on the same plane at the same temperature and sun flag (and the
+/// same kind of specular background), the band integral is evaluated once,
+/// for the sample nearest the pixel centre, and used for all of them: the
+/// samples then differ only by the view direction and range inside the
+/// pixel (one instantaneous field of view, a few µrad to mrad), which moves
+/// the radiance by far less than the f32 output resolves (measured on the
+/// airfield, 512², 4×4: ≤ 1e-4 K RMS, see BENCHMARKS.md). Pixels across an
+/// edge (object, material, shadow, temperature) evaluate every sample.
+pub fn representatives(px: &[&Sample], n: u32) -> Vec<usize> {
+    let c = ((n / 2) * n + n / 2) as usize;
+    if px.len() == (n * n) as usize && px.iter().all(|s| same_radiometry(s, px[c])) {
+        vec![c; px.len()]
+    } else {
+        (0..px.len()).collect()
+    }
+}
+
+/// [`representatives`] over a whole `sw`×`sh` sample image of `n`×`n`
+/// pixels: the index of the sample whose result each sample uses.
+pub fn representatives_frame(samples: &[Sample], sw: u32, sh: u32, n: u32) -> Vec<usize> {
+    let (w, h) = (sw / n, sh / n);
+    let mut rep: Vec<usize> = (0..samples.len()).collect();
+    let idx = |x: u32, y: u32, i: u32, j: u32| ((y * n + j) * sw + x * n + i) as usize;
+    for y in 0..h {
+        for x in 0..w {
+            let ks: Vec<usize> = (0..n)
+                .flat_map(|j| (0..n).map(move |i| idx(x, y, i, j)))
+                .collect();
+            let px: Vec<&Sample> = ks.iter().map(|&k| &samples[k]).collect();
+            for (k, r) in ks.iter().zip(representatives(&px, n)) {
+                rep[*k] = ks[r];
+            }
+        }
+    }
+    rep
+}
+
 fn key(x: f64, quantum: f64) -> i64 {
     (x / quantum).round() as i64
 }

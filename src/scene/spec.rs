@@ -582,8 +582,12 @@ pub struct RenderOptions {
     pub tracer: TracerKind,
 }
 
+// The defaults below are chosen from the accuracy curves of
+// `irsig bench accuracy` (BENCHMARKS.md, "Run time against error"): each
+// is the cheapest setting within 0.1 K apparent-temperature RMS of the
+// converged reference on the airfield, MWIR and LWIR.
 fn d_supersample() -> u32 {
-    1
+    4
 }
 fn d_spectral_step() -> f64 {
     10.0
@@ -592,13 +596,13 @@ fn d_thermal_step() -> f64 {
     15.0
 }
 fn d_thermal_tol() -> f64 {
-    crate::therm::slab::DEFAULT_TOL_K
+    0.02
 }
 fn d_shadow_interval() -> f64 {
     30.0
 }
 fn d_history_hours() -> f64 {
-    24.0
+    36.0
 }
 
 impl Default for RenderOptions {
