@@ -40,6 +40,19 @@ pub struct AccuracyArgs {
     /// default: all of them.
     #[arg(long = "knob", value_name = "NAME")]
     pub knobs: Vec<String>,
+    /// Keep the knobs not named by `--knob` at irsig's defaults in the
+    /// reference and the ladders (a cheaper reference for one knob, e.g.
+    /// supersampling at full image size).
+    #[arg(long, requires = "knobs")]
+    pub others_at_default: bool,
+    /// Only the reference and the default set (checks a default set
+    /// against the converged reference without the ladders).
+    #[arg(long, conflicts_with_all = ["knobs", "others_at_default"])]
+    pub no_ladders: bool,
+    /// A candidate set: the defaults with these render keys changed (e.g.
+    /// `render.shadow_interval_min=60`, repeatable); adds a `candidate` row.
+    #[arg(long, value_name = "KEY=VALUE")]
+    pub candidate: Vec<String>,
 }
 
 /// A knob, its reference value and its ladder of cheaper settings.
@@ -123,9 +136,39 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         v.extend_from_slice(extra);
         v
     };
+    let d = crate::scene::spec::RenderOptions::default();
+    let defaults: Vec<(String, String)> = [
+        ("render.thermal_step_min", d.thermal_step_min),
+        ("render.thermal_tol_k", d.thermal_tol_k),
+        ("render.shadow_interval_min", d.shadow_interval_min),
+        ("render.spectral_step_cm1", d.spectral_step_cm1),
+        ("render.supersample", d.supersample as f64),
+        ("render.history_hours", d.history_hours),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.to_string()))
+    .collect();
+    let selected = |k: &str| {
+        a.knobs.is_empty()
+            || a.knobs
+                .iter()
+                .any(|n| k == n || k.trim_start_matches("render.") == n)
+    };
+    // The reference: every knob at its converged value, or with
+    // --others-at-default only the selected ones (the rest at the defaults).
     let reference: Vec<(String, String)> = KNOBS
         .iter()
-        .map(|(k, r, _)| (k.to_string(), r.to_string()))
+        .map(|(k, r, _)| {
+            if a.others_at_default && !selected(k) {
+                defaults
+                    .iter()
+                    .find(|(dk, _)| dk == k)
+                    .expect("every knob has a default")
+                    .clone()
+            } else {
+                (k.to_string(), r.to_string())
+            }
+        })
         .collect();
     let run_one = |ov: Vec<(String, String)>| -> anyhow::Result<(Planes, f64, u64, u64)> {
         pool.install(|| {
@@ -176,12 +219,10 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         }
     };
     let mut rows = vec![row("reference", 0.0, &rp, rt, rr, rs)];
-    for (knob, _, ladder) in KNOBS.iter().filter(|(k, _, _)| {
-        a.knobs.is_empty()
-            || a.knobs
-                .iter()
-                .any(|n| *k == n || k.trim_start_matches("render.") == n)
-    }) {
+    for (knob, _, ladder) in KNOBS
+        .iter()
+        .filter(|(k, _, _)| !a.no_ladders && selected(k))
+    {
         for &v in *ladder {
             eprintln!("bench accuracy: {knob} = {v}");
             let mut ov = reference.clone();
@@ -192,20 +233,15 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         }
     }
     eprintln!("bench accuracy: irsig defaults");
-    let d = crate::scene::spec::RenderOptions::default();
-    let defaults: Vec<(String, String)> = [
-        ("render.thermal_step_min", d.thermal_step_min),
-        ("render.thermal_tol_k", d.thermal_tol_k),
-        ("render.shadow_interval_min", d.shadow_interval_min),
-        ("render.spectral_step_cm1", d.spectral_step_cm1),
-        ("render.supersample", d.supersample as f64),
-        ("render.history_hours", d.history_hours),
-    ]
-    .iter()
-    .map(|(k, v)| (k.to_string(), v.to_string()))
-    .collect();
     let (p, t, r, s) = run_one(with(&defaults))?;
     rows.push(row("default", 0.0, &p, t, r, s));
+    if !a.candidate.is_empty() {
+        let mut cand = defaults.clone();
+        cand.extend(super::render::parse_overrides(&a.candidate)?);
+        eprintln!("bench accuracy: candidate set");
+        let (p, t, r, s) = run_one(with(&cand))?;
+        rows.push(row("candidate", 0.0, &p, t, r, s));
+    }
 
     let mut csv = String::from(
         "knob,value,wall_s,rays,thermal_solves,surface_temp_rms_k,surface_temp_max_k,radiance_rms_pct,radiance_max_pct,apparent_temp_rms_k,apparent_temp_max_k\n",
@@ -304,7 +340,7 @@ fn plot(path: &std::path::Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
                     .map(|p| Cross::new(p, 8, BLACK.stroke_width(3))),
             )
             .map_err(|e| anyhow::anyhow!("{e}"))?
-            .label("scene defaults")
+            .label("irsig defaults")
             .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
         chart
             .configure_series_labels()

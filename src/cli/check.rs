@@ -387,11 +387,11 @@ mod tests {
             sum.needs.heated_materials,
             vec!["vehicle_engine".to_string()]
         );
-        // 3-5 µm = 2000-3333.3 cm⁻¹ at 10 cm⁻¹ steps: 134 samples
-        assert_eq!(sum.needs.spectral_samples, 134);
+        // 3-5 µm = 2000-3333.3 cm⁻¹ at 20 cm⁻¹ steps: 67 samples
+        assert_eq!(sum.needs.spectral_samples, 67);
         assert_eq!(
             (sum.needs.thermal_steps, sum.needs.shadow_samples),
-            (144, 72)
+            (36, 36)
         );
         // footprint contains the target; JSON serialises
         let fp = sum.footprint_m.map(|p| p.unwrap());

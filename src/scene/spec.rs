@@ -590,16 +590,16 @@ fn d_supersample() -> u32 {
     4
 }
 fn d_spectral_step() -> f64 {
-    10.0
+    20.0
 }
 fn d_thermal_step() -> f64 {
-    15.0
+    60.0
 }
 fn d_thermal_tol() -> f64 {
-    0.02
+    0.1
 }
 fn d_shadow_interval() -> f64 {
-    30.0
+    60.0
 }
 fn d_history_hours() -> f64 {
     36.0

@@ -1,0 +1,93 @@
+//! `irsig bench accuracy`: the harness's table is consistent (the reference
+//! row has zero error, every requested ladder row is there) and its errors
+//! behave as the numerics say they must: the spectral integration error
+//! falls as the step is refined (trapezoid rule, O(Δν²)), and at least
+//! 10x from 40 to 5 cm⁻¹.
+
+mod common;
+use common::{airfield, irsig, run};
+
+fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn accuracy_ladder_for_one_knob() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("acc");
+    let args: Vec<String> = [
+        "bench",
+        "accuracy",
+        airfield().to_str().unwrap(),
+        "--size",
+        "8",
+        "--knob",
+        "spectral_step_cm1",
+        "--others-at-default",
+        "--threads",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let stdout = run(&args);
+    let file = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
+    assert_eq!(stdout, file, "stdout is the CSV");
+    assert!(out.join("accuracy.json").is_file());
+    let svg = std::fs::read_to_string(out.join("accuracy.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("spectral_step_cm1"));
+    let rows = csv_rows(&file);
+    let col = |name: &str| {
+        file.lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .position(|c| c == name)
+            .unwrap()
+    };
+    let (knob, value, rad) = (col("knob"), col("value"), col("radiance_rms_pct"));
+    assert_eq!(rows[0][knob], "reference");
+    assert_eq!(rows[0][rad].parse::<f64>().unwrap(), 0.0);
+    let ladder: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r[knob] == "render.spectral_step_cm1")
+        .map(|r| (r[value].parse().unwrap(), r[rad].parse().unwrap()))
+        .collect();
+    assert_eq!(
+        ladder.iter().map(|l| l.0).collect::<Vec<_>>(),
+        vec![40.0, 20.0, 10.0, 5.0]
+    );
+    for w in ladder.windows(2) {
+        assert!(
+            w[1].1 <= w[0].1,
+            "error must fall with the step: {ladder:?}"
+        );
+    }
+    assert!(ladder[3].1 * 10.0 < ladder[0].1, "{ladder:?}");
+    assert_eq!(rows.last().unwrap()[knob], "default");
+}
+
+#[test]
+fn accuracy_rejects_an_unknown_knob() {
+    let out = irsig()
+        .args([
+            "bench",
+            "accuracy",
+            airfield().to_str().unwrap(),
+            "--knob",
+            "supersampling",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--knob supersampling") && err.contains("supersample"),
+        "{err}"
+    );
+}
