@@ -69,6 +69,12 @@ pub const KNOBS: &[(&str, f64, &[f64])] = &[
     ("render.history_hours", 72.0, &[12.0, 24.0, 36.0, 48.0]),
 ];
 
+/// Whether `name` (as given to `--knob`, with or without `render.`) names
+/// knob `key`.
+fn knob_named(key: &str, name: &str) -> bool {
+    key == name || key.trim_start_matches("render.") == name
+}
+
 /// One row of the table.
 #[derive(Debug, Serialize, Clone)]
 pub struct AccuracyRow {
@@ -111,10 +117,7 @@ fn plane<'a>(p: &'a Planes, name: &str) -> &'a [f32] {
 pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     let base = super::render::parse_overrides(&a.set)?;
     for n in &a.knobs {
-        if !KNOBS
-            .iter()
-            .any(|(k, _, _)| k == n || k.trim_start_matches("render.") == n)
-        {
+        if !KNOBS.iter().any(|(k, _, _)| knob_named(k, n)) {
             anyhow::bail!(
                 "--knob {n}: not a knob; expected one of {}",
                 KNOBS
@@ -148,12 +151,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     .iter()
     .map(|(k, v)| (k.to_string(), v.to_string()))
     .collect();
-    let selected = |k: &str| {
-        a.knobs.is_empty()
-            || a.knobs
-                .iter()
-                .any(|n| k == n || k.trim_start_matches("render.") == n)
-    };
+    let selected = |k: &str| a.knobs.is_empty() || a.knobs.iter().any(|n| knob_named(k, n));
     // The reference: every knob at its converged value, or with
     // --others-at-default only the selected ones (the rest at the defaults).
     let reference: Vec<(String, String)> = KNOBS

@@ -123,12 +123,13 @@ pub fn representatives_frame(samples: &[Sample], sw: u32, sh: u32, n: u32) -> Ve
     let (w, h) = (sw / n, sh / n);
     let mut rep: Vec<usize> = (0..samples.len()).collect();
     let idx = |x: u32, y: u32, i: u32, j: u32| ((y * n + j) * sw + x * n + i) as usize;
+    let (mut ks, mut px) = (Vec::new(), Vec::new());
     for y in 0..h {
         for x in 0..w {
-            let ks: Vec<usize> = (0..n)
-                .flat_map(|j| (0..n).map(move |i| idx(x, y, i, j)))
-                .collect();
-            let px: Vec<&Sample> = ks.iter().map(|&k| &samples[k]).collect();
+            ks.clear();
+            ks.extend((0..n).flat_map(|j| (0..n).map(move |i| idx(x, y, i, j))));
+            px.clear();
+            px.extend(ks.iter().map(|&k| &samples[k]));
             for (k, r) in ks.iter().zip(representatives(&px, n)) {
                 rep[*k] = ks[r];
             }

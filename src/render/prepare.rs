@@ -62,11 +62,8 @@ pub struct Conditions {
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
     pub air_temp_k: f64,
-    /// Deep-ground temperature of `deep_ground = {}` materials, K
-    /// ([`deep_ground_temp_k`]).
-    pub deep_ground_k: f64,
-    /// The scene's slabs with `deep_ground = {}` set to `deep_ground_k`
-    /// (indexed like the scene's materials).
+    /// The scene's slabs with `deep_ground = {}` set to
+    /// [`deep_ground_temp_k`] (indexed like the scene's materials).
     pub slabs: Vec<SlabMaterial>,
 }
 
@@ -263,6 +260,16 @@ fn load_atmosphere(scene: &LoadedScene, band: &Band) -> anyhow::Result<SpectralA
 /// Hours of air temperature averaged into the deep-ground temperature.
 pub const DEEP_GROUND_WINDOW_H: i64 = 72;
 
+/// Start of the deep-ground averaging window (before clipping to the
+/// weather record): [`DEEP_GROUND_WINDOW_H`] before the image time, or the
+/// history's start if earlier.
+fn deep_ground_window_start(
+    history_start: DateTime<Utc>,
+    image_time: DateTime<Utc>,
+) -> DateTime<Utc> {
+    history_start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H))
+}
+
 /// The deep-ground temperature of `deep_ground = {}` materials: the mean air
 /// temperature (trapezoid rule on hourly samples) over the
 /// [`DEEP_GROUND_WINDOW_H`] hours before the image time, or over the whole
@@ -277,7 +284,7 @@ pub fn deep_ground_temp_k(
     history_start: DateTime<Utc>,
     image_time: DateTime<Utc>,
 ) -> anyhow::Result<f64> {
-    let mut from = history_start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H));
+    let mut from = deep_ground_window_start(history_start, image_time);
     if let Some(&first) = history.times.first() {
         from = from.max(first);
     }
@@ -335,8 +342,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
             },
             site.lat_deg,
             site.lon_deg,
-            start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H))
-                - chrono::Duration::hours(2),
+            deep_ground_window_start(start, image_time) - chrono::Duration::hours(2),
             image_time + chrono::Duration::hours(2),
             900.0,
         )?,
@@ -387,7 +393,6 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
         air_temp_k,
-        deep_ground_k,
         slabs,
     })
 }

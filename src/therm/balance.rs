@@ -155,6 +155,20 @@ pub struct SurfaceDrive {
     pub wind_speed_m_s: f64,
 }
 
+impl SurfaceDrive {
+    /// `self += w·d`, field by field (for time averages of the drive).
+    pub fn add_scaled(&mut self, w: f64, d: &SurfaceDrive) {
+        self.absorbed_direct_w_m2 += w * d.absorbed_direct_w_m2;
+        self.absorbed_diffuse_w_m2 += w * d.absorbed_diffuse_w_m2;
+        self.absorbed_ground_reflected_w_m2 += w * d.absorbed_ground_reflected_w_m2;
+        self.sky_longwave_in_w_m2 += w * d.sky_longwave_in_w_m2;
+        self.ground_longwave_in_w_m2 += w * d.ground_longwave_in_w_m2;
+        self.internal_w_m2 += w * d.internal_w_m2;
+        self.air_temp_k += w * d.air_temp_k;
+        self.wind_speed_m_s += w * d.wind_speed_m_s;
+    }
+}
+
 /// Inputs of [`surface_drive`]: the weather/sun forcing at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DriveInputs {

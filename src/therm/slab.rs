@@ -248,9 +248,6 @@ pub enum SpinUpStart {
     FirstSample,
 }
 
-/// Default local error tolerance per adaptive step, K.
-pub const DEFAULT_TOL_K: f64 = 0.0005;
-
 /// Numerical settings of the slab solver. The defaults were chosen on the
 /// accuracy tests (`tests/therm_reference.rs`: < 0.1 K against a 500-node
 /// stiff method-of-lines reference over 48 h of TMY3 weather).
@@ -283,7 +280,7 @@ impl Default for ThermSettings {
     fn default() -> Self {
         ThermSettings {
             step_s: 900.0,
-            tol_k: Some(DEFAULT_TOL_K),
+            tol_k: Some(0.0005),
             min_step_s: 0.05,
             spin_up_h: 24.0,
             spin_up_start: SpinUpStart::MeanForcing,
@@ -717,20 +714,11 @@ impl SlabModel {
         sunlit: bool,
         deep: Option<f64>,
     ) -> Result<Vec<f64>, ThermError> {
-        let n = self.nodes();
-        let old = vec![f.air_temp_k; n];
-        let mut new = old.clone();
-        let mut w = Work::new(n);
-        let drive = self.drive(f, sunlit);
-        // A huge (not infinite) step keeps the matrix regular when no heat
-        // can leave the slab (e.g. ε = 0 and no convection).
-        if !self.implicit_step(&old, &mut new, 1e12, f, &drive, deep, &mut w) {
-            return Err(ThermError::NoConvergence {
+        self.steady_state(f, &self.drive(f, sunlit), deep)
+            .ok_or_else(|| ThermError::NoConvergence {
                 t_s: f.t_s,
                 why: "no steady state for the spin-up initial condition".into(),
-            });
-        }
-        Ok(new)
+            })
     }
 
     /// Steady state under the time-mean surface drive of `forcing` (each
@@ -744,16 +732,7 @@ impl SlabModel {
         deep: Option<f64>,
     ) -> Result<Vec<f64>, ThermError> {
         let n = forcing.len();
-        let mut mean = SurfaceDrive {
-            absorbed_direct_w_m2: 0.0,
-            absorbed_diffuse_w_m2: 0.0,
-            absorbed_ground_reflected_w_m2: 0.0,
-            sky_longwave_in_w_m2: 0.0,
-            ground_longwave_in_w_m2: 0.0,
-            internal_w_m2: 0.0,
-            air_temp_k: 0.0,
-            wind_speed_m_s: 0.0,
-        };
+        let mut sum = SurfaceDrive::default();
         let mut total_w = 0.0;
         for (i, f) in forcing.iter().enumerate() {
             // Trapezoid weights; a single sample has weight 1.
@@ -764,15 +743,7 @@ impl SlabModel {
                 let b = forcing[(i + 1).min(n - 1)].t_s;
                 0.5 * (b - a)
             };
-            let d = self.drive(f, shadow.is_none_or(|h| h.sunlit_at(f.t_s)));
-            mean.absorbed_direct_w_m2 += w * d.absorbed_direct_w_m2;
-            mean.absorbed_diffuse_w_m2 += w * d.absorbed_diffuse_w_m2;
-            mean.absorbed_ground_reflected_w_m2 += w * d.absorbed_ground_reflected_w_m2;
-            mean.sky_longwave_in_w_m2 += w * d.sky_longwave_in_w_m2;
-            mean.ground_longwave_in_w_m2 += w * d.ground_longwave_in_w_m2;
-            mean.internal_w_m2 += w * d.internal_w_m2;
-            mean.air_temp_k += w * d.air_temp_k;
-            mean.wind_speed_m_s += w * d.wind_speed_m_s;
+            sum.add_scaled(w, &self.drive(f, shadow.is_none_or(|h| h.sunlit_at(f.t_s))));
             total_w += w;
         }
         if total_w <= 0.0 || !total_w.is_finite() {
@@ -780,31 +751,36 @@ impl SlabModel {
                 "forcing samples must span a positive time".into(),
             ));
         }
-        let inv = 1.0 / total_w;
-        mean.absorbed_direct_w_m2 *= inv;
-        mean.absorbed_diffuse_w_m2 *= inv;
-        mean.absorbed_ground_reflected_w_m2 *= inv;
-        mean.sky_longwave_in_w_m2 *= inv;
-        mean.ground_longwave_in_w_m2 *= inv;
-        mean.internal_w_m2 *= inv;
-        mean.air_temp_k *= inv;
-        mean.wind_speed_m_s *= inv;
+        let mut mean = SurfaceDrive::default();
+        mean.add_scaled(1.0 / total_w, &sum);
         let f_mean = Forcing {
             air_temp_k: mean.air_temp_k,
             wind_speed_m_s: mean.wind_speed_m_s,
             ..forcing[0]
         };
-        let nodes = self.nodes();
-        let old = vec![mean.air_temp_k; nodes];
-        let mut new = old.clone();
-        let mut w = Work::new(nodes);
-        if !self.implicit_step(&old, &mut new, 1e12, &f_mean, &mean, deep, &mut w) {
-            return Err(ThermError::NoConvergence {
+        self.steady_state(&f_mean, &mean, deep)
+            .ok_or_else(|| ThermError::NoConvergence {
                 t_s: forcing[0].t_s,
                 why: "no steady state under the mean forcing for the spin-up".into(),
-            });
-        }
-        Ok(new)
+            })
+    }
+
+    /// The implicit step of infinite size under `drive` (back face under
+    /// `f`), started from the air temperature; `None` if Newton failed.
+    fn steady_state(
+        &self,
+        f: &Forcing,
+        drive: &SurfaceDrive,
+        deep: Option<f64>,
+    ) -> Option<Vec<f64>> {
+        let n = self.nodes();
+        let old = vec![f.air_temp_k; n];
+        let mut new = old.clone();
+        let mut w = Work::new(n);
+        // A huge (not infinite) step keeps the matrix regular when no heat
+        // can leave the slab (e.g. ε = 0 and no convection).
+        self.implicit_step(&old, &mut new, 1e12, f, drive, deep, &mut w)
+            .then_some(new)
     }
 
     /// Marches from the spin-up start ([`ThermSettings::spin_up_start`]) at
