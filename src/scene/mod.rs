@@ -821,6 +821,34 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
             " degrees",
         )?;
     }
+    // View zenith (up to `vz_max`), azimuth and target of the altitude and
+    // slant-range poses, under `sensor.pose.<pose>`.
+    let view_angles_and_target =
+        |pose: &str, vz: f64, vz_max: f64, az: f64, target: &[f64; 3]| -> Result<(), SceneError> {
+            let q = |k: &str| p(&["sensor", "pose", pose, k]);
+            c.range(
+                &q("view_zenith_deg"),
+                "view_zenith_deg",
+                vz,
+                0.0,
+                vz_max,
+                " degrees",
+            )?;
+            c.range(
+                &q("azimuth_deg"),
+                "azimuth_deg",
+                az,
+                -360.0,
+                360.0,
+                " degrees",
+            )?;
+            for (i, x) in target.iter().enumerate() {
+                let mut at = q("target_m");
+                at.push(Seg::Index(i));
+                c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
+            }
+            Ok(())
+        };
     match &sn.pose {
         SensorPose::LookAt {
             position_m,
@@ -849,27 +877,7 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         } => {
             let q = |k: &str| p(&["sensor", "pose", "altitude", k]);
             c.range(&q("altitude_m"), "altitude_m", *altitude_m, -1e3, 1e8, " m")?;
-            c.range(
-                &q("view_zenith_deg"),
-                "view_zenith_deg",
-                *view_zenith_deg,
-                0.0,
-                89.0,
-                " degrees",
-            )?;
-            c.range(
-                &q("azimuth_deg"),
-                "azimuth_deg",
-                *azimuth_deg,
-                -360.0,
-                360.0,
-                " degrees",
-            )?;
-            for (i, x) in target_m.iter().enumerate() {
-                let mut at = q("target_m");
-                at.push(Seg::Index(i));
-                c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
-            }
+            view_angles_and_target("altitude", *view_zenith_deg, 89.0, *azimuth_deg, target_m)?;
         }
         SensorPose::SlantRange {
             slant_range_m,
@@ -887,27 +895,13 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
                 1e8,
                 " m",
             )?;
-            c.range(
-                &q("view_zenith_deg"),
-                "view_zenith_deg",
+            view_angles_and_target(
+                "slant_range",
                 *view_zenith_deg,
-                0.0,
                 89.999,
-                " degrees",
-            )?;
-            c.range(
-                &q("azimuth_deg"),
-                "azimuth_deg",
                 *azimuth_deg,
-                -360.0,
-                360.0,
-                " degrees",
+                target_m,
             )?;
-            for (i, x) in target_m.iter().enumerate() {
-                let mut at = q("target_m");
-                at.push(Seg::Index(i));
-                c.range(&at, "target_m", *x, -1e8, 1e8, " m")?;
-            }
         }
     }
     camera_geometry(sn).map_err(|m| src.invalid(&p(&["sensor", "pose"]), m))?;
