@@ -396,3 +396,82 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         slabs,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::therm::weather::WeatherSample;
+    use chrono::TimeZone;
+
+    /// An hourly record from `t0` with air temperature `f(hour)` °C.
+    fn record(t0: DateTime<Utc>, hours: i64, f: impl Fn(f64) -> f64) -> WeatherHistory {
+        let times: Vec<_> = (0..=hours)
+            .map(|h| t0 + chrono::Duration::hours(h))
+            .collect();
+        let samples = (0..=hours)
+            .map(|h| WeatherSample {
+                air_temp_k: f(h as f64) + 273.15,
+                dew_point_k: 273.15,
+                wind_speed_m_s: 2.0,
+                pressure_pa: 101_325.0,
+                cloud_fraction: 0.0,
+                ghi_w_m2: None,
+                dni_w_m2: None,
+                dhi_w_m2: None,
+                sky_temp_k: None,
+                precip_mm_h: 0.0,
+            })
+            .collect();
+        WeatherHistory {
+            times,
+            samples,
+            source: "test".into(),
+        }
+    }
+
+    const SITE: Site = Site {
+        lat_deg: 36.1,
+        lon_deg: -79.95,
+        elevation_m: 273.0,
+    };
+
+    /// Reference: the analytic mean of the record's piecewise-linear air
+    /// temperature, i.e. the trapezoid rule over its own hourly samples
+    /// (exact for a linear trend; a whole-day sinusoid adds nothing). A
+    /// trend of 0.1 K/h plus a 5-K diurnal wave over 72 h has the mean of
+    /// the trend at the window's midpoint. Tolerance 1e-9 K (rounding).
+    #[test]
+    fn deep_ground_is_the_72_h_mean_air_temperature() {
+        let t0 = Utc.with_ymd_and_hms(2001, 8, 1, 0, 0, 0).unwrap();
+        let trend = |h: f64| 20.0 + 0.1 * h;
+        let w = record(t0, 200, |h| {
+            trend(h) + 5.0 * (2.0 * std::f64::consts::PI * h / 24.0).sin()
+        });
+        let image = t0 + chrono::Duration::hours(150);
+        // Sinusoid sampled hourly over whole days: its trapezoid sum is 0.
+        let expect = trend(150.0 - 36.0) + 273.15;
+        // A 24-h history: the window is still 72 h.
+        let hist_start = image - chrono::Duration::hours(24);
+        let got = deep_ground_temp_k(&w, &SITE, hist_start, image).unwrap();
+        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
+        // A 96-h history: the window is the history.
+        let hist_start = image - chrono::Duration::hours(96);
+        let got = deep_ground_temp_k(&w, &SITE, hist_start, image).unwrap();
+        let expect = trend(150.0 - 48.0) + 273.15;
+        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
+    }
+
+    /// A record shorter than the window: the mean over what there is.
+    #[test]
+    fn deep_ground_window_is_clipped_to_the_record() {
+        let t0 = Utc.with_ymd_and_hms(2001, 8, 1, 0, 0, 0).unwrap();
+        let w = record(t0, 30, |h| 10.0 + 0.2 * h);
+        let image = t0 + chrono::Duration::hours(24);
+        let got = deep_ground_temp_k(&w, &SITE, t0, image).unwrap();
+        let expect = 10.0 + 0.2 * 12.0 + 273.15;
+        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
+        let before = t0 - chrono::Duration::hours(1);
+        let e = deep_ground_temp_k(&w, &SITE, before, before).unwrap_err();
+        assert!(e.to_string().contains("starts after the image time"), "{e}");
+    }
+}
