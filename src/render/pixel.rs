@@ -104,10 +104,10 @@ fn same_radiometry(a: &Sample, b: &Sample) -> bool {
 /// same kind of specular background), the band integral is evaluated once,
 /// for the sample nearest the pixel centre, and used for all of them: the
 /// samples then differ only by the view direction and range inside the
-/// pixel (one instantaneous field of view, a few µrad to mrad), which moves
-/// the radiance by far less than the f32 output resolves (measured on the
-/// airfield, 512², 4×4: ≤ 1e-4 K RMS, see BENCHMARKS.md). Pixels across an
-/// edge (object, material, shadow, temperature) evaluate every sample.
+/// pixel (one instantaneous field of view, a few µrad to mrad). Measured
+/// against evaluating every sample on the airfield, 512², 4×4: 2e-4 K RMS
+/// and 0.013 K max in apparent temperature (BENCHMARKS.md). Pixels across
+/// an edge (object, material, shadow, temperature) evaluate every sample.
 pub fn representatives(px: &[&Sample], n: u32) -> Vec<usize> {
     let c = ((n / 2) * n + n / 2) as usize;
     if px.len() == (n * n) as usize && px.iter().all(|s| same_radiometry(s, px[c])) {
