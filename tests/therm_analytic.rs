@@ -28,6 +28,10 @@ fn night(air_k: f64) -> Forcing {
         dhi_w_m2: 0.0,
         ghi_w_m2: 0.0,
         sun_dir_enu: [0.0, 0.0, -1.0],
+        dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+        pressure_pa: 101_325.0,
+        precip_mm_h: 0.0,
+        ground_temp_k: None,
     }
 }
 
@@ -42,6 +46,7 @@ fn concrete(thickness_m: f64, back: BackBoundary) -> SlabMaterial {
         back,
         internal_power_w_m2: 0.0,
         ground_albedo: None,
+        surface: irsig::therm::surface::SurfaceKind::default(),
     }
 }
 
@@ -90,6 +95,7 @@ fn lumped_thin_plate_exponential_approach() {
         back: BackBoundary::Insulated,
         internal_power_w_m2: 0.0,
         ground_albedo: None,
+        surface: irsig::therm::surface::SurfaceKind::default(),
     };
     let h = 10.0;
     let settings = ThermSettings {
@@ -163,6 +169,10 @@ fn semi_infinite_flux_step_sqrt_t() {
     let sun = Forcing {
         dni_w_m2: q,
         sun_dir_enu: [0.0, 0.0, 1.0],
+        dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+        pressure_pa: 101_325.0,
+        precip_mm_h: 0.0,
+        ground_temp_k: None,
         ..night(280.0)
     };
     let forcing = constant_forcing(86400.0, 900.0, sun);
@@ -267,12 +277,17 @@ fn slab_steady_state_deep_ground() {
         },
         internal_power_w_m2: 10.0,
         ground_albedo: Some(0.3),
+        surface: irsig::therm::surface::SurfaceKind::default(),
     };
     let o = Orientation {
         slope_deg: 20.0,
         aspect_deg: 180.0,
     };
-    let settings = ThermSettings::default();
+    // The analytic balance below uses the linear (McAdams) coefficient.
+    let settings = ThermSettings {
+        convection: Convection::mcadams(),
+        ..ThermSettings::default()
+    };
     let model = SlabModel::new(&mat, o, &settings).unwrap();
     let sd = [0.0, -0.6f64, 0.8];
     let f = Forcing {
@@ -283,6 +298,10 @@ fn slab_steady_state_deep_ground() {
         dhi_w_m2: 100.0,
         ghi_w_m2: 660.0,
         sun_dir_enu: sd,
+        dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+        pressure_pa: 101_325.0,
+        precip_mm_h: 0.0,
+        ground_temp_k: None,
         ..night(300.0)
     };
     let forcing = constant_forcing(60.0 * 86400.0, 86400.0, f);
@@ -306,7 +325,7 @@ fn slab_steady_state_deep_ground() {
     eprintln!("steady deep ground: T_s {ts:.4} K, err {err:.2e} K");
     assert!(err < TOL_K, "error {err} K");
     // The equilibrium used for spin-up is the same steady state.
-    let eq = model.equilibrium(&forcing[0], true, Some(285.0)).unwrap();
+    let eq = model.equilibrium(&forcing[0], 1.0, Some(285.0)).unwrap();
     assert!((eq[0] - ts).abs() < TOL_K);
     // Linear profile between the faces.
     let (z, p) = (&model.mesh.z_m, &sol.profile_k);
@@ -335,8 +354,13 @@ fn slab_steady_state_exposed_back() {
         back: BackBoundary::ExposedToAir { area_factor: 1.0 },
         internal_power_w_m2: 0.0,
         ground_albedo: None,
+        surface: irsig::therm::surface::SurfaceKind::default(),
     };
-    let settings = ThermSettings::default();
+    // The analytic balance below uses the linear (McAdams) coefficient.
+    let settings = ThermSettings {
+        convection: Convection::mcadams(),
+        ..ThermSettings::default()
+    };
     let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &settings).unwrap();
     let f = Forcing {
         air_temp_k: 295.0,
@@ -346,6 +370,10 @@ fn slab_steady_state_exposed_back() {
         dhi_w_m2: 0.0,
         ghi_w_m2: 800.0,
         sun_dir_enu: [0.0, 0.0, 1.0],
+        dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+        pressure_pa: 101_325.0,
+        precip_mm_h: 0.0,
+        ground_temp_k: None,
         ..night(295.0)
     };
     let forcing = constant_forcing(10.0 * 86400.0, 86400.0, f);

@@ -40,6 +40,10 @@ fn clear_days(days: f64, dt_s: f64, mean_k: f64, amp_k: f64, wind_m_s: f64) -> V
                 dhi_w_m2: dhi,
                 ghi_w_m2: dni * sin_el + dhi,
                 sun_dir_enu: [e, nn, u],
+                dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+                pressure_pa: 101_325.0,
+                precip_mm_h: 0.0,
+                ground_temp_k: None,
             }
         })
         .collect()
@@ -56,6 +60,7 @@ fn material(thickness_m: f64, k: f64, rho: f64, c: f64, back: BackBoundary) -> S
         back,
         internal_power_w_m2: 0.0,
         ground_albedo: None,
+        surface: irsig::therm::surface::SurfaceKind::default(),
     }
 }
 
@@ -94,7 +99,15 @@ fn bounds(
     let air_max = fold(&|f| f.air_temp_k, false);
     let lw = e * sig * (fs * fold(&|f| f.sky_temp_k, false).powi(4) + fg * air_max.powi(4));
     let src = s_max + lw + mat.internal_power_w_m2;
-    let a = conv.still_air_w_m2k;
+    // The still-air floor of the linear model; the surface-layer model has
+    // no floor that holds at every wind (its coefficient only helps), so
+    // emission alone bounds it.
+    let a = match conv {
+        Convection::Linear {
+            still_air_w_m2k, ..
+        } => *still_air_w_m2k,
+        Convection::SurfaceLayer(_) => 0.0,
+    };
     let (mut l, mut h) = (air_max, air_max + 5000.0);
     for _ in 0..200 {
         let m = 0.5 * (l + h);
@@ -179,7 +192,7 @@ fn check_finite_and_bounded(x: &Extremes) -> Result<(), TestCaseError> {
     let init = model
         .equilibrium(
             &forcing[0],
-            hist.sunlit_at(0.0),
+            hist.sunlit_fraction_at(0.0),
             model.deep_temp_k(&forcing),
         )
         .unwrap();
@@ -326,6 +339,10 @@ proptest! {
             t_s: 0.0, air_temp_k: 290.0, sky_temp_k: 265.0, wind_speed_m_s: wind,
             dni_w_m2: if sunlit { 800.0 } else { 0.0 }, dhi_w_m2: 100.0, ghi_w_m2: 700.0,
             sun_dir_enu: [0.0, -0.6, 0.8],
+            dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
         };
         let forcing: Vec<Forcing> = (0..=2000).map(|i| Forcing { t_s: i as f64 * step, ..f }).collect();
         let mut init = vec![t0; model.nodes()];
@@ -349,7 +366,7 @@ fn series_on_last_day(
     forcing: &[Forcing],
     shadow: Option<&SunHistory>,
 ) -> Vec<(f64, f64, f64)> {
-    let model = SlabModel::new(mat, o, &ThermSettings::default()).unwrap();
+    let model = SlabModel::new(mat, o, &therm_era()).unwrap();
     let sol = model.solve(forcing, shadow, true).unwrap();
     let t_last = forcing.last().unwrap().t_s;
     sol.series
@@ -464,11 +481,29 @@ fn contrast_falls_with_wind_fast_then_slowly() {
     for w in contrast.windows(2) {
         assert!(w[1] < w[0]);
     }
+    // The paper's "fast at first, then slowly": the first 10 mph take
+    // more contrast than either later step. (With the surface-layer
+    // convection the later drops are nearly equal: the unstable boost of
+    // the exchange fades with wind while the forced part grows.)
     let drops: Vec<f64> = contrast.windows(2).map(|w| w[0] - w[1]).collect();
     assert!(
-        drops[0] > drops[1] && drops[1] > drops[2],
+        drops[0] > 2.0 * drops[1] && drops[0] > 2.0 * drops[2],
         "drops {drops:?}"
     );
+}
+
+/// The solver settings of the THERM-era behaviour tests: McAdams
+/// convection (radiation folded in), as the paper's model had. The
+/// timing and spin-up properties below were established with it; the
+/// surface-layer default is exercised by the render and station tests.
+/// With the surface-layer model the mean-forcing spin-up is 0.47 K from
+/// the periodic state after 24 h (the stability correction makes the
+/// exchange nonlinear), against < 0.1 K here.
+fn therm_era() -> ThermSettings {
+    ThermSettings {
+        convection: Convection::mcadams(),
+        ..ThermSettings::default()
+    }
 }
 
 /// Spin-up from the mean-forcing steady state against the periodic
@@ -510,7 +545,7 @@ fn mean_forcing_spin_up_matches_the_periodic_state() {
         let run = |start: SpinUpStart, forcing: &[Forcing], hist: Option<&SunHistory>| {
             let s = ThermSettings {
                 spin_up_start: start,
-                ..ThermSettings::default()
+                ..therm_era()
             };
             SlabModel::new(&soil, o, &s)
                 .unwrap()

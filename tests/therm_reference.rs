@@ -58,6 +58,10 @@ fn load_forcing() -> Vec<Forcing> {
             dhi_w_m2: r[5],
             ghi_w_m2: r[6],
             sun_dir_enu: [r[7], r[8], r[9]],
+            dew_point_k: irsig::therm::forcing::DRY_AIR_DEW_POINT_K,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
         })
         .collect()
 }
@@ -110,7 +114,7 @@ fn errors(settings: &ThermSettings) -> Vec<(String, f64, usize)> {
 /// reference over 48 h at the default settings.
 #[test]
 fn tmy3_48h_matches_fine_grid_reference() {
-    let errs = errors(&ThermSettings::default());
+    let errs = errors(&reference_settings());
     for (name, err, steps) in &errs {
         eprintln!("{name}: max |error| {err:.4} K ({steps} steps)");
     }
@@ -134,12 +138,12 @@ fn energy_is_conserved() {
         for adaptive in [false, true] {
             let settings = ThermSettings {
                 tol_k: if adaptive {
-                    ThermSettings::default().tol_k
+                    reference_settings().tol_k
                 } else {
                     None
                 },
                 step_s: 900.0,
-                ..ThermSettings::default()
+                ..reference_settings()
             };
             let model = SlabModel::new(&case.material, case.orientation, &settings).unwrap();
             // no shadow switches between samples for (a): every step is one record
@@ -191,7 +195,7 @@ fn energy_is_conserved() {
 #[test]
 #[ignore]
 fn sweep_settings_error_vs_cost() {
-    let base = ThermSettings::default();
+    let base = reference_settings();
     let mut variants: Vec<(String, ThermSettings)> = Vec::new();
     for tol in [None, Some(0.02), Some(0.005), Some(0.002), Some(0.0005)] {
         for step in [60.0, 300.0, 900.0] {
@@ -253,7 +257,7 @@ fn tight_settings_errors() {
                 max_growth: g,
                 surface_time_s: st,
                 max_nodes: 400,
-                ..ThermSettings::default()
+                ..reference_settings()
             };
             let e: Vec<String> = errors(&s)
                 .iter()
@@ -261,5 +265,14 @@ fn tight_settings_errors() {
                 .collect();
             eprintln!("tol {tol} g {g} st {st}: {}", e.join(", "));
         }
+    }
+}
+
+/// The solver's defaults with the McAdams convection of the reference
+/// solver (tools/ref_therm.py): this file tests the numerics.
+fn reference_settings() -> ThermSettings {
+    ThermSettings {
+        convection: irsig::therm::balance::Convection::mcadams(),
+        ..ThermSettings::default()
     }
 }

@@ -234,6 +234,10 @@ pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
             dhi_w_m2: v[5],
             ghi_w_m2: v[6],
             sun_dir_enu: [v[7], v[8], v[9]],
+            dew_point_k: crate::therm::forcing::DRY_AIR_DEW_POINT_K,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
         });
     }
     crate::therm::slab::validate_forcing(&out).with_context(|| format!("{file}"))?;

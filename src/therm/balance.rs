@@ -4,19 +4,27 @@
 //!
 //! Sign convention: every flux is in W/m² and positive **into** the slab.
 //!
-//! Surface balance (DESIGN.md §4, after Schott et al. 1992, THERM):
+//! Surface balance (after Schott et al. 1992, THERM, with the turbulent
+//! terms of [`super::aero`]):
 //!
 //! ```text
 //! q_s = α·[I·E_dir·max(0, n·s) + E_dif·F_sky + ρ_g·E_glob·F_gnd]
-//!     + ε·[F_sky·σT_sky⁴ + F_gnd·σT_gnd⁴] − ε·σT_s⁴ + h_c(v, ΔT)·(T_air − T_s) + q_int
-//! F_sky = (1 + cos β)/2,  F_gnd = (1 − cos β)/2     (β = slope; isotropic sky and ground)
+//!     + ε·[F_sky·σT_sky⁴ + F_gnd·σT_gnd⁴] − ε·σT_s⁴
+//!     + h_c·(T_air − T_s) + λE(T_s) + ρ_w c_w P·(T_wb − T_s) + q_int
+//! F_sky = (1 + cos β)/2,  F_gnd = 1 − F_sky      (β = slope; isotropic sky and ground)
 //! ```
 //!
-//! The ground seen by a tilted facet is taken as a black body at the air
-//! temperature (`T_gnd = T_air`), with solar albedo `ρ_g` (material field
-//! `ground_albedo`, default [`DEFAULT_GROUND_ALBEDO`]).
+//! `h_c` is convective only ([`Convection::SurfaceLayer`]); `λE` is the
+//! latent heat of transpiration, evaporation from a wet store or open
+//! water, or dew ([`super::aero::latent_w_m2`]); the rain term carries the
+//! heat of precipitation at the wet-bulb temperature. The ground seen by a
+//! tilted facet is a black body at `T_gnd` (the render solves the scene's
+//! ground material for it; the forcing builder's default is the air
+//! temperature) with solar albedo `ρ_g`.
 
 use serde::{Deserialize, Serialize};
+
+use super::aero::{Exchange, SurfaceLayer};
 
 /// Stefan–Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018, exact in SI 2019).
 pub const STEFAN_BOLTZMANN_W_M2K4: f64 = 5.670_374_419e-8;
@@ -76,62 +84,115 @@ impl Orientation {
     }
 }
 
-/// Convective heat-transfer coefficient model:
-/// `h_c = max(a + b·v, c·|T_air − T_s|^(1/3))`, W m⁻² K⁻¹.
-///
-/// Defaults: `a = 5.7`, `b = 3.8` — McAdams (1954), as quoted by Duffie &
-/// Beckman, *Solar Engineering of Thermal Processes*, eq. 3.15.1 (wind speed
-/// `v` in m/s); the free-convection floor `c = 1.31` W m⁻² K⁻⁴ᐟ³ is the
-/// simplified turbulent natural-convection correlation for air
-/// (`h = 1.31 ΔT^(1/3)`, ASHRAE Fundamentals), which only takes over from the
-/// still-air term for |ΔT| > 80 K. Set all three to build a constant `h`
-/// (`b = c = 0`) or no convection at all.
+/// The convective heat-transfer model.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Convection {
-    pub still_air_w_m2k: f64,
-    pub wind_coeff_j_m3k: f64,
-    pub free_coeff_w_m2k4_3: f64,
+#[serde(rename_all = "snake_case")]
+pub enum Convection {
+    /// `h_c = max(a + b·v, c·|T_air − T_s|^(1/3))`, W m⁻² K⁻¹, with the
+    /// station wind `v`. McAdams (1954) as quoted by Duffie & Beckman, *Solar
+    /// Engineering of Thermal Processes*, eq. 3.15.1 (`a = 5.7`, `b = 3.8`,
+    /// [`Convection::mcadams`]) **includes radiative exchange**, which the
+    /// surface balance also computes explicitly: kept only for the numerical
+    /// reference tests (whose independent solvers use it) and for constant
+    /// coefficients ([`Convection::constant`]). Not for scenes.
+    Linear {
+        still_air_w_m2k: f64,
+        wind_coeff_j_m3k: f64,
+        free_coeff_w_m2k4_3: f64,
+    },
+    /// Convection only, from surface-layer similarity
+    /// ([`super::aero::Exchange`]): the station wind moved to the facet's
+    /// height by the log law, FAO-56's aerodynamic resistance with the
+    /// surface's own roughness, a bulk-Richardson stability correction,
+    /// blended with turbulent free convection. The default.
+    SurfaceLayer(SurfaceLayer),
 }
 
 impl Default for Convection {
     fn default() -> Self {
-        Convection {
-            still_air_w_m2k: 5.7,
-            wind_coeff_j_m3k: 3.8,
-            free_coeff_w_m2k4_3: 1.31,
-        }
+        Convection::SurfaceLayer(SurfaceLayer::default())
     }
 }
 
 impl Convection {
     /// A constant coefficient `h` (no wind or free-convection dependence).
     pub fn constant(h_w_m2k: f64) -> Convection {
-        Convection {
+        Convection::Linear {
             still_air_w_m2k: h_w_m2k,
             wind_coeff_j_m3k: 0.0,
             free_coeff_w_m2k4_3: 0.0,
         }
     }
 
-    /// Convective flux into the surface `h_c·(T_air − T_s)` and its
-    /// derivative with respect to `T_s`, W/m² and W m⁻² K⁻¹.
-    pub fn flux_w_m2(&self, wind_speed_m_s: f64, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64) {
-        let dt = air_temp_k - surf_temp_k;
-        let forced = self.still_air_w_m2k + self.wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
-        let free = self.free_coeff_w_m2k4_3 * dt.abs().cbrt();
-        if forced >= free {
-            (forced * dt, -forced)
-        } else {
-            // d/dTs [c |dt|^(1/3) dt] = -(4/3) c |dt|^(1/3)
-            (free * dt, -4.0 / 3.0 * free)
+    /// The legacy McAdams form `max(5.7 + 3.8·v, 1.31·|ΔT|^(1/3))` (see
+    /// [`Convection::Linear`]; the free-convection floor is the simplified
+    /// turbulent correlation for air of ASHRAE Fundamentals).
+    pub fn mcadams() -> Convection {
+        Convection::Linear {
+            still_air_w_m2k: 5.7,
+            wind_coeff_j_m3k: 3.8,
+            free_coeff_w_m2k4_3: 1.31,
         }
     }
 
-    /// The coefficient itself, `h_c(v, ΔT)`.
-    pub fn coefficient_w_m2k(&self, wind_speed_m_s: f64, delta_t_k: f64) -> f64 {
-        let forced = self.still_air_w_m2k + self.wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
-        forced.max(self.free_coeff_w_m2k4_3 * delta_t_k.abs().cbrt())
+    /// The site's surface layer, if this is the similarity model.
+    pub fn surface_layer(&self) -> Option<&SurfaceLayer> {
+        match self {
+            Convection::SurfaceLayer(l) => Some(l),
+            Convection::Linear { .. } => None,
+        }
+    }
+
+    /// Convective flux into a surface `h_c·(T_air − T_s)` and its derivative
+    /// with respect to `T_s`, W/m² and W m⁻² K⁻¹, under the exchange
+    /// `ex` (used by [`Convection::SurfaceLayer`]) or the station wind
+    /// (used by [`Convection::Linear`]).
+    pub fn flux_w_m2(
+        &self,
+        ex: &Exchange,
+        wind_speed_m_s: f64,
+        air_temp_k: f64,
+        surf_temp_k: f64,
+    ) -> (f64, f64) {
+        match *self {
+            Convection::Linear {
+                still_air_w_m2k,
+                wind_coeff_j_m3k,
+                free_coeff_w_m2k4_3,
+            } => {
+                let dt = air_temp_k - surf_temp_k;
+                let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
+                let free = free_coeff_w_m2k4_3 * dt.abs().cbrt();
+                if forced >= free {
+                    (forced * dt, -forced)
+                } else {
+                    // d/dTs [c |dt|^(1/3) dt] = -(4/3) c |dt|^(1/3)
+                    (free * dt, -4.0 / 3.0 * free)
+                }
+            }
+            Convection::SurfaceLayer(_) => ex.sensible_w_m2(air_temp_k, surf_temp_k),
+        }
+    }
+
+    /// The coefficient itself, `h_c`, at surface temperature `surf_temp_k`.
+    pub fn coefficient_w_m2k(
+        &self,
+        ex: &Exchange,
+        wind_speed_m_s: f64,
+        air_temp_k: f64,
+        surf_temp_k: f64,
+    ) -> f64 {
+        match *self {
+            Convection::Linear {
+                still_air_w_m2k,
+                wind_coeff_j_m3k,
+                free_coeff_w_m2k4_3,
+            } => {
+                let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
+                forced.max(free_coeff_w_m2k4_3 * (air_temp_k - surf_temp_k).abs().cbrt())
+            }
+            Convection::SurfaceLayer(_) => ex.coefficient_w_m2k(air_temp_k, surf_temp_k),
+        }
     }
 }
 
@@ -147,16 +208,35 @@ pub struct SurfaceDrive {
     pub absorbed_ground_reflected_w_m2: f64,
     /// `ε·F_sky·σT_sky⁴`, W/m².
     pub sky_longwave_in_w_m2: f64,
-    /// `ε·F_gnd·σT_gnd⁴` with `T_gnd = T_air`, W/m².
+    /// `ε·F_gnd·σT_gnd⁴` (the ground's own temperature), W/m².
     pub ground_longwave_in_w_m2: f64,
     /// Internal power delivered at the surface node, W/m².
     pub internal_w_m2: f64,
     pub air_temp_k: f64,
+    /// Station wind, m/s.
     pub wind_speed_m_s: f64,
+    /// Shortwave incident on the facet (before absorption), W/m².
+    pub incident_shortwave_w_m2: f64,
+    /// Turbulent exchange of the exposed face and of the back face.
+    pub exchange: Exchange,
+    pub back_exchange: Exchange,
+    /// Surface conductance to vapour `1/r_s`, m/s: 0 dry, ∞ free water.
+    pub conductance_m_s: f64,
+    /// Condensation (dew) allowed on this surface.
+    pub dew: bool,
+    /// Largest evaporation the surface can supply, W/m² (a drying store).
+    pub evaporation_cap_w_m2: f64,
+    pub vapour_pressure_pa: f64,
+    pub pressure_pa: f64,
+    /// Heat carried by rain, `ρ_w·c_w·P`, W m⁻² K⁻¹, and the rain's
+    /// temperature (wet bulb), K.
+    pub rain_coeff_w_m2k: f64,
+    pub rain_temp_k: f64,
 }
 
 impl SurfaceDrive {
-    /// `self += w·d`, field by field (for time averages of the drive).
+    /// `self += w·d`, field by field (for time averages of the drive). The
+    /// dew flag is taken from `d`.
     pub fn add_scaled(&mut self, w: f64, d: &SurfaceDrive) {
         self.absorbed_direct_w_m2 += w * d.absorbed_direct_w_m2;
         self.absorbed_diffuse_w_m2 += w * d.absorbed_diffuse_w_m2;
@@ -166,6 +246,32 @@ impl SurfaceDrive {
         self.internal_w_m2 += w * d.internal_w_m2;
         self.air_temp_k += w * d.air_temp_k;
         self.wind_speed_m_s += w * d.wind_speed_m_s;
+        self.incident_shortwave_w_m2 += w * d.incident_shortwave_w_m2;
+        for (a, b) in [
+            (&mut self.exchange, &d.exchange),
+            (&mut self.back_exchange, &d.back_exchange),
+        ] {
+            a.wind_m_s += w * b.wind_m_s;
+            a.h_neutral_w_m2k += w * b.h_neutral_w_m2k;
+            a.richardson_per_k += w * b.richardson_per_k;
+            a.free_warm += w * b.free_warm;
+            a.free_cold += w * b.free_cold;
+            a.rho_cp_j_m3k += w * b.rho_cp_j_m3k;
+        }
+        self.conductance_m_s += w * d.conductance_m_s;
+        self.dew = d.dew;
+        self.evaporation_cap_w_m2 += w * d.evaporation_cap_w_m2;
+        self.vapour_pressure_pa += w * d.vapour_pressure_pa;
+        self.pressure_pa += w * d.pressure_pa;
+        self.rain_coeff_w_m2k += w * d.rain_coeff_w_m2k;
+        self.rain_temp_k += w * d.rain_temp_k;
+    }
+
+    /// Total absorbed shortwave, W/m².
+    pub fn absorbed_shortwave_w_m2(&self) -> f64 {
+        self.absorbed_direct_w_m2
+            + self.absorbed_diffuse_w_m2
+            + self.absorbed_ground_reflected_w_m2
     }
 }
 
@@ -174,14 +280,16 @@ impl SurfaceDrive {
 pub struct DriveInputs {
     pub air_temp_k: f64,
     pub sky_temp_k: f64,
+    /// Temperature of the ground seen by a tilted facet, K.
+    pub ground_temp_k: f64,
     pub wind_speed_m_s: f64,
     pub dni_w_m2: f64,
     pub dhi_w_m2: f64,
     pub ghi_w_m2: f64,
     /// Unit vector to the sun, ENU.
     pub sun_dir_enu: [f64; 3],
-    /// Sun/shadow flag `I(t)`: true when the pixel sees the sun.
-    pub sunlit: bool,
+    /// Sunlit fraction `I(t)` in [0, 1]: 1 when the pixel sees the sun.
+    pub sunlit: f64,
 }
 
 /// Surface optical properties used by [`surface_drive`].
@@ -193,9 +301,11 @@ pub struct SurfaceOptics {
     pub internal_power_w_m2: f64,
 }
 
-/// Evaluates the temperature-independent surface source terms of DESIGN.md
-/// §4 for a facet with outward normal `normal_enu` (unit) and sky view
-/// factor `f_sky` (normally `(1 + cos β)/2`).
+/// Evaluates the temperature-independent radiative source terms of the
+/// surface balance for a facet with outward normal `normal_enu` (unit)
+/// and sky view factor `f_sky` (`(1 + cos β)/2` for an unobstructed facet;
+/// the ground fills the rest, `F_gnd = 1 − F_sky`). The exchange and
+/// moisture fields are left at their defaults (the slab model fills them).
 pub fn surface_drive(
     inp: &DriveInputs,
     optics: &SurfaceOptics,
@@ -208,16 +318,22 @@ pub fn surface_drive(
     let a = optics.solar_absorptivity;
     let e = optics.thermal_emissivity;
     let sig = STEFAN_BOLTZMANN_W_M2K4;
-    let flag = if inp.sunlit { 1.0 } else { 0.0 };
+    let flag = inp.sunlit.clamp(0.0, 1.0);
+    let direct = flag * inp.dni_w_m2.max(0.0) * cos_i.max(0.0);
+    let diffuse = inp.dhi_w_m2.max(0.0) * f_sky;
+    let ground = optics.ground_albedo * inp.ghi_w_m2.max(0.0) * f_gnd;
     SurfaceDrive {
-        absorbed_direct_w_m2: a * flag * inp.dni_w_m2.max(0.0) * cos_i.max(0.0),
-        absorbed_diffuse_w_m2: a * inp.dhi_w_m2.max(0.0) * f_sky,
-        absorbed_ground_reflected_w_m2: a * optics.ground_albedo * inp.ghi_w_m2.max(0.0) * f_gnd,
+        absorbed_direct_w_m2: a * direct,
+        absorbed_diffuse_w_m2: a * diffuse,
+        absorbed_ground_reflected_w_m2: a * ground,
         sky_longwave_in_w_m2: e * f_sky * sig * inp.sky_temp_k.powi(4),
-        ground_longwave_in_w_m2: e * f_gnd * sig * inp.air_temp_k.powi(4),
+        ground_longwave_in_w_m2: e * f_gnd * sig * inp.ground_temp_k.powi(4),
         internal_w_m2: optics.internal_power_w_m2,
         air_temp_k: inp.air_temp_k,
         wind_speed_m_s: inp.wind_speed_m_s,
+        incident_shortwave_w_m2: direct + diffuse + ground,
+        evaporation_cap_w_m2: f64::INFINITY,
+        ..SurfaceDrive::default()
     }
 }
 
@@ -233,9 +349,16 @@ pub struct SurfaceFluxes {
     pub ground_longwave_in_w_m2: f64,
     pub emitted_longwave_w_m2: f64,
     pub convection_w_m2: f64,
+    /// Latent heat: negative while evaporating or transpiring, positive
+    /// while dew forms.
+    pub latent_w_m2: f64,
+    /// Heat brought by rain at its wet-bulb temperature.
+    pub rain_w_m2: f64,
     pub internal_w_m2: f64,
     /// Sum of all the terms above (emission counted negative).
     pub net_w_m2: f64,
+    /// Convective coefficient in force, W m⁻² K⁻¹.
+    pub convection_coeff_w_m2k: f64,
 }
 
 /// Net surface flux into the slab at surface temperature `surf_temp_k`,
@@ -249,7 +372,40 @@ pub fn surface_fluxes(
     let sig = STEFAN_BOLTZMANN_W_M2K4;
     let emitted = emissivity * sig * surf_temp_k.powi(4);
     let d_emitted = 4.0 * emissivity * sig * surf_temp_k.powi(3);
-    let (convection, d_conv) = conv.flux_w_m2(drive.wind_speed_m_s, drive.air_temp_k, surf_temp_k);
+    let (convection, d_conv) = conv.flux_w_m2(
+        &drive.exchange,
+        drive.wind_speed_m_s,
+        drive.air_temp_k,
+        surf_temp_k,
+    );
+    let h = conv.coefficient_w_m2k(
+        &drive.exchange,
+        drive.wind_speed_m_s,
+        drive.air_temp_k,
+        surf_temp_k,
+    );
+    let (latent, d_latent) = if drive.conductance_m_s > 0.0 || drive.dew {
+        let rho_cp = if drive.exchange.rho_cp_j_m3k > 0.0 {
+            drive.exchange.rho_cp_j_m3k
+        } else {
+            super::aero::air_density_kg_m3(drive.pressure_pa, drive.air_temp_k)
+                * super::aero::CP_AIR_J_KGK
+        };
+        super::aero::latent_w_m2(
+            h,
+            rho_cp,
+            drive.conductance_m_s,
+            drive.dew,
+            drive.evaporation_cap_w_m2,
+            drive.vapour_pressure_pa,
+            drive.pressure_pa,
+            drive.air_temp_k,
+            surf_temp_k,
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let rain = drive.rain_coeff_w_m2k * (drive.rain_temp_k - surf_temp_k);
     let net = drive.absorbed_direct_w_m2
         + drive.absorbed_diffuse_w_m2
         + drive.absorbed_ground_reflected_w_m2
@@ -257,6 +413,8 @@ pub fn surface_fluxes(
         + drive.ground_longwave_in_w_m2
         - emitted
         + convection
+        + latent
+        + rain
         + drive.internal_w_m2;
     (
         SurfaceFluxes {
@@ -267,10 +425,13 @@ pub fn surface_fluxes(
             ground_longwave_in_w_m2: drive.ground_longwave_in_w_m2,
             emitted_longwave_w_m2: emitted,
             convection_w_m2: convection,
+            latent_w_m2: latent,
+            rain_w_m2: rain,
             internal_w_m2: drive.internal_w_m2,
             net_w_m2: net,
+            convection_coeff_w_m2k: h,
         },
-        d_conv - d_emitted,
+        d_conv - d_emitted + d_latent - drive.rain_coeff_w_m2k,
     )
 }
 
@@ -278,18 +439,20 @@ pub fn surface_fluxes(
 /// (DIRSIG's EXPOSED_AREA): the exposed back area per unit front area
 /// `area_factor` exchanges by convection with the air and by longwave
 /// radiation with surroundings at the air temperature,
-/// `q_b = A_f·[h_c(v, ΔT)·(T_air − T_b) + ε·σ·(T_air⁴ − T_b⁴)]`.
-/// Returns the flux and its derivative with respect to `T_b`.
+/// `q_b = A_f·[h_c·(T_air − T_b) + ε·σ·(T_air⁴ − T_b⁴)]`, with the back
+/// face's exchange `ex`. Returns the flux and its derivative with respect
+/// to `T_b`.
 pub fn exposed_back_flux_w_m2(
     area_factor: f64,
     emissivity: f64,
     conv: &Convection,
+    ex: &Exchange,
     wind_speed_m_s: f64,
     air_temp_k: f64,
     back_temp_k: f64,
 ) -> (f64, f64) {
     let sig = STEFAN_BOLTZMANN_W_M2K4;
-    let (c, dc) = conv.flux_w_m2(wind_speed_m_s, air_temp_k, back_temp_k);
+    let (c, dc) = conv.flux_w_m2(ex, wind_speed_m_s, air_temp_k, back_temp_k);
     let r = emissivity * sig * (air_temp_k.powi(4) - back_temp_k.powi(4));
     let dr = -4.0 * emissivity * sig * back_temp_k.powi(3);
     (area_factor * (c + r), area_factor * (dc + dr))
@@ -317,16 +480,17 @@ mod tests {
 
     #[test]
     fn convection_mcadams_and_derivative() {
-        let c = Convection::default();
+        let c = Convection::mcadams();
+        let ex = Exchange::default();
         // 5.7 + 3.8·2 = 13.3 W/m²K, ΔT = 10 K → 133 W/m² into the surface.
-        let (q, dq) = c.flux_w_m2(2.0, 300.0, 290.0);
+        let (q, dq) = c.flux_w_m2(&ex, 2.0, 300.0, 290.0);
         assert!((q - 133.0).abs() < 1e-9 && (dq + 13.3).abs() < 1e-12);
         // Free convection dominates at still air and ΔT = 200 K: 1.31·200^(1/3).
-        let (q, dq) = c.flux_w_m2(0.0, 300.0, 500.0);
+        let (q, dq) = c.flux_w_m2(&ex, 0.0, 300.0, 500.0);
         let h = 1.31 * 200f64.cbrt();
         assert!((q + h * 200.0).abs() < 1e-9);
         // Numerical derivative check (central difference, 1e-4 relative).
-        let f = |t: f64| c.flux_w_m2(0.0, 300.0, t).0;
+        let f = |t: f64| c.flux_w_m2(&ex, 0.0, 300.0, t).0;
         let num = (f(500.001) - f(499.999)) / 0.002;
         assert!((num - dq).abs() < 1e-4 * dq.abs());
     }
@@ -342,7 +506,8 @@ mod tests {
             dhi_w_m2: 100.0,
             ghi_w_m2: 800.0 * 0.5 * 3f64.sqrt() + 100.0,
             sun_dir_enu: [0.0, -0.5, 0.75f64.sqrt()],
-            sunlit: true,
+            sunlit: 1.0,
+            ground_temp_k: 300.0,
         };
         let optics = SurfaceOptics {
             solar_absorptivity: 0.5,
@@ -356,14 +521,14 @@ mod tests {
         assert_eq!(d.absorbed_ground_reflected_w_m2, 0.0);
         let sig = STEFAN_BOLTZMANN_W_M2K4;
         assert!((d.sky_longwave_in_w_m2 - 0.9 * sig * 270f64.powi(4)).abs() < 1e-9);
-        let (f, _) = surface_fluxes(&d, 0.9, &Convection::default(), 300.0);
+        let (f, _) = surface_fluxes(&d, 0.9, &Convection::mcadams(), 300.0);
         let expect =
             0.5 * 800.0 * 0.75f64.sqrt() + 50.0 + 0.9 * sig * (270f64.powi(4) - 300f64.powi(4));
         assert!((f.net_w_m2 - expect).abs() < 1e-9);
         // Shadowed: the direct term vanishes, nothing else changes.
         let d2 = surface_drive(
             &DriveInputs {
-                sunlit: false,
+                sunlit: 0.0,
                 ..inp
             },
             &optics,

@@ -245,6 +245,10 @@ mod tests {
                     dhi_w_m2: (80.0 * ph).max(0.0),
                     ghi_w_m2: (600.0 * ph).max(0.0),
                     sun_dir_enu: [0.3 * ph, -0.5, ph],
+                    dew_point_k: crate::therm::forcing::DRY_AIR_DEW_POINT_K,
+                    pressure_pa: 101_325.0,
+                    precip_mm_h: 0.0,
+                    ground_temp_k: None,
                 }
             })
             .collect()
@@ -263,6 +267,7 @@ mod tests {
                 back: BackBoundary::Insulated,
                 internal_power_w_m2: 0.0,
                 ground_albedo: None,
+                surface: crate::therm::surface::SurfaceKind::default(),
             })
             .collect()
     }

@@ -47,7 +47,62 @@ pub struct Forcing {
     pub ghi_w_m2: f64,
     /// Unit vector towards the sun, local ENU (x east, y north, z up).
     pub sun_dir_enu: [f64; 3],
+    /// Dew point of the air, K.
+    pub dew_point_k: f64,
+    /// Air pressure, Pa.
+    pub pressure_pa: f64,
+    /// Precipitation rate, mm/h.
+    pub precip_mm_h: f64,
+    /// Temperature of the ground seen by tilted facets, K; `None`: the air
+    /// temperature (the builder's choice; a render fills in its ground
+    /// material's own solved temperature).
+    pub ground_temp_k: Option<f64>,
 }
+
+impl Forcing {
+    /// The ground temperature in force, K.
+    pub fn ground_k(&self) -> f64 {
+        self.ground_temp_k.unwrap_or(self.air_temp_k)
+    }
+
+    /// A dry forcing sample (dew point [`DRY_AIR_DEW_POINT_K`], standard
+    /// pressure, no rain, ground at air temperature), for tests and tools
+    /// that give only the radiative and thermal fields.
+    #[allow(clippy::too_many_arguments)]
+    pub fn dry(
+        t_s: f64,
+        air_temp_k: f64,
+        sky_temp_k: f64,
+        wind_speed_m_s: f64,
+        dni_w_m2: f64,
+        dhi_w_m2: f64,
+        ghi_w_m2: f64,
+        sun_dir_enu: [f64; 3],
+    ) -> Forcing {
+        Forcing {
+            t_s,
+            air_temp_k,
+            sky_temp_k,
+            wind_speed_m_s,
+            dni_w_m2,
+            dhi_w_m2,
+            ghi_w_m2,
+            sun_dir_enu,
+            dew_point_k: DRY_AIR_DEW_POINT_K,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
+        }
+    }
+
+    /// Vapour pressure of the air, Pa (saturation at the dew point).
+    pub fn vapour_pressure_pa(&self) -> f64 {
+        super::aero::saturation_vapour_pressure_pa(self.dew_point_k)
+    }
+}
+
+/// Dew point of "dry" test forcing, K (vapour pressure 0.2 Pa).
+pub const DRY_AIR_DEW_POINT_K: f64 = 200.0;
 
 /// Solar "constant" at 1 AU used for the extraterrestrial irradiance,
 /// W/m² (the value of pvlib and of the ASTM E-490 spectrum).
@@ -534,6 +589,10 @@ pub fn build_forcing_with(
             dhi_w_m2: irr.dhi_w_m2,
             ghi_w_m2: irr.ghi_w_m2,
             sun_dir_enu: sun.sun_dir_enu,
+            dew_point_k: w.dew_point_k.min(w.air_temp_k),
+            pressure_pa: w.pressure_pa,
+            precip_mm_h: w.precip_mm_h,
+            ground_temp_k: None,
         });
     }
     Ok((out, report))

@@ -5,8 +5,10 @@
 //! [`forcing::Forcing`] (one per thermal time step, everything the surface
 //! energy balance needs, in SI units) → the slab solver → surface temperature.
 
+pub mod aero;
 pub mod balance;
 pub mod cache;
 pub mod forcing;
 pub mod slab;
+pub mod surface;
 pub mod weather;

@@ -54,7 +54,9 @@ use thiserror::Error;
 use super::balance::{
     self, Convection, DriveInputs, Orientation, SurfaceDrive, SurfaceFluxes, SurfaceOptics,
 };
+use super::aero::{self, Exchange, Roughness};
 use super::forcing::Forcing;
+use super::surface::{SurfaceKind, mixing_conductances, shortwave_fractions};
 
 /// What the back face (z = L) of the slab sees.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -92,6 +94,9 @@ pub struct SlabMaterial {
     /// Solar albedo of the ground seen by a tilted facet (default 0.2).
     #[serde(default)]
     pub ground_albedo: Option<f64>,
+    /// What the surface is: solid (with a water store), vegetation, water.
+    #[serde(default)]
+    pub surface: SurfaceKind,
 }
 
 impl SlabMaterial {
@@ -132,6 +137,9 @@ impl SlabMaterial {
                 )));
             }
         }
+        self.surface
+            .validate()
+            .map_err(|e| ThermError::BadMaterial(format!("{} surface: {e}", self.surface.name())))?;
         if !self.internal_power_w_m2.is_finite() {
             return Err(ThermError::BadMaterial(
                 "internal_power_w_m2 must be finite".into(),
@@ -192,6 +200,12 @@ impl SunHistory {
         self.sunlit[self.index_at(t_s)]
     }
 
+    /// The sunlit fraction in force at `t_s`, 0 … 1 (see
+    /// [`sun_fraction`]).
+    pub fn sunlit_fraction_at(&self, t_s: f64) -> f64 {
+        if self.sunlit_at(t_s) { 1.0 } else { 0.0 }
+    }
+
     /// Times in the open interval (t0, t1) where the flag changes.
     pub fn switch_times(&self, t0: f64, t1: f64) -> Vec<f64> {
         let mut out = Vec::new();
@@ -233,6 +247,11 @@ impl SunHistory {
         }
         Ok(())
     }
+}
+
+/// The sunlit fraction of an optional history at `t_s` (no history: 1).
+pub fn sun_fraction(shadow: Option<&SunHistory>, t_s: f64) -> f64 {
+    shadow.map_or(1.0, |h| h.sunlit_fraction_at(t_s))
 }
 
 /// The initial profile of a march started by [`SlabModel::solve`].
@@ -419,6 +438,13 @@ pub fn forcing_at(forcing: &[Forcing], t_s: f64) -> Forcing {
         dhi_w_m2: lerp(a.dhi_w_m2, b.dhi_w_m2),
         ghi_w_m2: lerp(a.ghi_w_m2, b.ghi_w_m2),
         sun_dir_enu: s,
+        dew_point_k: lerp(a.dew_point_k, b.dew_point_k),
+        pressure_pa: lerp(a.pressure_pa, b.pressure_pa),
+        precip_mm_h: lerp(a.precip_mm_h, b.precip_mm_h),
+        ground_temp_k: match (a.ground_temp_k, b.ground_temp_k) {
+            (Some(x), Some(y)) => Some(lerp(x, y)),
+            _ => None,
+        },
     }
 }
 
@@ -476,6 +502,12 @@ pub struct StepRecord {
     pub surface_temp_k: f64,
     pub air_temp_k: f64,
     pub sunlit: bool,
+    /// Sunlit fraction in force (0 … 1).
+    pub sunlit_fraction: f64,
+    /// Water held by the surface store, mm (solids only).
+    pub water_store_mm: f64,
+    /// Sky view factor of the facet (the rest of the hemisphere is ground).
+    pub sky_view: f64,
     pub surface: SurfaceFluxes,
     /// Conduction from the surface node into the slab, W/m².
     pub conduction_into_slab_w_m2: f64,
@@ -494,6 +526,8 @@ pub struct StepRecord {
 pub struct ThermSolution {
     /// Surface temperature at the last forcing time (the image time), K.
     pub surface_temp_k: f64,
+    /// Water in the surface store at the image time, mm.
+    pub water_store_mm: f64,
     /// Node temperatures at the last forcing time, K.
     pub profile_k: Vec<f64>,
     /// One record per forcing sample (empty unless asked for).
@@ -513,6 +547,11 @@ pub struct SlabModel {
     normal: [f64; 3],
     f_sky: f64,
     optics: SurfaceOptics,
+    /// Height of the facet above the ground, m (for the wind).
+    height_m: f64,
+    roughness: Roughness,
+    /// Fraction of the absorbed shortwave deposited in each node.
+    sw_fraction: Vec<f64>,
 }
 
 /// Scratch of the Newton/tridiagonal solve.
@@ -548,11 +587,25 @@ impl SlabModel {
         if !(orientation.slope_deg.is_finite() && orientation.aspect_deg.is_finite()) {
             return Err(ThermError::BadInput("orientation must be finite".into()));
         }
+        if let Some(l) = settings.convection.surface_layer() {
+            l.validate().map_err(ThermError::BadInput)?;
+        }
+        let mesh = Mesh::graded(material, settings);
+        let n = mesh.z_m.len();
+        let sw_fraction = match material.surface {
+            SurfaceKind::Water(w) => {
+                shortwave_fractions(&mesh.z_m, w.surface_fraction, w.extinction_per_m)
+            }
+            _ => (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect(),
+        };
         Ok(SlabModel {
             material: *material,
             orientation,
             settings: *settings,
-            mesh: Mesh::graded(material, settings),
+            mesh,
+            height_m: 0.0,
+            roughness: material.surface.roughness(),
+            sw_fraction,
             normal: orientation.normal_enu(),
             f_sky: orientation.sky_view_factor(),
             optics: SurfaceOptics {
@@ -571,12 +624,40 @@ impl SlabModel {
         self.mesh.z_m.len()
     }
 
-    /// The temperature-independent surface drive at an instant.
-    pub fn drive(&self, f: &Forcing, sunlit: bool) -> SurfaceDrive {
-        balance::surface_drive(
+    /// The same model for a facet `height_m` above the ground (wind at
+    /// the facet; see [`aero::Exchange::new`]).
+    pub fn with_height(mut self, height_m: f64) -> Self {
+        self.height_m = if height_m.is_finite() {
+            height_m.max(0.0)
+        } else {
+            0.0
+        };
+        self
+    }
+
+    /// The same model with sky view factor `f_sky` (the rest of the
+    /// hemisphere is ground) instead of the unobstructed `(1 + cos β)/2`.
+    pub fn with_sky_view(mut self, f_sky: f64) -> Self {
+        if f_sky.is_finite() {
+            self.f_sky = f_sky.clamp(0.0, 1.0);
+        }
+        self
+    }
+
+    /// Sky view factor in use.
+    pub fn sky_view(&self) -> f64 {
+        self.f_sky
+    }
+
+    /// The temperature-independent surface drive at an instant, with the
+    /// sunlit fraction `sunlit` (0 shadow … 1 sun). A solid's water store
+    /// is taken as dry; [`SlabModel::march`] wets it.
+    pub fn drive(&self, f: &Forcing, sunlit: f64) -> SurfaceDrive {
+        let mut d = balance::surface_drive(
             &DriveInputs {
                 air_temp_k: f.air_temp_k,
                 sky_temp_k: f.sky_temp_k,
+                ground_temp_k: f.ground_k(),
                 wind_speed_m_s: f.wind_speed_m_s,
                 dni_w_m2: f.dni_w_m2,
                 dhi_w_m2: f.dhi_w_m2,
@@ -587,7 +668,83 @@ impl SlabModel {
             &self.optics,
             self.normal,
             self.f_sky,
-        )
+        );
+        let slope = self.orientation.slope_deg;
+        if let Some(layer) = self.settings.convection.surface_layer() {
+            let ex = |s: f64, r: &Roughness| {
+                Exchange::new(
+                    layer,
+                    r,
+                    s,
+                    self.height_m,
+                    f.wind_speed_m_s,
+                    f.air_temp_k,
+                    f.pressure_pa,
+                )
+            };
+            d.exchange = ex(slope, &self.roughness);
+            // The back of a plate: a smooth face looking the other way.
+            d.back_exchange = ex(
+                180.0 - slope,
+                &Roughness::bare(super::surface::DEFAULT_SOLID_ROUGHNESS_M),
+            );
+        } else {
+            d.exchange.rho_cp_j_m3k =
+                aero::air_density_kg_m3(f.pressure_pa, f.air_temp_k) * aero::CP_AIR_J_KGK;
+        }
+        d.vapour_pressure_pa = f.vapour_pressure_pa();
+        d.pressure_pa = f.pressure_pa;
+        d.rain_coeff_w_m2k =
+            aero::CP_WATER_J_KGK * f.precip_mm_h.max(0.0) / 3600.0 * aero::RHO_WATER_KG_M3 / 1000.0;
+        d.rain_temp_k = aero::wet_bulb_k(f.air_temp_k, f.dew_point_k);
+        match self.material.surface {
+            SurfaceKind::Solid {
+                water_capacity_mm, ..
+            } => {
+                d.conductance_m_s = 0.0;
+                d.dew = water_capacity_mm > 0.0;
+            }
+            SurfaceKind::Vegetation(c) => {
+                let r_s = c.resistance_s_m(
+                    d.incident_shortwave_w_m2,
+                    f.air_temp_k,
+                    d.vapour_pressure_pa,
+                    f.pressure_pa,
+                );
+                d.conductance_m_s = 1.0 / r_s;
+                d.dew = true;
+            }
+            SurfaceKind::Water(_) => {
+                d.conductance_m_s = f64::INFINITY;
+                d.dew = true;
+            }
+        }
+        d
+    }
+
+    /// Water the surface store can hold, mm (0 for vegetation and water).
+    pub fn water_capacity_mm(&self) -> f64 {
+        match self.material.surface {
+            SurfaceKind::Solid {
+                water_capacity_mm, ..
+            } => water_capacity_mm,
+            _ => 0.0,
+        }
+    }
+
+    /// Node conductances for a step starting from `temps` (water mixes).
+    fn conductances(&self, temps: &[f64], out: &mut [f64]) {
+        match self.material.surface {
+            SurfaceKind::Water(w) => mixing_conductances(
+                &self.mesh.cond_w_m2k,
+                temps,
+                self.material.conductivity_w_mk,
+                self.material.density_kg_m3 * self.material.specific_heat_j_kgk,
+                &w,
+                out,
+            ),
+            _ => out.copy_from_slice(&self.mesh.cond_w_m2k),
+        }
     }
 
     /// Deep-ground temperature for this forcing, if the back is tied to one.
@@ -604,7 +761,7 @@ impl SlabModel {
     /// Back-face flux into the slab and its derivative wrt the back temperature.
     fn back_flux(
         &self,
-        f: &Forcing,
+        drive: &SurfaceDrive,
         back_temp_k: f64,
         deep: Option<f64>,
         g_last: f64,
@@ -615,8 +772,9 @@ impl SlabModel {
                 area_factor,
                 self.material.thermal_emissivity,
                 &self.settings.convection,
-                f.wind_speed_m_s,
-                f.air_temp_k,
+                &drive.back_exchange,
+                drive.wind_speed_m_s,
+                drive.air_temp_k,
                 back_temp_k,
             ),
             // Not used for the solve (the node is fixed); reported as the
@@ -638,7 +796,7 @@ impl SlabModel {
         old: &[f64],
         new: &mut [f64],
         h: f64,
-        f: &Forcing,
+        g: &[f64],
         drive: &SurfaceDrive,
         deep: Option<f64>,
         w: &mut Work,
@@ -650,7 +808,7 @@ impl SlabModel {
             new[n - 1] = deep.unwrap();
         }
         let cap = &self.mesh.cap_j_m2k;
-        let g = &self.mesh.cond_w_m2k;
+        let sw = drive.absorbed_shortwave_w_m2();
         let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
         for _iter in 0..60 {
             // Residual r = rhs − lhs (we solve J·δ = r with J = −∂r/∂T).
@@ -673,11 +831,15 @@ impl SlabModel {
                         &self.settings.convection,
                         t,
                     );
-                    r += sf.net_w_m2;
+                    // The shortwave absorbed below the skin (water) goes
+                    // to the deeper nodes.
+                    r += sf.net_w_m2 - (1.0 - self.sw_fraction[0]) * sw;
                     diag -= ds;
+                } else {
+                    r += self.sw_fraction[i] * sw;
                 }
                 if i == n - 1 && !fixed_back {
-                    let (q, dq) = self.back_flux(f, t, deep, 0.0);
+                    let (q, dq) = self.back_flux(drive, t, deep, 0.0);
                     r += q;
                     diag -= dq;
                 }
@@ -711,7 +873,7 @@ impl SlabModel {
     pub fn equilibrium(
         &self,
         f: &Forcing,
-        sunlit: bool,
+        sunlit: f64,
         deep: Option<f64>,
     ) -> Result<Vec<f64>, ThermError> {
         self.steady_state(f, &self.drive(f, sunlit), deep)
@@ -743,7 +905,7 @@ impl SlabModel {
                 let b = forcing[(i + 1).min(n - 1)].t_s;
                 0.5 * (b - a)
             };
-            sum.add_scaled(w, &self.drive(f, shadow.is_none_or(|h| h.sunlit_at(f.t_s))));
+            sum.add_scaled(w, &self.drive(f, sun_fraction(shadow, f.t_s)));
             total_w += w;
         }
         if total_w <= 0.0 || !total_w.is_finite() {
@@ -777,9 +939,11 @@ impl SlabModel {
         let old = vec![f.air_temp_k; n];
         let mut new = old.clone();
         let mut w = Work::new(n);
+        let mut g = vec![0.0; n - 1];
+        self.conductances(&old, &mut g);
         // A huge (not infinite) step keeps the matrix regular when no heat
         // can leave the slab (e.g. ε = 0 and no convection).
-        self.implicit_step(&old, &mut new, 1e12, f, drive, deep, &mut w)
+        self.implicit_step(&old, &mut new, 1e12, &g, drive, deep, &mut w)
             .then_some(new)
     }
 
@@ -799,7 +963,7 @@ impl SlabModel {
         let deep = self.deep_temp_k(forcing);
         let init = match self.settings.spin_up_start {
             SpinUpStart::FirstSample => {
-                let sunlit0 = shadow.is_none_or(|h| h.sunlit_at(forcing[0].t_s));
+                let sunlit0 = sun_fraction(shadow, forcing[0].t_s);
                 self.equilibrium(&forcing[0], sunlit0, deep)?
             }
             SpinUpStart::MeanForcing => self.mean_equilibrium(forcing, shadow, deep)?,
@@ -838,6 +1002,9 @@ impl SlabModel {
             bps.dedup();
         }
         let mut w = Work::new(n);
+        let mut g = vec![0.0; n - 1];
+        let capacity_mm = self.water_capacity_mm();
+        let mut store_mm = 0.0f64;
         let mut new = temps.clone();
         let mut prev_inc = vec![0.0; n];
         let mut prev_h = f64::NAN;
@@ -854,7 +1021,7 @@ impl SlabModel {
         let e0 = self.mesh.stored_energy_j_m2(&temps);
         let mut t = t_start;
         if record {
-            series.push(self.record(&forcing[0], shadow, &temps, deep, e0, 0.0));
+            series.push(self.record(&forcing[0], shadow, &temps, deep, e0, 0.0, store_mm));
             next_rec = 1;
         }
         for seg in bps.windows(2) {
@@ -869,10 +1036,14 @@ impl SlabModel {
                 }
                 let t_new = if last { b } else { t + h };
                 let f = forcing_at(forcing, t_new);
-                let sunlit = shadow.is_none_or(|sh| sh.sunlit_at(t + 0.5 * h));
-                let drive = self.drive(&f, sunlit);
+                let sunlit = sun_fraction(shadow, t + 0.5 * h);
+                let mut drive = self.drive(&f, sunlit);
+                if capacity_mm > 0.0 {
+                    wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, h);
+                }
+                self.conductances(&temps, &mut g);
                 new.copy_from_slice(&temps);
-                let ok = self.implicit_step(&temps, &mut new, h, &f, &drive, deep, &mut w);
+                let ok = self.implicit_step(&temps, &mut new, h, &g, &drive, deep, &mut w);
                 if !ok {
                     if h <= s.min_step_s {
                         return Err(ThermError::NoConvergence {
@@ -916,12 +1087,22 @@ impl SlabModel {
                     &s.convection,
                     new[0],
                 );
-                let g_last = self.mesh.cond_w_m2k[n - 2];
+                let g_last = g[n - 2];
                 let back = match deep {
                     Some(d) => g_last * (d - new[n - 2]),
-                    None => self.back_flux(&f, new[n - 1], None, g_last).0,
+                    None => self.back_flux(&drive, new[n - 1], None, g_last).0,
                 };
                 energy_in += h * (sf.net_w_m2 + back);
+                if capacity_mm > 0.0 {
+                    store_mm = update_store_mm(
+                        store_mm,
+                        capacity_mm,
+                        f.precip_mm_h,
+                        sf.latent_w_m2,
+                        f.air_temp_k,
+                        h,
+                    );
+                }
                 for i in 0..n {
                     prev_inc[i] = new[i] - temps[i];
                 }
@@ -932,12 +1113,21 @@ impl SlabModel {
             }
             if record && next_rec < forcing.len() && forcing[next_rec].t_s <= t {
                 let e = self.mesh.stored_energy_j_m2(&temps);
-                series.push(self.record(&forcing[next_rec], shadow, &temps, deep, e, energy_in));
+                series.push(self.record(
+                    &forcing[next_rec],
+                    shadow,
+                    &temps,
+                    deep,
+                    e,
+                    energy_in,
+                    store_mm,
+                ));
                 next_rec += 1;
             }
         }
         Ok(ThermSolution {
             surface_temp_k: temps[0],
+            water_store_mm: store_mm,
             profile_k: temps,
             series,
             steps_accepted: accepted,
@@ -945,6 +1135,7 @@ impl SlabModel {
         })
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn record(
         &self,
         f: &Forcing,
@@ -953,34 +1144,72 @@ impl SlabModel {
         deep: Option<f64>,
         stored: f64,
         energy_in: f64,
+        store_mm: f64,
     ) -> StepRecord {
         let n = temps.len();
-        let sunlit = shadow.is_none_or(|sh| sh.sunlit_at(f.t_s));
-        let drive = self.drive(f, sunlit);
+        let sunlit = sun_fraction(shadow, f.t_s);
+        let mut drive = self.drive(f, sunlit);
+        if self.water_capacity_mm() > 0.0 {
+            // The store as it stands, over a nominal 1-s step (the flux the
+            // surface supports now).
+            wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, 1.0);
+        }
+        let mut g = vec![0.0; n - 1];
+        self.conductances(temps, &mut g);
         let (sf, _) = balance::surface_fluxes(
             &drive,
             self.material.thermal_emissivity,
             &self.settings.convection,
             temps[0],
         );
-        let g_last = self.mesh.cond_w_m2k[n - 2];
+        let g_last = g[n - 2];
         let back = match deep {
             Some(d) => g_last * (d - temps[n - 2]),
-            None => self.back_flux(f, temps[n - 1], None, g_last).0,
+            None => self.back_flux(&drive, temps[n - 1], None, g_last).0,
         };
         StepRecord {
             t_s: f.t_s,
             surface_temp_k: temps[0],
             air_temp_k: f.air_temp_k,
-            sunlit,
+            sunlit: sunlit > 0.5,
+            sunlit_fraction: sunlit,
+            water_store_mm: store_mm,
+            sky_view: self.f_sky,
             surface: sf,
-            conduction_into_slab_w_m2: self.mesh.cond_w_m2k[0] * (temps[0] - temps[1]),
+            conduction_into_slab_w_m2: g[0] * (temps[0] - temps[1]),
             back_w_m2: back,
             back_temp_k: temps[n - 1],
             stored_energy_j_m2: stored,
             energy_in_j_m2: energy_in,
         }
     }
+}
+
+/// Opens a solid's surface store to evaporation for a step of `h_s`
+/// seconds: free evaporation (no surface resistance) while the store holds
+/// water or rain falls, at most what the store and the rain supply over the
+/// step, `λ·(W/h + P)`.
+fn wet_drive(d: &mut SurfaceDrive, store_mm: f64, precip_mm_h: f64, air_temp_k: f64, h_s: f64) {
+    let supply_kg_m2_s = store_mm.max(0.0) / h_s + precip_mm_h.max(0.0) / 3600.0;
+    if supply_kg_m2_s > 0.0 {
+        d.conductance_m_s = f64::INFINITY;
+        d.evaporation_cap_w_m2 = aero::latent_heat_j_kg(air_temp_k) * supply_kg_m2_s;
+    }
+}
+
+/// The surface store after a step of `h_s` seconds: rain in, evaporation
+/// out (dew in), clipped to `[0, capacity]` (the excess runs off). The
+/// evaporated mass is `−λE/λ`, the same λ as [`wet_drive`]'s cap.
+pub fn update_store_mm(
+    store_mm: f64,
+    capacity_mm: f64,
+    precip_mm_h: f64,
+    latent_w_m2: f64,
+    air_temp_k: f64,
+    h_s: f64,
+) -> f64 {
+    let evap_kg_m2_s = -latent_w_m2 / aero::latent_heat_j_kg(air_temp_k);
+    (store_mm + (precip_mm_h.max(0.0) / 3600.0 - evap_kg_m2_s) * h_s).clamp(0.0, capacity_mm)
 }
 
 impl Work {
@@ -1071,6 +1300,10 @@ mod tests {
             dhi_w_m2: 0.0,
             ghi_w_m2: 0.0,
             sun_dir_enu: [1.0, 0.0, 0.0],
+            dew_point_k: crate::therm::forcing::DRY_AIR_DEW_POINT_K,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
         }
     }
 
@@ -1121,6 +1354,7 @@ mod tests {
             back: BackBoundary::Insulated,
             internal_power_w_m2: 0.0,
             ground_albedo: None,
+            surface: crate::therm::surface::SurfaceKind::default(),
         };
         let s = ThermSettings::default();
         let bad = SlabMaterial {
@@ -1160,6 +1394,7 @@ mod tests {
             back: BackBoundary::Insulated,
             internal_power_w_m2: 0.0,
             ground_albedo: None,
+            surface: crate::therm::surface::SurfaceKind::default(),
         };
         let s = ThermSettings::default();
         let m = Mesh::graded(&mat, &s);

@@ -1,0 +1,234 @@
+//! What a surface *is*, for the energy balance: a solid with a surface
+//! water store, a vegetated surface that transpires, or open water that
+//! absorbs sunlight through its depth and mixes.
+//!
+//! * **Solid** (pavement, concrete, metal, bare soil): rain and dew fill a
+//!   surface store of `water_capacity_mm` (1 mm for pavement: Rim et al.
+//!   1999 / Ramier et al. 2011 measured 0.5-1.5 mm depression storage on
+//!   urban pavements); while it holds water the surface evaporates at the
+//!   potential rate (no surface resistance), limited to what the store
+//!   holds; beyond the capacity the water runs off. Starts dry at the
+//!   beginning of the thermal history.
+//! * **Vegetation**: a big-leaf canopy on the soil slab; transpiration by the
+//!   resistance form of Penman-Monteith with the Jarvis canopy resistance
+//!   ([`super::aero::Canopy`]); the canopy's roughness sets the aerodynamic
+//!   resistance. Interception by the canopy and soil-moisture dynamics are
+//!   not modelled (soil moisture is a fixed parameter).
+//! * **Water**: the slab is the water column (thickness = depth), its bottom
+//!   node the sediment. A fraction of the absorbed shortwave (the
+//!   near-infrared) is absorbed in the skin, the rest by Beer-Lambert
+//!   extinction with depth; whatever reaches the bottom heats the bottom
+//!   node. Heat moves between nodes by molecular conduction plus an eddy
+//!   diffusivity, much larger where the column is convectively unstable
+//!   (denser water above lighter, with the density of Heggen 1983);
+//!   evaporation by the bulk-aerodynamic formula (no surface resistance).
+//!   Not modelled: currents and inflows, ice, the cool skin (≈0.2-0.3 K).
+
+use serde::{Deserialize, Serialize};
+
+use super::aero::{Canopy, Roughness};
+
+/// Surface type and its parameters (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceKind {
+    Solid {
+        /// Depth of water the surface holds before runoff, mm (0: never wet).
+        water_capacity_mm: f64,
+        /// Roughness length for momentum, m.
+        roughness_m: f64,
+    },
+    Vegetation(Canopy),
+    Water(WaterBody),
+}
+
+impl Default for SurfaceKind {
+    /// A dry solid of roughness 5 mm (no water store).
+    fn default() -> Self {
+        SurfaceKind::Solid {
+            water_capacity_mm: 0.0,
+            roughness_m: DEFAULT_SOLID_ROUGHNESS_M,
+        }
+    }
+}
+
+/// Momentum roughness of smooth built surfaces (pavement, concrete, sheet
+/// metal), m: 1-5 mm (Stull 1988, fig. 9.6; Wieringa 1993 "smooth
+/// surfaces"); 5 mm keeps the log law valid at screen height.
+pub const DEFAULT_SOLID_ROUGHNESS_M: f64 = 0.005;
+
+/// A water body's optical and mixing parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WaterBody {
+    /// Fraction β of the absorbed shortwave absorbed at the surface (the
+    /// near-infrared part of sunlight; 0.4-0.45 in lake models:
+    /// Henderson-Sellers 1986, Hostetler & Bartlein 1990).
+    pub surface_fraction: f64,
+    /// Extinction coefficient η of the rest, 1/m (0.2 clear lakes … 5
+    /// turbid ponds).
+    pub extinction_per_m: f64,
+    /// Eddy diffusivity of a stably stratified column, m²/s.
+    pub eddy_diffusivity_m2_s: f64,
+    /// Diffusivity where the column is convectively unstable, m²/s.
+    pub convective_diffusivity_m2_s: f64,
+    /// Roughness length of the water surface, m.
+    pub roughness_m: f64,
+}
+
+impl SurfaceKind {
+    /// The aerodynamic roughness of this surface.
+    pub fn roughness(&self) -> Roughness {
+        match self {
+            SurfaceKind::Solid { roughness_m, .. } => Roughness::bare(*roughness_m),
+            SurfaceKind::Vegetation(c) => Roughness::canopy(c.height_m),
+            SurfaceKind::Water(w) => Roughness::bare(w.roughness_m),
+        }
+    }
+
+    /// Short lower-case name (`solid`, `vegetation`, `water`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            SurfaceKind::Solid { .. } => "solid",
+            SurfaceKind::Vegetation(_) => "vegetation",
+            SurfaceKind::Water(_) => "water",
+        }
+    }
+
+    /// Checks every parameter is finite and in its physical range; the
+    /// message names the parameter, its value and the range.
+    pub fn validate(&self) -> Result<(), String> {
+        let check = |k: &str, v: f64, lo: f64, hi: f64| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{k} = {v}: expected {lo} to {hi}"))
+            }
+        };
+        match *self {
+            SurfaceKind::Solid {
+                water_capacity_mm,
+                roughness_m,
+            } => {
+                check("water_capacity_mm", water_capacity_mm, 0.0, 50.0)?;
+                check("roughness_m", roughness_m, 1e-5, 0.5)
+            }
+            SurfaceKind::Vegetation(c) => {
+                check("canopy_height_m", c.height_m, 0.01, 30.0)?;
+                check("lai", c.lai, 0.1, 10.0)?;
+                check("min_stomatal_resistance_s_m", c.min_resistance_s_m, 10.0, 1000.0)?;
+                check(
+                    "max_stomatal_resistance_s_m",
+                    c.max_resistance_s_m,
+                    c.min_resistance_s_m,
+                    1e5,
+                )?;
+                check("radiation_limit_w_m2", c.radiation_limit_w_m2, 1.0, 1000.0)?;
+                check("vpd_coeff", c.vpd_coeff, 0.0, 200.0)?;
+                check("soil_moisture", c.soil_moisture, 0.0, 1.0)
+            }
+            SurfaceKind::Water(w) => {
+                check("surface_fraction", w.surface_fraction, 0.0, 1.0)?;
+                check("extinction_per_m", w.extinction_per_m, 0.01, 100.0)?;
+                check("eddy_diffusivity_m2_s", w.eddy_diffusivity_m2_s, 0.0, 1.0)?;
+                check(
+                    "convective_diffusivity_m2_s",
+                    w.convective_diffusivity_m2_s,
+                    w.eddy_diffusivity_m2_s,
+                    10.0,
+                )?;
+                check("roughness_m", w.roughness_m, 1e-6, 0.1)
+            }
+        }
+    }
+}
+
+/// Density of fresh water, kg/m³ (Heggen 1983, as in the lake model of
+/// Hostetler & Bartlein 1990): `ρ = 1000·(1 − 1.9549e-5·|T − 277|^1.68)`,
+/// T in K; maximum at 4 °C.
+pub fn water_density_kg_m3(temp_k: f64) -> f64 {
+    1000.0 * (1.0 - 1.9549e-5 * (temp_k - 277.0).abs().powf(1.68))
+}
+
+/// Fraction of the absorbed shortwave deposited in each node's control
+/// volume of a water column with node depths `z_m` (z₀ = 0 the surface,
+/// last = the bottom): `β` in the surface node, then
+/// `(1 − β)·(e^(−η·z_top) − e^(−η·z_bot))` for the volume `[z_top, z_bot]`
+/// of each node (cell faces half-way between nodes), and everything that
+/// reaches the bottom node's upper face in the bottom node (the sediment
+/// absorbs it). The fractions sum to 1.
+pub fn shortwave_fractions(z_m: &[f64], surface_fraction: f64, extinction_per_m: f64) -> Vec<f64> {
+    let n = z_m.len();
+    let beta = surface_fraction.clamp(0.0, 1.0);
+    let t = |z: f64| (-extinction_per_m * z).exp();
+    (0..n)
+        .map(|i| {
+            let top = if i == 0 {
+                0.0
+            } else {
+                0.5 * (z_m[i - 1] + z_m[i])
+            };
+            let bot = if i + 1 == n {
+                f64::INFINITY
+            } else {
+                0.5 * (z_m[i] + z_m[i + 1])
+            };
+            let below = if bot.is_finite() { t(bot) } else { 0.0 };
+            (1.0 - beta) * (t(top) - below) + if i == 0 { beta } else { 0.0 }
+        })
+        .collect()
+}
+
+/// Conductances between the nodes of a water column for one step, W m⁻²
+/// K⁻¹: `(k + ρc·K)/Δz` with `K` the convective diffusivity where the upper
+/// node is denser than the lower one, else the stable eddy diffusivity.
+/// `base_w_m2k` are the molecular conductances `k/Δz`, `rho_c` the
+/// volumetric heat capacity, `k` the molecular conductivity.
+pub fn mixing_conductances(
+    base_w_m2k: &[f64],
+    temps_k: &[f64],
+    conductivity_w_mk: f64,
+    rho_c_j_m3k: f64,
+    water: &WaterBody,
+    out: &mut [f64],
+) {
+    for i in 0..base_w_m2k.len() {
+        let dz = conductivity_w_mk / base_w_m2k[i];
+        let unstable = water_density_kg_m3(temps_k[i]) > water_density_kg_m3(temps_k[i + 1]);
+        let k_eddy = if unstable {
+            water.convective_diffusivity_m2_s
+        } else {
+            water.eddy_diffusivity_m2_s
+        };
+        out[i] = (conductivity_w_mk + rho_c_j_m3k * k_eddy) / dz;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Heggen's fit against the tabulated density of water (Kell 1975 /
+    /// CRC: 998.21 kg/m³ at 20 °C, 995.65 at 30 °C) within 0.5 kg/m³ (the
+    /// fit's own accuracy; only the sign of density differences is used);
+    /// maximum near 4 °C.
+    #[test]
+    fn water_density_against_tables() {
+        assert!((water_density_kg_m3(293.15) - 998.21).abs() < 0.5);
+        assert!((water_density_kg_m3(303.15) - 995.65).abs() < 0.5);
+        assert!(water_density_kg_m3(277.0) > water_density_kg_m3(280.0));
+        assert!(water_density_kg_m3(277.0) > water_density_kg_m3(274.0));
+    }
+
+    /// Beer-Lambert fractions: they sum to 1, the skin takes β, and the
+    /// water above depth z absorbs β + (1 − β)(1 − e^(−ηz)) (checked at
+    /// the face half-way between two nodes).
+    #[test]
+    fn shortwave_fractions_follow_beer_lambert() {
+        let z: Vec<f64> = (0..=20).map(|i| 0.05 * i as f64).collect();
+        let f = shortwave_fractions(&z, 0.45, 2.0);
+        assert!((f.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        let upper: f64 = f[..5].iter().sum(); // nodes 0..4, face at 0.225 m
+        let expect = 0.45 + 0.55 * (1.0 - (-2.0f64 * 0.225).exp());
+        assert!((upper - expect).abs() < 1e-12, "{upper} vs {expect}");
+    }
+}
