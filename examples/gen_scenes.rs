@@ -539,7 +539,7 @@ fn airfield(root: &Path) -> usize {
     };
     // Grass field 700 m × 600 m.
     let mut g = Mesh::default();
-    g.part("grass", "grass");
+    g.part("grass", "grass_irrigated");
     g.grid([-350.0, -300.0], [350.0, 300.0], 0.0, 22, 16);
     w("grass", g);
     // Runway (east-west) 600 m × 45 m asphalt, 0.15 m above the grass.
@@ -559,7 +559,7 @@ fn airfield(root: &Path) -> usize {
     w("apron", a);
     // Pond (water) and bare-soil patch, a little above the grass.
     let mut p = Mesh::default();
-    p.part("pond", "water");
+    p.part("pond", "pond");
     let n = 20;
     let c = [200.0, 120.0];
     let ring: Vec<usize> = (0..n)
@@ -571,7 +571,7 @@ fn airfield(root: &Path) -> usize {
     p.face(ring);
     w("pond", p);
     let mut s = Mesh::default();
-    s.part("soil", "soil");
+    s.part("soil", "soil_bare");
     s.grid([-260.0, 80.0], [-180.0, 160.0], 0.05, 4, 4);
     w("soil_patch", s);
     w("hangar", hangar());
@@ -637,11 +637,11 @@ fn terrain(root: &Path) {
         let (x, y) = (i as f64, j as f64);
         ((x / 11.0).sin() * (y / 7.0).cos() + (x + y) / 300.0) > 0.75
     };
-    for mat in ["grass", "soil"] {
-        m.part(mat, mat);
+    for (part, mat) in [("grass", "grass_irrigated"), ("soil", "soil_bare")] {
+        m.part(part, mat);
         for j in 0..n {
             for i in 0..n {
-                if soil(i, j) == (mat == "soil") {
+                if soil(i, j) == (part == "soil") {
                     m.face(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
                 }
             }

@@ -246,7 +246,7 @@ fn mwir_sharp_shadow_and_blurred_thermal_shadow_lwir_little_sun() {
     assert!(x_older < x_now - 2.0);
 
     // 3. Reflected sunlight vs emission on sunlit ground.
-    let ground: Vec<f32> = ["concrete", "asphalt", "grass"]
+    let ground: Vec<f32> = ["concrete", "asphalt", "grass_irrigated"]
         .iter()
         .map(|m| material_index(&scene, m))
         .collect();
@@ -272,10 +272,10 @@ fn view_zenith_contrast_falls_and_specular_roof_turns_dark() {
     let scene = airfield();
     let roof_m = material_index(&scene, "painted_steel_roof");
     let (grass_m, concrete_m) = (
-        material_index(&scene, "grass"),
+        material_index(&scene, "grass_irrigated"),
         material_index(&scene, "concrete"),
     );
-    let ground: Vec<f32> = ["concrete", "asphalt", "grass", "soil"]
+    let ground: Vec<f32> = ["concrete", "asphalt", "grass_irrigated", "soil_bare"]
         .iter()
         .map(|m| material_index(&scene, m))
         .collect();

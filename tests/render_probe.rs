@@ -140,7 +140,7 @@ fn probe_terms_add_up_to_the_rendered_pixel() {
     let ground = [
         material_index(&scene, "concrete"),
         material_index(&scene, "asphalt"),
-        material_index(&scene, "grass"),
+        material_index(&scene, "grass_irrigated"),
     ];
     let skin = material_index(&scene, "aircraft_skin");
     let roof = material_index(&scene, "painted_steel_roof");

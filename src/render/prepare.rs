@@ -87,7 +87,7 @@ pub fn slab_of(m: &Material) -> SlabMaterial {
         },
         internal_power_w_m2: m.internal_power_w_m2,
         ground_albedo: None,
-        surface: crate::therm::surface::SurfaceKind::default(),
+        surface: m.surface,
     }
 }
 

@@ -9,6 +9,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::error::{Location, SceneError};
+use crate::therm::aero::Canopy;
+use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
 use super::tomlsrc::{Seg, TomlSource};
 
 /// A material library file.
@@ -52,6 +54,46 @@ pub struct MaterialSpec {
     /// Directional spectral emissivity model for the radiometry.
     #[serde(default)]
     pub emissivity: EmissivitySpec,
+    /// What the surface is for the energy balance (default `solid`).
+    #[serde(default)]
+    pub kind: KindSpec,
+    /// Solid: water held before runoff, mm (default 0: never wet).
+    pub water_capacity_mm: Option<f64>,
+    /// Solid and water: roughness length for momentum, m.
+    pub roughness_m: Option<f64>,
+    /// Vegetation: canopy height, m (required).
+    pub canopy_height_m: Option<f64>,
+    /// Vegetation: leaf area index (required).
+    pub lai: Option<f64>,
+    /// Vegetation: relative available soil water 0 (wilting) … 1 (field
+    /// capacity) (required).
+    pub soil_moisture: Option<f64>,
+    /// Vegetation: minimum stomatal resistance per unit LAI, s/m.
+    pub min_stomatal_resistance_s_m: Option<f64>,
+    /// Vegetation: cuticular (largest) resistance, s/m.
+    pub max_stomatal_resistance_s_m: Option<f64>,
+    /// Vegetation: the radiation parameter R_gl of the Jarvis F₁, W/m².
+    pub radiation_limit_w_m2: Option<f64>,
+    /// Vegetation: the vapour-deficit parameter h_s of F₂, (kg/kg)⁻¹.
+    pub vpd_coeff: Option<f64>,
+    /// Water: Beer-Lambert extinction coefficient, 1/m (required).
+    pub extinction_per_m: Option<f64>,
+    /// Water: fraction of absorbed shortwave absorbed at the surface.
+    pub shortwave_surface_fraction: Option<f64>,
+    /// Water: eddy diffusivity of a stable column, m²/s.
+    pub eddy_diffusivity_m2_s: Option<f64>,
+    /// Water: diffusivity of a convectively unstable column, m²/s.
+    pub convective_diffusivity_m2_s: Option<f64>,
+}
+
+/// `kind = "solid" | "vegetation" | "water"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum KindSpec {
+    #[default]
+    Solid,
+    Vegetation,
+    Water,
 }
 
 /// Back-face boundary of the slab.
@@ -138,6 +180,8 @@ pub struct Material {
     pub internal_power_w_m2: f64,
     pub specularity: f64,
     pub emissivity: Emissivity,
+    /// Surface type and its energy-balance parameters.
+    pub surface: SurfaceKind,
     /// The library file that defined it.
     pub library: PathBuf,
 }
@@ -297,6 +341,7 @@ pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
                 Emissivity::Table(read_emissivity_table(&file)?)
             }
         };
+        let surface = surface_kind(&c, &name, &m)?;
         out.push(Material {
             name: name.clone(),
             description: m.description.clone(),
@@ -310,10 +355,145 @@ pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
             internal_power_w_m2: m.internal_power_w_m2,
             specularity: m.specularity,
             emissivity,
+            surface,
             library: path.to_path_buf(),
         });
     }
     Ok(out)
+}
+
+/// Defaults of the optional surface parameters, with their sources.
+pub mod surface_defaults {
+    /// Jarvis/Noah R_gl for grass and crops, W/m² (Noilhan & Planton 1989;
+    /// Noah VEGPARM "grassland" 100).
+    pub const RADIATION_LIMIT_W_M2: f64 = 100.0;
+    /// Noah's cuticular resistance r_s,max, s/m (Chen et al. 1996).
+    pub const MAX_STOMATAL_RESISTANCE_S_M: f64 = 5000.0;
+    /// Noah's h_s for grass and crops, (kg/kg)⁻¹ (Noah VEGPARM 36.35).
+    pub const VPD_COEFF: f64 = 36.35;
+    /// FAO-56's bulk stomatal resistance of a well-illuminated leaf, s/m
+    /// (FAO-56 eq. 5: r_l = 100 s/m).
+    pub const MIN_STOMATAL_RESISTANCE_S_M: f64 = 100.0;
+    /// Near-infrared share of absorbed sunlight taken by a water skin
+    /// (Henderson-Sellers 1986; Hostetler & Bartlein 1990: 0.4).
+    pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
+    /// Eddy diffusivity of a stably stratified small pond, m²/s (1e-6-1e-4
+    /// in small lakes, Hondzo & Stefan 1993): 2e-5.
+    pub const EDDY_DIFFUSIVITY_M2_S: f64 = 2.0e-5;
+    /// Convective overturning, m²/s: fast enough to mix a 1 m column in
+    /// minutes.
+    pub const CONVECTIVE_DIFFUSIVITY_M2_S: f64 = 1.0e-2;
+    /// Roughness length of a water surface at light winds, m (Charnock
+    /// z₀ = 0.011·u*²/g ≈ 1e-4 m at u* = 0.3 m/s; Garratt 1992, Table A6).
+    pub const WATER_ROUGHNESS_M: f64 = 2.0e-4;
+}
+
+/// The surface kind of one `[material.NAME]` table: checks that the keys
+/// its kind needs are there and in range, and that no key of another kind
+/// is given.
+fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, SceneError> {
+    use surface_defaults as d;
+    let p = |k: &str| {
+        [
+            Seg::Key("material".into()),
+            Seg::Key(name.to_string()),
+            Seg::Key(k.into()),
+        ]
+    };
+    let kind_name = match m.kind {
+        KindSpec::Solid => "solid",
+        KindSpec::Vegetation => "vegetation",
+        KindSpec::Water => "water",
+    };
+    let all: [(&str, Option<f64>, &[KindSpec]); 13] = [
+        ("water_capacity_mm", m.water_capacity_mm, &[KindSpec::Solid]),
+        ("roughness_m", m.roughness_m, &[KindSpec::Solid, KindSpec::Water]),
+        ("canopy_height_m", m.canopy_height_m, &[KindSpec::Vegetation]),
+        ("lai", m.lai, &[KindSpec::Vegetation]),
+        ("soil_moisture", m.soil_moisture, &[KindSpec::Vegetation]),
+        ("min_stomatal_resistance_s_m", m.min_stomatal_resistance_s_m, &[KindSpec::Vegetation]),
+        ("max_stomatal_resistance_s_m", m.max_stomatal_resistance_s_m, &[KindSpec::Vegetation]),
+        ("radiation_limit_w_m2", m.radiation_limit_w_m2, &[KindSpec::Vegetation]),
+        ("vpd_coeff", m.vpd_coeff, &[KindSpec::Vegetation]),
+        ("extinction_per_m", m.extinction_per_m, &[KindSpec::Water]),
+        ("shortwave_surface_fraction", m.shortwave_surface_fraction, &[KindSpec::Water]),
+        ("eddy_diffusivity_m2_s", m.eddy_diffusivity_m2_s, &[KindSpec::Water]),
+        ("convective_diffusivity_m2_s", m.convective_diffusivity_m2_s, &[KindSpec::Water]),
+    ];
+    for (key, v, kinds) in all {
+        if v.is_some() && !kinds.contains(&m.kind) {
+            return Err(c.src.invalid(
+                &p(key),
+                format!("`{key}` does not apply to kind = \"{kind_name}\" (it is a parameter of {})",
+                    kinds.iter().map(|k| format!("{k:?}").to_lowercase()).collect::<Vec<_>>().join(", ")),
+            ));
+        }
+    }
+    let need = |key: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            c.src.invalid(
+                &[Seg::Key("material".into()), Seg::Key(name.to_string())],
+                format!("kind = \"{kind_name}\" needs `{key}` (see docs/scene-format.md, \"Surface kinds\")"),
+            )
+        })
+    };
+    let range = |key: &str, v: f64, lo: f64, hi: f64, unit: &str| c.range(&p(key), key, v, lo, hi, unit);
+    Ok(match m.kind {
+        KindSpec::Solid => {
+            let cap = m.water_capacity_mm.unwrap_or(0.0);
+            range("water_capacity_mm", cap, 0.0, 50.0, " mm")?;
+            let z0 = m.roughness_m.unwrap_or(DEFAULT_SOLID_ROUGHNESS_M);
+            range("roughness_m", z0, 1e-5, 0.5, " m")?;
+            SurfaceKind::Solid {
+                water_capacity_mm: cap,
+                roughness_m: z0,
+            }
+        }
+        KindSpec::Vegetation => {
+            let height_m = need("canopy_height_m", m.canopy_height_m)?;
+            range("canopy_height_m", height_m, 0.01, 30.0, " m")?;
+            let lai = need("lai", m.lai)?;
+            range("lai", lai, 0.1, 10.0, " m²/m²")?;
+            let soil_moisture = need("soil_moisture", m.soil_moisture)?;
+            range("soil_moisture", soil_moisture, 0.0, 1.0, "")?;
+            let rmin = m.min_stomatal_resistance_s_m.unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
+            range("min_stomatal_resistance_s_m", rmin, 10.0, 1000.0, " s/m")?;
+            let rmax = m.max_stomatal_resistance_s_m.unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
+            range("max_stomatal_resistance_s_m", rmax, rmin, 1e5, " s/m")?;
+            let rgl = m.radiation_limit_w_m2.unwrap_or(d::RADIATION_LIMIT_W_M2);
+            range("radiation_limit_w_m2", rgl, 1.0, 1000.0, " W/m²")?;
+            let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
+            range("vpd_coeff", hs, 0.0, 200.0, " (kg/kg)⁻¹")?;
+            SurfaceKind::Vegetation(Canopy {
+                height_m,
+                lai,
+                min_resistance_s_m: rmin,
+                max_resistance_s_m: rmax,
+                radiation_limit_w_m2: rgl,
+                vpd_coeff: hs,
+                soil_moisture,
+            })
+        }
+        KindSpec::Water => {
+            let eta = need("extinction_per_m", m.extinction_per_m)?;
+            range("extinction_per_m", eta, 0.01, 100.0, " 1/m")?;
+            let beta = m.shortwave_surface_fraction.unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
+            range("shortwave_surface_fraction", beta, 0.0, 1.0, "")?;
+            let ke = m.eddy_diffusivity_m2_s.unwrap_or(d::EDDY_DIFFUSIVITY_M2_S);
+            range("eddy_diffusivity_m2_s", ke, 0.0, 1.0, " m²/s")?;
+            let kc = m.convective_diffusivity_m2_s.unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
+            range("convective_diffusivity_m2_s", kc, ke, 10.0, " m²/s")?;
+            let z0 = m.roughness_m.unwrap_or(d::WATER_ROUGHNESS_M);
+            range("roughness_m", z0, 1e-6, 0.1, " m")?;
+            SurfaceKind::Water(WaterBody {
+                surface_fraction: beta,
+                extinction_per_m: eta,
+                eddy_diffusivity_m2_s: ke,
+                convective_diffusivity_m2_s: kc,
+                roughness_m: z0,
+            })
+        }
+    })
 }
 
 /// Splits a CSV data line into numbers; `Err(column)` (1-based) on a bad field.

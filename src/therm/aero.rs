@@ -124,13 +124,6 @@ pub fn neutral_resistance_s_m(u_m_s: f64, z_m: f64, d_m: f64, z0m_m: f64, z0h_m:
 /// surface; free convection takes over below it.
 pub const MIN_WIND_M_S: f64 = 0.2;
 
-/// Largest bulk Richardson number used in the stable correction. At the
-/// critical value 0.2 the Webb form shuts turbulence off entirely; land
-/// models keep a minimum exchange in very stable nights (intermittent
-/// turbulence), and so does this cap: the transfer coefficient never drops
-/// below (1 − 5·0.15)² = 6.25 % of its neutral value.
-pub const MAX_RICHARDSON: f64 = 0.15;
-
 /// Most unstable bulk Richardson number used: the Businger-Dyer form is
 /// fitted for `−1 < z/L < 0`; beyond it (calm, hot surfaces) the flux is
 /// that of free convection, which the blend with [`free_convection_coeff`]
@@ -139,16 +132,17 @@ pub const MAX_RICHARDSON: f64 = 0.15;
 pub const MIN_RICHARDSON: f64 = -1.0;
 
 /// Stability factor `F(Ri) = h/h_neutral` of the bulk transfer coefficient
-/// for heat (Monteith & Unsworth 2013, §16.2, after Businger-Dyer and
-/// Webb 1970): unstable `Ri < 0`: `(1 − 16·Ri)^0.75` with Ri capped at
-/// [`MIN_RICHARDSON`]; stable `Ri > 0`: `(1 − 5·Ri)²` with Ri capped at
-/// [`MAX_RICHARDSON`].
+/// for heat. Unstable `Ri < 0`: `(1 − 16·Ri)^0.75` (Monteith & Unsworth
+/// 2013, §16.2, after Businger-Dyer), Ri capped at [`MIN_RICHARDSON`].
+/// Stable `Ri > 0`: Louis (1979), Boundary-Layer Meteorol. 17, 187, eq. 21
+/// with b = d = 5: `1/(1 + 3b·Ri·√(1 + d·Ri))` — smooth and long-tailed
+/// (very stable nights keep a little exchange, as observed; the Webb form
+/// `(1 − 5Ri)²` would shut it off at Ri = 0.2).
 pub fn stability_factor(richardson: f64) -> f64 {
     if richardson < 0.0 {
         (1.0 - 16.0 * richardson.max(MIN_RICHARDSON)).powf(0.75)
     } else {
-        let ri = richardson.min(MAX_RICHARDSON);
-        (1.0 - 5.0 * ri) * (1.0 - 5.0 * ri)
+        1.0 / (1.0 + 15.0 * richardson * (1.0 + 5.0 * richardson).sqrt())
     }
 }
 
@@ -530,14 +524,14 @@ mod tests {
         assert!((free_convection_coeff(180.0, false) - 1.78).abs() < 0.01);
     }
 
-    /// Stability: neutral 1; Businger-Dyer/Webb values at Ri = −0.1 and
-    /// 0.1: (2.6)^0.75 = 2.0466, 0.25.
+    /// Stability: neutral 1; Businger-Dyer at Ri = −0.1: 2.6^0.75; Louis
+    /// (1979) stable at Ri = 0.1 and 1: 1/(1 + 1.5·√1.5), 1/(1 + 15·√6).
     #[test]
     fn stability_factor_values() {
         assert_eq!(stability_factor(0.0), 1.0);
         assert!((stability_factor(-0.1) - 2.6f64.powf(0.75)).abs() < 1e-12);
-        assert!((stability_factor(0.1) - 0.25).abs() < 1e-12);
-        assert!((stability_factor(5.0) - 0.0625).abs() < 1e-12);
+        assert!((stability_factor(0.1) - 1.0 / (1.0 + 1.5 * 1.5f64.sqrt())).abs() < 1e-12);
+        assert!((stability_factor(1.0) - 1.0 / (1.0 + 15.0 * 6f64.sqrt())).abs() < 1e-12);
         assert!((stability_factor(-5.0) - 17f64.powf(0.75)).abs() < 1e-12);
     }
 

@@ -810,7 +810,7 @@ impl SlabModel {
         let cap = &self.mesh.cap_j_m2k;
         let sw = drive.absorbed_shortwave_w_m2();
         let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
-        for _iter in 0..60 {
+        for iter in 0..120 {
             // Residual r = rhs − lhs (we solve J·δ = r with J = −∂r/∂T).
             for i in 0..nf {
                 let t = new[i];
@@ -852,12 +852,15 @@ impl SlabModel {
                 return false;
             }
             let mut max_d = 0.0f64;
+            // Damped after 30 iterations: the turbulent exchange has kinks
+            // (capped stability factors) where plain Newton can cycle.
+            let damp = if iter < 30 { 1.0 } else { 0.5 };
             for (t, &d) in new[..nf].iter_mut().zip(&w.x[..nf]) {
                 if !d.is_finite() {
                     return false;
                 }
                 // Keep the iterate physical; the root is always > 0 K.
-                *t = (*t + d).max(1.0);
+                *t = (*t + damp * d).max(1.0);
                 max_d = max_d.max(d.abs());
             }
             if max_d < 1e-9 {
@@ -940,11 +943,34 @@ impl SlabModel {
         let mut new = old.clone();
         let mut w = Work::new(n);
         let mut g = vec![0.0; n - 1];
-        self.conductances(&old, &mut g);
-        // A huge (not infinite) step keeps the matrix regular when no heat
-        // can leave the slab (e.g. ε = 0 and no convection).
-        self.implicit_step(&old, &mut new, 1e12, &g, drive, deep, &mut w)
-            .then_some(new)
+        let SurfaceKind::Water(water) = self.material.surface else {
+            self.conductances(&old, &mut g);
+            // A huge (not infinite) step keeps the matrix regular when no
+            // heat can leave the slab (e.g. ε = 0 and no convection).
+            return self
+                .implicit_step(&old, &mut new, 1e12, &g, drive, deep, &mut w)
+                .then_some(new);
+        };
+        // Water: the mixing depends on the profile. Start fully mixed and
+        // iterate until the stable/unstable pattern repeats.
+        let rho_c = self.material.density_kg_m3 * self.material.specific_heat_j_kgk;
+        for (gi, base) in g.iter_mut().zip(&self.mesh.cond_w_m2k) {
+            let dz = self.material.conductivity_w_mk / base;
+            *gi = (self.material.conductivity_w_mk + rho_c * water.convective_diffusivity_m2_s) / dz;
+        }
+        let mut prev = g.clone();
+        for _ in 0..20 {
+            new.copy_from_slice(&old);
+            if !self.implicit_step(&old, &mut new, 1e12, &g, drive, deep, &mut w) {
+                return None;
+            }
+            self.conductances(&new, &mut g);
+            if g == prev {
+                break;
+            }
+            prev.copy_from_slice(&g);
+        }
+        Some(new)
     }
 
     /// Marches from the spin-up start ([`ThermSettings::spin_up_start`]) at
@@ -1092,7 +1118,13 @@ impl SlabModel {
                     Some(d) => g_last * (d - new[n - 2]),
                     None => self.back_flux(&drive, new[n - 1], None, g_last).0,
                 };
-                energy_in += h * (sf.net_w_m2 + back);
+                // Shortwave that reaches a fixed deep node leaves the slab.
+                let lost = if deep.is_some() {
+                    self.sw_fraction[n - 1] * drive.absorbed_shortwave_w_m2()
+                } else {
+                    0.0
+                };
+                energy_in += h * (sf.net_w_m2 - lost + back);
                 if capacity_mm > 0.0 {
                     store_mm = update_store_mm(
                         store_mm,
