@@ -49,6 +49,8 @@ fn therm_csv_matches_reference() {
         "--to",
         "2021-05-06T05:00:00Z",
         // The reference starts from the steady state at its first sample.
+        "--convection",
+        "mcadams",
         "--spin-up-start",
         "first-sample",
         "--csv",
@@ -81,8 +83,10 @@ fn therm_csv_matches_reference() {
         let r = reference.iter().find(|r| r.0 == t_s).unwrap();
         assert!((ts - r.1).abs() < 0.1, "t {t_s}: {ts} vs {}", r.1);
         let n: Vec<f64> = f[5..].iter().map(|x| x.parse().unwrap()).collect();
-        let sum = n[0] + n[1] + n[2] + n[3] + n[4] - n[5] + n[6] + n[7];
-        assert!((sum - n[8]).abs() < 0.01, "flux terms {n:?}");
+        // direct, diffuse, ground-reflected, sky, ground longwave, −emitted,
+        // convection, latent, rain, internal = net
+        let sum = n[0] + n[1] + n[2] + n[3] + n[4] - n[5] + n[6] + n[7] + n[8] + n[9];
+        assert!((sum - n[10]).abs() < 0.01, "flux terms {n:?}");
         rows += 1;
     }
     assert_eq!(rows, 48 * 4 + 1);

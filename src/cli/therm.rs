@@ -32,11 +32,19 @@ use anyhow::{Context, bail};
 use chrono::{DateTime, Duration, NaiveTime, Timelike, Utc};
 use serde::Serialize;
 
-use crate::therm::balance::Orientation;
+use crate::therm::aero::SurfaceLayer;
+use crate::therm::balance::{Convection, Orientation};
 use crate::therm::forcing::Forcing;
 use crate::therm::slab::{
     SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, ThermSettings,
 };
+
+/// `--convection`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConvectionArg {
+    SurfaceLayer,
+    Mcadams,
+}
 
 /// `--spin-up-start` (see [`SpinUpStart`]).
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -95,6 +103,25 @@ pub struct Args {
     /// forcing of the whole run, or under its first sample (THERM's).
     #[arg(long, value_enum, default_value_t = SpinUpArg::MeanForcing)]
     pub spin_up_start: SpinUpArg,
+    /// Height of the weather record's anemometer above the ground, m.
+    #[arg(long, default_value_t = 10.0)]
+    pub wind_height_m: f64,
+    /// Height above the surface at which the air temperature and humidity
+    /// hold, m (screen height).
+    #[arg(long, default_value_t = 2.0)]
+    pub air_height_m: f64,
+    /// Roughness length of the site's terrain, m (moves the wind from the
+    /// anemometer to the facet).
+    #[arg(long, default_value_t = 0.03)]
+    pub site_roughness_m: f64,
+    /// Height of the facet above the ground, m.
+    #[arg(long, default_value_t = 0.0)]
+    pub facet_height_m: f64,
+    /// Convection model: the surface layer (convective only, the default)
+    /// or McAdams' 5.7 + 3.8 v (radiation folded in; for comparison with
+    /// THERM-era results only).
+    #[arg(long, value_enum, default_value_t = ConvectionArg::SurfaceLayer)]
+    pub convection: ConvectionArg,
     /// Shadow ranges (see module docs).
     #[arg(long, allow_hyphen_values = true)]
     pub shadow: Option<String>,
@@ -383,10 +410,19 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             SpinUpArg::MeanForcing => SpinUpStart::MeanForcing,
             SpinUpArg::FirstSample => SpinUpStart::FirstSample,
         },
+        convection: match a.convection {
+            ConvectionArg::SurfaceLayer => Convection::SurfaceLayer(SurfaceLayer {
+                wind_height_m: a.wind_height_m,
+                air_height_m: a.air_height_m,
+                site_roughness_m: a.site_roughness_m,
+            }),
+            ConvectionArg::Mcadams => Convection::mcadams(),
+        },
         ..ThermSettings::default()
     };
-    let model =
-        SlabModel::new(&mat, o, &settings).with_context(|| format!("material '{}'", a.material))?;
+    let model = SlabModel::new(&mat, o, &settings)
+        .with_context(|| format!("material '{}'", a.material))?
+        .with_height(a.facet_height_m);
     let sol = model.solve(&forcing, shadow.as_ref(), true)?;
     let from_s = (from - start).num_milliseconds() as f64 / 1e3;
     let rows: Vec<Row> = sol
@@ -416,7 +452,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     Ok(0)
 }
 
-const COLUMNS: [&str; 16] = [
+const COLUMNS: [&str; 23] = [
     "time_utc",
     "t_s",
     "surface_temp_k",
@@ -429,10 +465,17 @@ const COLUMNS: [&str; 16] = [
     "ground_longwave_in_w_m2",
     "emitted_longwave_w_m2",
     "convection_w_m2",
+    "latent_w_m2",
+    "rain_w_m2",
     "internal_w_m2",
     "net_surface_w_m2",
     "conduction_into_slab_w_m2",
     "back_w_m2",
+    "convection_coeff_w_m2k",
+    "water_store_mm",
+    "sky_view",
+    "sunlit_fraction",
+    "surface_temp_c",
 ];
 
 fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result<()> {
@@ -455,10 +498,17 @@ fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result
             s.ground_longwave_in_w_m2,
             s.emitted_longwave_w_m2,
             s.convection_w_m2,
+            s.latent_w_m2,
+            s.rain_w_m2,
             s.internal_w_m2,
             s.net_w_m2,
             r.rec.conduction_into_slab_w_m2,
             r.rec.back_w_m2,
+            s.convection_coeff_w_m2k,
+            r.rec.water_store_mm,
+            r.rec.sky_view,
+            r.rec.sunlit_fraction,
+            r.rec.surface_temp_k - 273.15,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
         writeln!(
