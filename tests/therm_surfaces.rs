@@ -39,23 +39,153 @@ fn material(name: &str) -> SlabMaterial {
     irsig::render::prepare::slab_of(m)
 }
 
+/// Hourly mean of `f(record)` over hour-ending stamps of a recorded
+/// solution (series every `step_s`, starting at `t0`).
+fn hourly_means(
+    series: &[irsig::therm::slab::StepRecord],
+    step_s: f64,
+    f: impl Fn(&irsig::therm::slab::StepRecord) -> f64,
+) -> Vec<f64> {
+    let per_h = (3600.0 / step_s).round() as usize;
+    (0..(series.len() - 1) / per_h)
+        .map(|h| {
+            // trapezoid over the hour
+            let seg = &series[h * per_h..=(h + 1) * per_h];
+            let n = seg.len() - 1;
+            (0..n).map(|k| 0.5 * (f(&seg[k]) + f(&seg[k + 1]))).sum::<f64>() / n as f64
+        })
+        .collect()
+}
+
+/// Latent heat of the irrigated-grass material (the FAO-56 reference
+/// surface: 0.12 m, albedo 0.23, r_l = 100 s/m, LAI 2.88, well watered)
+/// against the ASCE standardized hourly reference ET (refet 0.5.0, short
+/// reference, computed by tools/ref_et0.py from the same weather,
+/// tests/data/ref_et0_greensboro.csv) over Aug 6-9: daily totals within
+/// 10 %; hours ending 11:00-17:00 LST within 20 %. The hours after sunrise
+/// (ending 08:00-10:00 LST) run 15-41 % below the reference and are only
+/// reported: there the model's soil takes up 20-30 % of the net
+/// radiation, where ASCE fixes G = 0.1·R_n (an open difference; see
+/// docs/energy-balance.md). The reference's net radiation is FAO's
+/// estimate, not ours (rn_w_m2 in the CSV).
 #[test]
-fn pond_debug() {
-    let f = airfield_forcing("2001-08-05T00:00:00Z", 96.0, 900.0);
-    let mut m = material("pond");
-    m.back = irsig::therm::slab::BackBoundary::DeepGround { temp_k: Some(298.0) };
+fn irrigated_grass_latent_heat_matches_fao56_reference_et() {
+    let step = 300.0;
+    // Spin-up from the record's first hour (Aug 4 06:00Z) to Aug 10 05:00Z.
+    let f = airfield_forcing("2001-08-04T06:00:00Z", 143.0, step);
+    let m = material("grass_irrigated");
     let model = SlabModel::new(&m, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
-    eprintln!("nodes {}", model.nodes());
-    let d = model.drive(&f[0], 1.0);
-    eprintln!("{d:?}");
-    let r = model.equilibrium(&f[0], 1.0, Some(298.0));
-    eprintln!("{r:?}");
-    let me = model.mean_equilibrium(&f, None, Some(298.0));
-    eprintln!("mean eq {:?}", me.as_ref().map(|v| v[0]));
-    for k in [1usize, 2, 4, 8, 16, 32, 64, 96, 200, 384] {
-        let me = model.mean_equilibrium(&f[..k.min(f.len())], None, Some(298.0));
-        eprintln!("k {k} mean eq {:?}", me.as_ref().map(|v| v[0]));
+    let sol = model.solve(&f, None, true).unwrap();
+    // ET in mm/h = −λE/λ·3600 with the reference's λ = 2.45 MJ/kg.
+    let ours = hourly_means(&sol.series, step, |r| -r.surface.latent_w_m2);
+    let text = std::fs::read_to_string("tests/data/ref_et0_greensboro.csv").unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|c| *c == n).unwrap();
+    let (i_t, i_l, i_e) = (col("time_utc_end"), col("latent_asce_w_m2"), col("eto_asce_mm_h"));
+    let mut daily = [(0.0f64, 0.0f64); 4];
+    let mut worst = 0.0f64;
+    let t0 = utc("2001-08-04T06:00:00Z");
+    for l in lines {
+        let v: Vec<&str> = l.split(',').collect();
+        let end = utc(v[i_t]);
+        let h = ((end - t0).num_seconds() / 3600 - 1) as usize;
+        let (reference, eto): (f64, f64) = (v[i_l].parse().unwrap(), v[i_e].parse().unwrap());
+        let day = ((end - utc("2001-08-06T05:00:00Z")).num_seconds() - 1) / 86400;
+        daily[day as usize].0 += ours[h];
+        daily[day as usize].1 += reference;
+        let lst_end = (end.timestamp() / 3600 - 5).rem_euclid(24);
+        if eto > 0.1 {
+            let rel = (ours[h] - reference) / reference;
+            if (11..=17).contains(&lst_end) {
+                worst = worst.max(rel.abs());
+            }
+            eprintln!("{end}: ours {:.0} W/m², ASCE {reference:.0} W/m² ({:+.0} %)", ours[h], 100.0 * rel);
+        }
     }
-    let s = model.solve(&f, None, true);
-    eprintln!("{:?}", s.as_ref().map(|s| s.surface_temp_k));
+    for (d, (o, r)) in daily.iter().enumerate() {
+        let rel = (o - r) / r;
+        eprintln!("day {d}: ours {:.2} mm, ASCE {:.2} mm ({:+.1} %)", o * 3600.0 / 2.45e6, r * 3600.0 / 2.45e6, 100.0 * rel);
+        assert!(rel.abs() < 0.10, "day {d}: {:+.1} %", 100.0 * rel);
+    }
+    assert!(worst < 0.20, "worst hour {:.0} %", 100.0 * worst);
+}
+
+/// The pond (1.5 m, Beer-Lambert shortwave, mixing, evaporation) under
+/// the airfield's August weather: a diurnal surface range of 0.5-3 K
+/// (real small water bodies: 1-3 K) where the old solid slab swung 28 K,
+/// and energy closure over the last day to 0.1 % of the absorbed sunlight.
+#[test]
+fn pond_diurnal_range_and_energy_closure() {
+    let step = 900.0;
+    let f = airfield_forcing("2001-08-04T06:00:00Z", 96.0, step);
+    let m = material("pond");
+    let model = SlabModel::new(&m, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
+    let sol = model.solve(&f, None, true).unwrap();
+    let day = &sol.series[sol.series.len() - 97..];
+    let (lo, hi) = day.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
+        (a.0.min(r.surface_temp_k), a.1.max(r.surface_temp_k))
+    });
+    let air = day.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
+        (a.0.min(r.air_temp_k), a.1.max(r.air_temp_k))
+    });
+    eprintln!("pond range {:.2} K ({:.2}..{:.2} K); air range {:.2} K", hi - lo, lo, hi, air.1 - air.0);
+    assert!((0.5..=3.0).contains(&(hi - lo)), "pond range {} K", hi - lo);
+    let (a, b) = (day.first().unwrap(), day.last().unwrap());
+    let stored = b.stored_energy_j_m2 - a.stored_energy_j_m2;
+    let fluxes = b.energy_in_j_m2 - a.energy_in_j_m2;
+    let sun: f64 = day.windows(2).map(|w| {
+        0.5 * step * (w[0].surface.absorbed_direct_w_m2 + w[0].surface.absorbed_diffuse_w_m2
+            + w[1].surface.absorbed_direct_w_m2 + w[1].surface.absorbed_diffuse_w_m2)
+    }).sum();
+    eprintln!("stored {stored:.0} J/m², fluxes {fluxes:.0} J/m², sun {sun:.0} J/m²");
+    assert!((stored - fluxes).abs() < 1e-3 * sun, "closure {} J/m²", stored - fluxes);
+    // Evaporation: a net loss over the day (the afternoon air, warmer than
+    // the water, is stable and suppresses it; docs/energy-balance.md).
+    let mean_latent = day.iter().map(|r| r.surface.latent_w_m2).sum::<f64>() / day.len() as f64;
+    eprintln!("pond mean latent {mean_latent:.1} W/m²");
+    assert!(mean_latent < -10.0, "mean latent {mean_latent} W/m²");
+}
+
+/// A shower on asphalt: 1 h of 4 mm/h rain at 09-10 EDT fills the 1.3 mm
+/// store; afterwards the wet pavement is cooler than the same pavement
+/// without rain, and a sunlit patch dries before a shaded one.
+#[test]
+fn wet_pavement_cools_and_dries_sunlit_first() {
+    let step = 300.0;
+    let mut f = airfield_forcing("2001-08-07T04:00:00Z", 48.0, step);
+    let t_rain = (utc("2001-08-08T13:00:00Z") - utc("2001-08-07T04:00:00Z")).num_seconds() as f64;
+    let wet: Vec<Forcing> = f
+        .iter()
+        .map(|x| Forcing {
+            precip_mm_h: if x.t_s >= t_rain && x.t_s <= t_rain + 3600.0 { 4.0 } else { 0.0 },
+            ..*x
+        })
+        .collect();
+    let m = material("asphalt");
+    let model = SlabModel::new(&m, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
+    let dry = model.solve(&f, None, true).unwrap();
+    let sun = model.solve(&wet, None, true).unwrap();
+    // Shaded all day: a history of 30-min samples, never sunlit.
+    let shade = irsig::therm::slab::SunHistory {
+        start_s: 0,
+        interval_s: 1800,
+        sunlit: vec![false; 96],
+    };
+    let shaded = model.solve(&wet, Some(&shade), true).unwrap();
+    let k = |t: f64| (t / step).round() as usize;
+    let after = k(t_rain + 5400.0); // 30 min after the rain
+    let d = dry.series[after].surface_temp_k - sun.series[after].surface_temp_k;
+    eprintln!("30 min after the shower: dry {:.2} K, wet {:.2} K (store {:.2} mm)",
+        dry.series[after].surface_temp_k, sun.series[after].surface_temp_k, sun.series[after].water_store_mm);
+    assert!(sun.series[after].water_store_mm > 0.0);
+    assert!(d > 2.0, "wet pavement only {d} K cooler");
+    let dried = |s: &irsig::therm::slab::ThermSolution| {
+        s.series[k(t_rain + 3600.0)..].iter().find(|r| r.water_store_mm < 1e-6).map(|r| r.t_s)
+    };
+    let (ds, dh) = (dried(&sun), dried(&shaded));
+    eprintln!("dry again: sunlit {:?} h, shaded {:?} h after the rain", ds.map(|t| (t - t_rain) / 3600.0), dh.map(|t| (t - t_rain) / 3600.0));
+    let ds = ds.expect("the sunlit patch dries");
+    assert!(dh.is_none_or(|dh| dh > ds + 1800.0));
+    f.clear();
 }

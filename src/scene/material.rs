@@ -379,7 +379,7 @@ pub mod surface_defaults {
     pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
     /// Eddy diffusivity of a stably stratified small pond, m²/s (1e-6-1e-4
     /// in small lakes, Hondzo & Stefan 1993): 2e-5.
-    pub const EDDY_DIFFUSIVITY_M2_S: f64 = 2.0e-5;
+    pub const EDDY_DIFFUSIVITY_M2_S: f64 = 1.0e-4;
     /// Convective overturning, m²/s: fast enough to mix a 1 m column in
     /// minutes.
     pub const CONVECTIVE_DIFFUSIVITY_M2_S: f64 = 1.0e-2;
