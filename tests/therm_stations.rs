@@ -100,7 +100,11 @@ fn stats(e: &[f64]) -> Stats {
 
 /// Anemometer height of a station, m.
 fn wind_height_m(name: &str) -> &'static str {
-    if name.starts_with("sgp-e39") { "3" } else { "10" }
+    if name.starts_with("sgp-e39") {
+        "3"
+    } else {
+        "10"
+    }
 }
 
 /// Runs the model on one station-day and returns the errors (model −

@@ -3,11 +3,11 @@
 
 use chrono::{DateTime, Utc};
 use irsig::scene::material::load_library;
+use irsig::sun::Site;
 use irsig::therm::balance::Orientation;
 use irsig::therm::forcing::{Forcing, build_forcing};
 use irsig::therm::slab::{SlabMaterial, SlabModel, ThermSettings};
 use irsig::therm::weather::{ReadOptions, read_weather_file_with};
-use irsig::sun::Site;
 
 const WEATHER: &str = "scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv";
 const SITE: Site = Site {
@@ -22,12 +22,9 @@ fn utc(s: &str) -> DateTime<Utc> {
 
 /// Forcing from `from` for `hours` at `step_s` from the airfield weather.
 fn airfield_forcing(from: &str, hours: f64, step_s: f64) -> Vec<Forcing> {
-    let w = read_weather_file_with(
-        std::path::Path::new(WEATHER),
-        &ReadOptions::default(),
-    )
-    .unwrap()
-    .history;
+    let w = read_weather_file_with(std::path::Path::new(WEATHER), &ReadOptions::default())
+        .unwrap()
+        .history;
     let n = (hours * 3600.0 / step_s).round() as usize;
     build_forcing(&w, &SITE, utc(from), step_s, n).unwrap().0
 }
@@ -52,7 +49,10 @@ fn hourly_means(
             // trapezoid over the hour
             let seg = &series[h * per_h..=(h + 1) * per_h];
             let n = seg.len() - 1;
-            (0..n).map(|k| 0.5 * (f(&seg[k]) + f(&seg[k + 1]))).sum::<f64>() / n as f64
+            (0..n)
+                .map(|k| 0.5 * (f(&seg[k]) + f(&seg[k + 1])))
+                .sum::<f64>()
+                / n as f64
         })
         .collect()
 }
@@ -82,7 +82,11 @@ fn irrigated_grass_latent_heat_matches_fao56_reference_et() {
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |n: &str| head.iter().position(|c| *c == n).unwrap();
-    let (i_t, i_l, i_e) = (col("time_utc_end"), col("latent_asce_w_m2"), col("eto_asce_mm_h"));
+    let (i_t, i_l, i_e) = (
+        col("time_utc_end"),
+        col("latent_asce_w_m2"),
+        col("eto_asce_mm_h"),
+    );
     let mut daily = [(0.0f64, 0.0f64); 4];
     let mut worst = 0.0f64;
     let t0 = utc("2001-08-04T06:00:00Z");
@@ -100,12 +104,21 @@ fn irrigated_grass_latent_heat_matches_fao56_reference_et() {
             if (11..=17).contains(&lst_end) {
                 worst = worst.max(rel.abs());
             }
-            eprintln!("{end}: ours {:.0} W/m², ASCE {reference:.0} W/m² ({:+.0} %)", ours[h], 100.0 * rel);
+            eprintln!(
+                "{end}: ours {:.0} W/m², ASCE {reference:.0} W/m² ({:+.0} %)",
+                ours[h],
+                100.0 * rel
+            );
         }
     }
     for (d, (o, r)) in daily.iter().enumerate() {
         let rel = (o - r) / r;
-        eprintln!("day {d}: ours {:.2} mm, ASCE {:.2} mm ({:+.1} %)", o * 3600.0 / 2.45e6, r * 3600.0 / 2.45e6, 100.0 * rel);
+        eprintln!(
+            "day {d}: ours {:.2} mm, ASCE {:.2} mm ({:+.1} %)",
+            o * 3600.0 / 2.45e6,
+            r * 3600.0 / 2.45e6,
+            100.0 * rel
+        );
         assert!(rel.abs() < 0.10, "day {d}: {:+.1} %", 100.0 * rel);
     }
     assert!(worst < 0.20, "worst hour {:.0} %", 100.0 * worst);
@@ -129,17 +142,33 @@ fn pond_diurnal_range_and_energy_closure() {
     let air = day.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
         (a.0.min(r.air_temp_k), a.1.max(r.air_temp_k))
     });
-    eprintln!("pond range {:.2} K ({:.2}..{:.2} K); air range {:.2} K", hi - lo, lo, hi, air.1 - air.0);
+    eprintln!(
+        "pond range {:.2} K ({:.2}..{:.2} K); air range {:.2} K",
+        hi - lo,
+        lo,
+        hi,
+        air.1 - air.0
+    );
     assert!((0.5..=3.0).contains(&(hi - lo)), "pond range {} K", hi - lo);
     let (a, b) = (day.first().unwrap(), day.last().unwrap());
     let stored = b.stored_energy_j_m2 - a.stored_energy_j_m2;
     let fluxes = b.energy_in_j_m2 - a.energy_in_j_m2;
-    let sun: f64 = day.windows(2).map(|w| {
-        0.5 * step * (w[0].surface.absorbed_direct_w_m2 + w[0].surface.absorbed_diffuse_w_m2
-            + w[1].surface.absorbed_direct_w_m2 + w[1].surface.absorbed_diffuse_w_m2)
-    }).sum();
+    let sun: f64 = day
+        .windows(2)
+        .map(|w| {
+            0.5 * step
+                * (w[0].surface.absorbed_direct_w_m2
+                    + w[0].surface.absorbed_diffuse_w_m2
+                    + w[1].surface.absorbed_direct_w_m2
+                    + w[1].surface.absorbed_diffuse_w_m2)
+        })
+        .sum();
     eprintln!("stored {stored:.0} J/m², fluxes {fluxes:.0} J/m², sun {sun:.0} J/m²");
-    assert!((stored - fluxes).abs() < 1e-3 * sun, "closure {} J/m²", stored - fluxes);
+    assert!(
+        (stored - fluxes).abs() < 1e-3 * sun,
+        "closure {} J/m²",
+        stored - fluxes
+    );
     // Evaporation: a net loss over the day (the afternoon air, warmer than
     // the water, is stable and suppresses it; docs/energy-balance.md).
     let mean_latent = day.iter().map(|r| r.surface.latent_w_m2).sum::<f64>() / day.len() as f64;
@@ -158,7 +187,11 @@ fn wet_pavement_cools_and_dries_sunlit_first() {
     let wet: Vec<Forcing> = f
         .iter()
         .map(|x| Forcing {
-            precip_mm_h: if x.t_s >= t_rain && x.t_s <= t_rain + 3600.0 { 4.0 } else { 0.0 },
+            precip_mm_h: if x.t_s >= t_rain && x.t_s <= t_rain + 3600.0 {
+                4.0
+            } else {
+                0.0
+            },
             ..*x
         })
         .collect();
@@ -176,15 +209,26 @@ fn wet_pavement_cools_and_dries_sunlit_first() {
     let k = |t: f64| (t / step).round() as usize;
     let after = k(t_rain + 5400.0); // 30 min after the rain
     let d = dry.series[after].surface_temp_k - sun.series[after].surface_temp_k;
-    eprintln!("30 min after the shower: dry {:.2} K, wet {:.2} K (store {:.2} mm)",
-        dry.series[after].surface_temp_k, sun.series[after].surface_temp_k, sun.series[after].water_store_mm);
+    eprintln!(
+        "30 min after the shower: dry {:.2} K, wet {:.2} K (store {:.2} mm)",
+        dry.series[after].surface_temp_k,
+        sun.series[after].surface_temp_k,
+        sun.series[after].water_store_mm
+    );
     assert!(sun.series[after].water_store_mm > 0.0);
     assert!(d > 2.0, "wet pavement only {d} K cooler");
     let dried = |s: &irsig::therm::slab::ThermSolution| {
-        s.series[k(t_rain + 3600.0)..].iter().find(|r| r.water_store_mm < 1e-6).map(|r| r.t_s)
+        s.series[k(t_rain + 3600.0)..]
+            .iter()
+            .find(|r| r.water_store_mm < 1e-6)
+            .map(|r| r.t_s)
     };
     let (ds, dh) = (dried(&sun), dried(&shaded));
-    eprintln!("dry again: sunlit {:?} h, shaded {:?} h after the rain", ds.map(|t| (t - t_rain) / 3600.0), dh.map(|t| (t - t_rain) / 3600.0));
+    eprintln!(
+        "dry again: sunlit {:?} h, shaded {:?} h after the rain",
+        ds.map(|t| (t - t_rain) / 3600.0),
+        dh.map(|t| (t - t_rain) / 3600.0)
+    );
     let ds = ds.expect("the sunlit patch dries");
     assert!(dh.is_none_or(|dh| dh > ds + 1800.0));
     f.clear();

@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::error::{Location, SceneError};
+use super::tomlsrc::{Seg, TomlSource};
 use crate::therm::aero::Canopy;
 use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
-use super::tomlsrc::{Seg, TomlSource};
 
 /// A material library file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -407,25 +407,63 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
     };
     let all: [(&str, Option<f64>, &[KindSpec]); 13] = [
         ("water_capacity_mm", m.water_capacity_mm, &[KindSpec::Solid]),
-        ("roughness_m", m.roughness_m, &[KindSpec::Solid, KindSpec::Water]),
-        ("canopy_height_m", m.canopy_height_m, &[KindSpec::Vegetation]),
+        (
+            "roughness_m",
+            m.roughness_m,
+            &[KindSpec::Solid, KindSpec::Water],
+        ),
+        (
+            "canopy_height_m",
+            m.canopy_height_m,
+            &[KindSpec::Vegetation],
+        ),
         ("lai", m.lai, &[KindSpec::Vegetation]),
         ("soil_moisture", m.soil_moisture, &[KindSpec::Vegetation]),
-        ("min_stomatal_resistance_s_m", m.min_stomatal_resistance_s_m, &[KindSpec::Vegetation]),
-        ("max_stomatal_resistance_s_m", m.max_stomatal_resistance_s_m, &[KindSpec::Vegetation]),
-        ("radiation_limit_w_m2", m.radiation_limit_w_m2, &[KindSpec::Vegetation]),
+        (
+            "min_stomatal_resistance_s_m",
+            m.min_stomatal_resistance_s_m,
+            &[KindSpec::Vegetation],
+        ),
+        (
+            "max_stomatal_resistance_s_m",
+            m.max_stomatal_resistance_s_m,
+            &[KindSpec::Vegetation],
+        ),
+        (
+            "radiation_limit_w_m2",
+            m.radiation_limit_w_m2,
+            &[KindSpec::Vegetation],
+        ),
         ("vpd_coeff", m.vpd_coeff, &[KindSpec::Vegetation]),
         ("extinction_per_m", m.extinction_per_m, &[KindSpec::Water]),
-        ("shortwave_surface_fraction", m.shortwave_surface_fraction, &[KindSpec::Water]),
-        ("eddy_diffusivity_m2_s", m.eddy_diffusivity_m2_s, &[KindSpec::Water]),
-        ("convective_diffusivity_m2_s", m.convective_diffusivity_m2_s, &[KindSpec::Water]),
+        (
+            "shortwave_surface_fraction",
+            m.shortwave_surface_fraction,
+            &[KindSpec::Water],
+        ),
+        (
+            "eddy_diffusivity_m2_s",
+            m.eddy_diffusivity_m2_s,
+            &[KindSpec::Water],
+        ),
+        (
+            "convective_diffusivity_m2_s",
+            m.convective_diffusivity_m2_s,
+            &[KindSpec::Water],
+        ),
     ];
     for (key, v, kinds) in all {
         if v.is_some() && !kinds.contains(&m.kind) {
             return Err(c.src.invalid(
                 &p(key),
-                format!("`{key}` does not apply to kind = \"{kind_name}\" (it is a parameter of {})",
-                    kinds.iter().map(|k| format!("{k:?}").to_lowercase()).collect::<Vec<_>>().join(", ")),
+                format!(
+                    "`{key}` does not apply to kind = \"{kind_name}\" (it is a parameter of {})",
+                    kinds
+                        .iter()
+                        .map(|k| format!("{k:?}").to_lowercase())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             ));
         }
     }
@@ -437,7 +475,8 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
             )
         })
     };
-    let range = |key: &str, v: f64, lo: f64, hi: f64, unit: &str| c.range(&p(key), key, v, lo, hi, unit);
+    let range =
+        |key: &str, v: f64, lo: f64, hi: f64, unit: &str| c.range(&p(key), key, v, lo, hi, unit);
     Ok(match m.kind {
         KindSpec::Solid => {
             let cap = m.water_capacity_mm.unwrap_or(0.0);
@@ -456,9 +495,13 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
             range("lai", lai, 0.1, 10.0, " m²/m²")?;
             let soil_moisture = need("soil_moisture", m.soil_moisture)?;
             range("soil_moisture", soil_moisture, 0.0, 1.0, "")?;
-            let rmin = m.min_stomatal_resistance_s_m.unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
+            let rmin = m
+                .min_stomatal_resistance_s_m
+                .unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
             range("min_stomatal_resistance_s_m", rmin, 10.0, 1000.0, " s/m")?;
-            let rmax = m.max_stomatal_resistance_s_m.unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
+            let rmax = m
+                .max_stomatal_resistance_s_m
+                .unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
             range("max_stomatal_resistance_s_m", rmax, rmin, 1e5, " s/m")?;
             let rgl = m.radiation_limit_w_m2.unwrap_or(d::RADIATION_LIMIT_W_M2);
             range("radiation_limit_w_m2", rgl, 1.0, 1000.0, " W/m²")?;
@@ -477,11 +520,15 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
         KindSpec::Water => {
             let eta = need("extinction_per_m", m.extinction_per_m)?;
             range("extinction_per_m", eta, 0.01, 100.0, " 1/m")?;
-            let beta = m.shortwave_surface_fraction.unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
+            let beta = m
+                .shortwave_surface_fraction
+                .unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
             range("shortwave_surface_fraction", beta, 0.0, 1.0, "")?;
             let ke = m.eddy_diffusivity_m2_s.unwrap_or(d::EDDY_DIFFUSIVITY_M2_S);
             range("eddy_diffusivity_m2_s", ke, 0.0, 1.0, " m²/s")?;
-            let kc = m.convective_diffusivity_m2_s.unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
+            let kc = m
+                .convective_diffusivity_m2_s
+                .unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
             range("convective_diffusivity_m2_s", kc, ke, 10.0, " m²/s")?;
             let z0 = m.roughness_m.unwrap_or(d::WATER_ROUGHNESS_M);
             range("roughness_m", z0, 1e-6, 0.1, " m")?;

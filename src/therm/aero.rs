@@ -350,7 +350,10 @@ impl Exchange {
     pub fn sensible_w_m2(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64) {
         let q = |t: f64| self.coefficient_w_m2k(air_temp_k, t) * (air_temp_k - t);
         let d = 1e-3;
-        (q(surf_temp_k), (q(surf_temp_k + d) - q(surf_temp_k - d)) / (2.0 * d))
+        (
+            q(surf_temp_k),
+            (q(surf_temp_k + d) - q(surf_temp_k - d)) / (2.0 * d),
+        )
     }
 }
 
@@ -474,7 +477,8 @@ mod tests {
         assert!((gamma - 67.4).abs() < 0.1, "{gamma}");
         // Slope against a central difference of e°.
         let t = k(25.0);
-        let num = (saturation_vapour_pressure_pa(t + 0.01) - saturation_vapour_pressure_pa(t - 0.01))
+        let num = (saturation_vapour_pressure_pa(t + 0.01)
+            - saturation_vapour_pressure_pa(t - 0.01))
             / 0.02;
         assert!((num - saturation_slope_pa_k(t)).abs() < 1e-3 * num);
     }
@@ -509,7 +513,11 @@ mod tests {
                 Roughness::canopy(0.12).momentum_m,
                 Roughness::canopy(0.12).heat_m,
             );
-            assert!((ra * u2 - 208.0).abs() < 1.0, "u2 {u2}: r_a·u2 = {}", ra * u2);
+            assert!(
+                (ra * u2 - 208.0).abs() < 1.0,
+                "u2 {u2}: r_a·u2 = {}",
+                ra * u2
+            );
         }
         // FAO-56 eq. 47, u2 = u_z·4.87/ln(67.8·z − 5.42), is the log law with
         // d = 0.08 m and z0 = 1/67.8 m: ln(67.8 z − 5.42) = ln((z − 0.08)/0.014749).
@@ -541,22 +549,48 @@ mod tests {
     fn latent_flux_form() {
         let (h, rho_cp) = (10.0, 1.2 * 1013.0);
         let ea = 1500.0;
-        let f = |t: f64| latent_w_m2(h, rho_cp, 1.0 / 70.0, true, f64::INFINITY, ea, 101_325.0, 300.0, t);
+        let f = |t: f64| {
+            latent_w_m2(
+                h,
+                rho_cp,
+                1.0 / 70.0,
+                true,
+                f64::INFINITY,
+                ea,
+                101_325.0,
+                300.0,
+                t,
+            )
+        };
         let (q, dq) = f(300.0);
         assert!(q < 0.0, "evaporation takes heat from the surface");
         let num = (f(300.001).0 - f(299.999).0) / 0.002;
         assert!((num - dq).abs() < 1e-4 * num.abs());
         // By hand: r_a = ρc_p/h = 121.56 s/m; λE = ρc_p/γ·(e°−e_a)/(r_a + 70).
         let gamma = psychrometric_pa_k(101_325.0, 300.0);
-        let by_hand = rho_cp / gamma * (saturation_vapour_pressure_pa(300.0) - ea) / (rho_cp / h + 70.0);
+        let by_hand =
+            rho_cp / gamma * (saturation_vapour_pressure_pa(300.0) - ea) / (rho_cp / h + 70.0);
         assert!((q + by_hand).abs() < 1e-9);
         // Cap.
-        let (qc, dqc) = latent_w_m2(h, rho_cp, 1.0 / 70.0, true, 50.0, ea, 101_325.0, 300.0, 300.0);
+        let (qc, dqc) = latent_w_m2(
+            h,
+            rho_cp,
+            1.0 / 70.0,
+            true,
+            50.0,
+            ea,
+            101_325.0,
+            300.0,
+            300.0,
+        );
         assert_eq!((qc, dqc), (-50.0, 0.0));
         // Dew on a surface below the dew point: heat released into it.
         let td = 286.0; // e°(286) ≈ 1497 Pa < e_a
         assert!(latent_w_m2(h, rho_cp, 0.0, true, 0.0, ea, 101_325.0, 300.0, td - 2.0).0 > 0.0);
-        assert_eq!(latent_w_m2(h, rho_cp, 0.0, false, 0.0, ea, 101_325.0, 300.0, td - 2.0).0, 0.0);
+        assert_eq!(
+            latent_w_m2(h, rho_cp, 0.0, false, 0.0, ea, 101_325.0, 300.0, td - 2.0).0,
+            0.0
+        );
     }
 
     /// Jarvis canopy resistance: unstressed midday grass near FAO-56's
@@ -577,7 +611,10 @@ mod tests {
         assert!((40.0..120.0).contains(&day), "{day}");
         assert!(c.resistance_s_m(0.0, 300.0, ea, 101_325.0) > 10.0 * day);
         assert!(c.resistance_s_m(800.0, 300.0, 0.2 * ea, 101_325.0) > day);
-        let dry = Canopy { soil_moisture: 0.1, ..c };
+        let dry = Canopy {
+            soil_moisture: 0.1,
+            ..c
+        };
         assert!((dry.resistance_s_m(800.0, 300.0, ea, 101_325.0) - 10.0 * day).abs() < 1e-9 * day);
     }
 }

@@ -269,9 +269,7 @@ impl SurfaceDrive {
 
     /// Total absorbed shortwave, W/m².
     pub fn absorbed_shortwave_w_m2(&self) -> f64 {
-        self.absorbed_direct_w_m2
-            + self.absorbed_diffuse_w_m2
-            + self.absorbed_ground_reflected_w_m2
+        self.absorbed_direct_w_m2 + self.absorbed_diffuse_w_m2 + self.absorbed_ground_reflected_w_m2
     }
 }
 
@@ -527,10 +525,7 @@ mod tests {
         assert!((f.net_w_m2 - expect).abs() < 1e-9);
         // Shadowed: the direct term vanishes, nothing else changes.
         let d2 = surface_drive(
-            &DriveInputs {
-                sunlit: 0.0,
-                ..inp
-            },
+            &DriveInputs { sunlit: 0.0, ..inp },
             &optics,
             [0.0, 0.0, 1.0],
             1.0,

@@ -115,7 +115,12 @@ impl SurfaceKind {
             SurfaceKind::Vegetation(c) => {
                 check("canopy_height_m", c.height_m, 0.01, 30.0)?;
                 check("lai", c.lai, 0.1, 10.0)?;
-                check("min_stomatal_resistance_s_m", c.min_resistance_s_m, 10.0, 1000.0)?;
+                check(
+                    "min_stomatal_resistance_s_m",
+                    c.min_resistance_s_m,
+                    10.0,
+                    1000.0,
+                )?;
                 check(
                     "max_stomatal_resistance_s_m",
                     c.max_resistance_s_m,
