@@ -324,6 +324,9 @@ fn view_zenith_contrast_falls_and_specular_roof_turns_dark() {
     assert!(c.1 < 0.7 * a.1);
     // The roof turns dark against its surroundings at 75°, mirroring the
     // sky far more than at nadir.
-    assert!(c.3 < a.3 - 1.0 && c.3 < -1.0, "the roof turns dark at 75°");
+    // (With transpiring grass the surroundings are ~10 K cooler than the
+    // old soil-slab grass, so the roof ends just below them: −0.25 K, from
+    // +3.6 K at nadir.)
+    assert!(c.3 < a.3 - 3.0 && c.3 < 0.0, "the roof turns dark at 75°");
     assert!(c.4 > 3.0 * a.4, "the roof mirrors the sky at grazing view");
 }
