@@ -330,3 +330,53 @@ fn view_zenith_contrast_falls_and_specular_roof_turns_dark() {
     assert!(c.3 < a.3 - 3.0 && c.3 < 0.0, "the roof turns dark at 75°");
     assert!(c.4 > 3.0 * a.4, "the roof mirrors the sky at grazing view");
 }
+
+/// The surfaces that fill the airfield, against the world (issue: a lawn
+/// at 52 °C, a pond at 55 °C): at 15:00 EDT the irrigated grass is cooler
+/// than asphalt and concrete and within 10 K of the air (33.3 °C in the
+/// record, 14:00 EST); at 03:00 it is at or below the air (25.0 °C) and the asphalt
+/// is warmer than it; the pond's apparent temperature is below the
+/// pavement's by day.
+#[test]
+fn grass_pond_and_pavement_against_the_air_day_and_night() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = airfield();
+    let (grass, asphalt, concrete, pond) = (
+        material_index(&scene, "grass_irrigated"),
+        material_index(&scene, "asphalt"),
+        material_index(&scene, "concrete"),
+        material_index(&scene, "pond"),
+    );
+    let mat_mean = |img: &Img, plane: &str, m: f32| {
+        let mask: Vec<bool> = img.plane("material").iter().map(|&v| v == m).collect();
+        mean(img, plane, &mask)
+    };
+    // Air temperature of the record at those hours (TMY3, Greensboro, Aug 8 2001).
+    let day = render_kv(
+        dir.path(),
+        "d15",
+        &with(&["sensor.band=lwir", "time.local=2001-08-08T15:00:00"]),
+    );
+    let night = render_kv(
+        dir.path(),
+        "n03",
+        &with(&["sensor.band=lwir", "time.local=2001-08-08T03:00:00"]),
+    );
+    let t = |img: &Img, m| mat_mean(img, "surface_temperature", m) - 273.15;
+    let (g, a, c) = (t(&day, grass), t(&day, asphalt), t(&day, concrete));
+    eprintln!("15:00: grass {g:.1} °C, asphalt {a:.1} °C, concrete {c:.1} °C");
+    assert!(g < a && g < c, "grass cooler than the pavements by day");
+    assert!((g - 33.3).abs() < 10.0, "grass within 10 K of the air");
+    let (gn, an) = (t(&night, grass), t(&night, asphalt));
+    eprintln!("03:00: grass {gn:.1} °C, asphalt {an:.1} °C");
+    assert!(gn <= 25.0 + 0.3, "grass at or below the air at night");
+    assert!(an > gn, "asphalt warmer than grass at night");
+    let at = |m| mat_mean(&day, "apparent_temperature", m);
+    eprintln!(
+        "15:00 apparent: pond {:.1} K, asphalt {:.1} K, concrete {:.1} K",
+        at(pond),
+        at(asphalt),
+        at(concrete)
+    );
+    assert!(at(pond) < at(asphalt) && at(pond) < at(concrete));
+}
