@@ -269,7 +269,15 @@ pub fn thermal_solution(
     let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
     let m = s.material as usize;
     cond.cache
-        .solve(s.material, &cond.slabs[m], o, Some(&hist), 0, &cond.forcing)
+        .solve_at(
+            s.material,
+            &cond.slabs[m],
+            o,
+            Some(&hist),
+            0,
+            &cond.forcing,
+            s.point.z as f64 - cond.ground_z_m,
+        )
         .map_err(|e| {
             anyhow::anyhow!(
                 "thermal model, material {}: {e}",

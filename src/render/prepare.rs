@@ -62,6 +62,9 @@ pub struct Conditions {
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
     pub air_temp_k: f64,
+    /// Height of the scene's ground (its lowest point), m: facet heights
+    /// for the wind are taken above it.
+    pub ground_z_m: f64,
     /// The scene's slabs with `deep_ground = {}` set to
     /// [`deep_ground_temp_k`] (indexed like the scene's materials).
     pub slabs: Vec<SlabMaterial>,
@@ -393,6 +396,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         interval_s,
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
+        ground_z_m: st.scene.bounds_m().0[2] as f64,
         air_temp_k,
         slabs,
     })
