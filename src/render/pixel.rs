@@ -16,6 +16,11 @@
 //! * view zeniths beyond the tables' last angle (85°) use 85° (counted);
 //! * a primary or specular ray that leaves the scene downwards sees an
 //!   infinite ground at air temperature, ε = 1 (counted);
+//! * a diffuse facet reflects the sky dome over F_sky = (1 + cos β)/2 of
+//!   its hemisphere and the ground (black, at the ground material's solved
+//!   temperature; reported as `reflected_background_emitted`) over the
+//!   rest, the same split as the thermal balance; ground-reflected
+//!   sunlight is not in the radiometry (it is in the thermal balance);
 //! * a material with 0 < specularity < 1 is the blend
 //!   (1 − s)·eq. 1 + s·eq. 2/3.
 
@@ -330,17 +335,28 @@ impl<'a> RadiometryContext<'a> {
         let path: &PathSpectra = &path_arc;
         let view_angle = angle_deg(-s.dir, surf.normal);
         let lt = |i: usize, t: f64| planck_radiance_w_m2_sr_um(wl[i], t);
+        // The hemisphere a diffuse facet reflects: sky F_sky = (1 + cos β)/2
+        // (the sky dome), ground F_gnd = 1 − F_sky (a black body at the
+        // ground material's temperature, as in the thermal balance).
+        let f_sky = ((1.0 + surf.normal.z as f64) / 2.0).clamp(0.0, 1.0);
+        let t_gnd = self.cond.ground_temp_k;
         let diffuse = |i: usize| {
-            case1_diffuse(
-                eps.at(0.0, wl[i]),
+            let e = eps.at(0.0, wl[i]);
+            let p = Self::path_at(path, i);
+            let mut t = case1_diffuse(
+                e,
                 lt(i, surf.temp_k),
                 &self.sun_on(surf, i),
                 &SkyRadiance {
-                    l_de_w_m2_sr_um: self.dome.0[i],
-                    l_ds_w_m2_sr_um: self.dome.1[i],
+                    l_de_w_m2_sr_um: f_sky * self.dome.0[i],
+                    l_ds_w_m2_sr_um: f_sky * self.dome.1[i],
                 },
-                &Self::path_at(path, i),
-            )
+                &p,
+            );
+            if f_sky < 1.0 {
+                t.reflected_background_emitted = (1.0 - f_sky) * lt(i, t_gnd) * (1.0 - e) * p.tau2;
+            }
+            t
         };
         let eps_band = band
             .weights

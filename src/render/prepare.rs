@@ -62,6 +62,12 @@ pub struct Conditions {
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
     pub air_temp_k: f64,
+    /// The material tilted facets see as their ground (the one with the
+    /// largest area of near-horizontal, upward-facing triangles), if any.
+    pub ground_material: Option<u32>,
+    /// Surface temperature of that ground at the image time, K (the air
+    /// temperature when the scene has no ground).
+    pub ground_temp_k: f64,
     /// Height of the scene's ground (its lowest point), m: facet heights
     /// for the wind are taken above it.
     pub ground_z_m: f64,
@@ -305,6 +311,26 @@ pub fn deep_ground_temp_k(
     Ok(sum / n as f64)
 }
 
+/// The scene's ground material: the one with the largest area of
+/// triangles facing up within 10° of the zenith.
+pub fn ground_material(scene: &LoadedScene) -> Option<u32> {
+    let mut area = vec![0.0f64; scene.materials.len()];
+    let cos10 = 10f64.to_radians().cos();
+    for (t, &m) in scene.triangles.iter().zip(&scene.tri_material) {
+        let p = |i: u32| glam::DVec3::from(scene.positions[i as usize].map(f64::from));
+        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        let len = n.length();
+        if len > 0.0 && n.z / len >= cos10 {
+            area[m as usize] += 0.5 * len;
+        }
+    }
+    area.iter()
+        .enumerate()
+        .filter(|(_, a)| **a > 0.0)
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i as u32)
+}
+
 /// Builds the conditions of a frame at `image_time` (UTC) from the scene's
 /// weather, history length and sampling.
 pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
@@ -351,11 +377,11 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
             900.0,
         )?,
     };
-    let (forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
+    let (mut forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
         .with_context(|| format!("weather for {}", st.scene.path.display()))?;
     let deep_ground_k = deep_ground_temp_k(&history, &site, start, image_time)
         .with_context(|| format!("weather for {}", st.scene.path.display()))?;
-    let slabs = st
+    let mut slabs: Vec<SlabMaterial> = st
         .slabs
         .iter()
         .map(|m| match m.back {
@@ -368,6 +394,40 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
             _ => *m,
         })
         .collect();
+    let settings = ThermSettings {
+        step_s,
+        tol_k: Some(opts.thermal_tol_k),
+        spin_up_h: opts.history_hours,
+        ..ThermSettings::default()
+    };
+    // The ground tilted facets see: the scene's ground material, solved
+    // sunlit and horizontal over the history; its temperature series and
+    // solar albedo go into every facet's balance (F_gnd = (1 − cos β)/2).
+    let ground = ground_material(&st.scene);
+    let mut ground_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
+    if let Some(g) = ground {
+        let m = slabs[g as usize];
+        let sol = crate::therm::slab::SlabModel::new(
+            &m,
+            crate::therm::balance::Orientation::HORIZONTAL,
+            &settings,
+        )
+        .and_then(|model| model.solve(&forcing, None, true))
+        .with_context(|| {
+            format!(
+                "thermal model of the ground material {}",
+                st.scene.materials[g as usize].name
+            )
+        })?;
+        for (f, r) in forcing.iter_mut().zip(&sol.series) {
+            f.ground_temp_k = Some(r.surface_temp_k);
+        }
+        ground_temp_k = sol.surface_temp_k;
+        let albedo = 1.0 - m.solar_absorptivity;
+        for s in &mut slabs {
+            s.ground_albedo = Some(albedo);
+        }
+    }
     let suns = (0..=n_sun)
         .map(|k| {
             let t = start + chrono::Duration::seconds(k * interval_s);
@@ -380,12 +440,6 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         })
         .collect();
     let sun_now = solar_position(image_time, site.lat_deg, site.lon_deg, site.elevation_m);
-    let settings = ThermSettings {
-        step_s,
-        tol_k: Some(opts.thermal_tol_k),
-        spin_up_h: opts.history_hours,
-        ..ThermSettings::default()
-    };
     let air_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
     Ok(Conditions {
         image_time,
@@ -397,6 +451,8 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
         ground_z_m: st.scene.bounds_m().0[2] as f64,
+        ground_material: ground,
+        ground_temp_k,
         air_temp_k,
         slabs,
     })
