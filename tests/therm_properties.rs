@@ -333,7 +333,10 @@ proptest! {
         sunlit in any::<bool>(),
     ) {
         let mat = material(thick, k, rho, c, back);
-        let settings = ThermSettings { step_s: step, tol_k: None, ..ThermSettings::default() };
+        // The linear-coefficient (THERM-era) problem: the surface-layer
+        // coefficient depends on T_s (stable decoupling), so the net surface
+        // flux need not fall monotonically with T_s there.
+        let settings = ThermSettings { step_s: step, tol_k: None, ..therm_era() };
         let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &settings).unwrap();
         let f = Forcing {
             t_s: 0.0, air_temp_k: 290.0, sky_temp_k: 265.0, wind_speed_m_s: wind,
@@ -347,8 +350,12 @@ proptest! {
         let forcing: Vec<Forcing> = (0..=2000).map(|i| Forcing { t_s: i as f64 * step, ..f }).collect();
         let mut init = vec![t0; model.nodes()];
         if let Some(d) = model.deep_temp_k(&forcing) { *init.last_mut().unwrap() = d; }
-        // a deep-ground node differing from t0 is not a uniform start
-        prop_assume!(!matches!(back, BackBoundary::DeepGround { .. }));
+        // a deep-ground node differing from t0 is not a uniform start; a
+        // back exposed to air is a second boundary whose cooling reaches the
+        // surface later, so the exact surface temperature need not be
+        // monotone (proptest found such a plate: 6.6 cm, ρc = 1.3e5 J/m³K,
+        // the face rises 0.7 K in 40 s, then falls): one boundary only.
+        prop_assume!(matches!(back, BackBoundary::Insulated));
         let sol = model.march(init, &forcing, None, true).unwrap();
         let mut sign = 0.0f64;
         for w in sol.series.windows(2) {
@@ -502,6 +509,7 @@ fn contrast_falls_with_wind_fast_then_slowly() {
 fn therm_era() -> ThermSettings {
     ThermSettings {
         convection: Convection::mcadams(),
+        shadow_ramp: false,
         ..ThermSettings::default()
     }
 }

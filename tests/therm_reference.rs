@@ -273,6 +273,7 @@ fn tight_settings_errors() {
 fn reference_settings() -> ThermSettings {
     ThermSettings {
         convection: irsig::therm::balance::Convection::mcadams(),
+        shadow_ramp: false,
         ..ThermSettings::default()
     }
 }

@@ -200,13 +200,33 @@ impl SunHistory {
         self.sunlit[self.index_at(t_s)]
     }
 
-    /// The sunlit fraction in force at `t_s`, 0 … 1 (see
-    /// [`sun_fraction`]).
-    pub fn sunlit_fraction_at(&self, t_s: f64) -> f64 {
-        if self.sunlit_at(t_s) { 1.0 } else { 0.0 }
+    /// The flag of sample `i` with the history's extension rules (after
+    /// the last: the last; before the first: periodic).
+    fn flag(&self, i: i64) -> f64 {
+        let n = self.sunlit.len() as i64;
+        let k = if i >= n { n - 1 } else { i.rem_euclid(n) };
+        if self.sunlit[k as usize] { 1.0 } else { 0.0 }
     }
 
-    /// Times in the open interval (t0, t1) where the flag changes.
+    /// The sunlit fraction at `t_s`, 0 … 1: the flags interpolated linearly
+    /// between sample times. A shadow edge crosses a facet over a time, not
+    /// at one instant; between two samples that disagree the linear ramp is
+    /// the first-order estimate of the sunlit fraction, where the
+    /// nearest-sample rule of [`SunHistory::sunlit_at`] made an hourly
+    /// "staircase" of step changes (issue 11, item 7).
+    pub fn sunlit_fraction_at(&self, t_s: f64) -> f64 {
+        if self.sunlit.is_empty() || self.interval_s <= 0 {
+            return 1.0;
+        }
+        let x = (t_s - self.start_s as f64) / self.interval_s as f64;
+        let i0 = x.floor();
+        let w = x - i0;
+        let i0 = i0 as i64;
+        (1.0 - w) * self.flag(i0) + w * self.flag(i0 + 1)
+    }
+
+    /// Times in the open interval (t0, t1) where the flag changes under the
+    /// nearest-sample rule (half-way between two samples that disagree).
     pub fn switch_times(&self, t0: f64, t1: f64) -> Vec<f64> {
         let mut out = Vec::new();
         if self.sunlit.len() < 2 || self.interval_s <= 0 {
@@ -221,6 +241,27 @@ impl SunHistory {
             if tb > t0 && tb < t1 && self.sunlit_at(tb - 0.25 * d) != self.sunlit_at(tb + 0.25 * d)
             {
                 out.push(tb);
+            }
+        }
+        out
+    }
+
+    /// Times in the open interval (t0, t1) where the sunlit fraction has a
+    /// kink: the sample times next to a change of flag (the ends of each
+    /// linear ramp of [`SunHistory::sunlit_fraction_at`]).
+    pub fn ramp_kinks(&self, t0: f64, t1: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        if self.sunlit.len() < 2 || self.interval_s <= 0 {
+            return out;
+        }
+        let d = self.interval_s as f64;
+        let k0 = ((t0 - self.start_s as f64) / d).floor() as i64 - 1;
+        let k1 = ((t1 - self.start_s as f64) / d).ceil() as i64 + 1;
+        for k in k0..=k1 {
+            let tk = self.start_s as f64 + k as f64 * d;
+            let kink = self.flag(k - 1) != self.flag(k) || self.flag(k) != self.flag(k + 1);
+            if kink && tk > t0 && tk < t1 {
+                out.push(tk);
             }
         }
         out
@@ -249,9 +290,21 @@ impl SunHistory {
     }
 }
 
-/// The sunlit fraction of an optional history at `t_s` (no history: 1).
-pub fn sun_fraction(shadow: Option<&SunHistory>, t_s: f64) -> f64 {
-    shadow.map_or(1.0, |h| h.sunlit_fraction_at(t_s))
+/// The sunlit fraction of an optional history at `t_s` (no history: 1):
+/// the linear ramp between samples ([`SunHistory::sunlit_fraction_at`]) or,
+/// with `ramp = false`, the nearest sample's flag (THERM's rule).
+pub fn sun_fraction(shadow: Option<&SunHistory>, t_s: f64, ramp: bool) -> f64 {
+    match shadow {
+        None => 1.0,
+        Some(h) if ramp => h.sunlit_fraction_at(t_s),
+        Some(h) => {
+            if h.sunlit_at(t_s) {
+                1.0
+            } else {
+                0.0
+            }
+        }
+    }
 }
 
 /// The initial profile of a march started by [`SlabModel::solve`].
@@ -293,6 +346,9 @@ pub struct ThermSettings {
     /// Largest ratio between neighbouring cell sizes.
     pub max_growth: f64,
     pub convection: Convection,
+    /// Sun/shadow between history samples: a linear ramp (true, the
+    /// default) or the nearest sample's flag (THERM's step rule).
+    pub shadow_ramp: bool,
 }
 
 impl Default for ThermSettings {
@@ -308,6 +364,7 @@ impl Default for ThermSettings {
             surface_time_s: 30.0,
             max_growth: 1.06,
             convection: Convection::default(),
+            shadow_ramp: true,
         }
     }
 }
@@ -908,7 +965,10 @@ impl SlabModel {
                 let b = forcing[(i + 1).min(n - 1)].t_s;
                 0.5 * (b - a)
             };
-            sum.add_scaled(w, &self.drive(f, sun_fraction(shadow, f.t_s)));
+            sum.add_scaled(
+                w,
+                &self.drive(f, sun_fraction(shadow, f.t_s, self.settings.shadow_ramp)),
+            );
             total_w += w;
         }
         if total_w <= 0.0 || !total_w.is_finite() {
@@ -1028,7 +1088,7 @@ impl SlabModel {
         let deep = self.deep_temp_k(forcing);
         let init = match self.settings.spin_up_start {
             SpinUpStart::FirstSample => {
-                let sunlit0 = sun_fraction(shadow, forcing[0].t_s);
+                let sunlit0 = sun_fraction(shadow, forcing[0].t_s, self.settings.shadow_ramp);
                 self.equilibrium(&forcing[0], sunlit0, deep)?
             }
             SpinUpStart::MeanForcing => self.mean_equilibrium(forcing, shadow, deep)?,
@@ -1062,7 +1122,11 @@ impl SlabModel {
         // Breakpoints: every forcing sample and every sun/shadow switch.
         let mut bps: Vec<f64> = forcing.iter().map(|f| f.t_s).collect();
         if let Some(h) = shadow {
-            bps.extend(h.switch_times(t_start, t_end));
+            if self.settings.shadow_ramp {
+                bps.extend(h.ramp_kinks(t_start, t_end));
+            } else {
+                bps.extend(h.switch_times(t_start, t_end));
+            }
             bps.sort_by(f64::total_cmp);
             bps.dedup();
         }
@@ -1101,7 +1165,7 @@ impl SlabModel {
                 }
                 let t_new = if last { b } else { t + h };
                 let f = forcing_at(forcing, t_new);
-                let sunlit = sun_fraction(shadow, t + 0.5 * h);
+                let sunlit = sun_fraction(shadow, t + 0.5 * h, s.shadow_ramp);
                 let mut drive = self.drive(&f, sunlit);
                 if capacity_mm > 0.0 {
                     wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, h);
@@ -1218,7 +1282,7 @@ impl SlabModel {
         store_mm: f64,
     ) -> StepRecord {
         let n = temps.len();
-        let sunlit = sun_fraction(shadow, f.t_s);
+        let sunlit = sun_fraction(shadow, f.t_s, self.settings.shadow_ramp);
         let mut drive = self.drive(f, sunlit);
         if self.water_capacity_mm() > 0.0 {
             // The store as it stands, over a nominal 1-s step (the flux the
