@@ -153,6 +153,12 @@ pub struct HistoryReport {
 
 #[derive(Serialize)]
 pub struct ThermalReport {
+    /// Surface kind and its parameters (solid, vegetation, water).
+    pub surface: crate::therm::surface::SurfaceKind,
+    /// The ground tilted facets see (material name) and its temperature at
+    /// the image time, K.
+    pub ground_material: Option<String>,
+    pub ground_temp_k: f64,
     /// Local clock time of the start of the series (`t_s` = 0).
     pub start_local: String,
     /// Surface temperature at the image time, K.
@@ -281,6 +287,11 @@ impl Ctx<'_> {
                 sun_now: s.sun_now(),
             },
             thermal: ThermalReport {
+                surface: cond.slabs[s.material as usize].surface,
+                ground_material: cond
+                    .ground_material
+                    .map(|g| self.st.scene.materials[g as usize].name.clone()),
+                ground_temp_k: cond.ground_temp_k,
                 start_local: self.local(cond.start),
                 surface_temp_k: s.temp_k,
                 steps_accepted: sol.steps_accepted,
@@ -519,6 +530,16 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
     let th = &s.thermal;
     let _ = writeln!(
         o,
+        "{pad}surface kind {} ({}); ground seen by tilted facets: {} at {:.2} K",
+        th.surface.name(),
+        serde_json::to_string(&th.surface).unwrap_or_default(),
+        th.ground_material
+            .as_deref()
+            .unwrap_or("none (air temperature)"),
+        th.ground_temp_k
+    );
+    let _ = writeln!(
+        o,
         "{pad}surface temperature {:.3} K ({:.2} °C); {} thermal steps ({} rejected)",
         th.surface_temp_k,
         th.surface_temp_k - 273.15,
@@ -528,7 +549,7 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
     if with_series && !th.series.is_empty() {
         let _ = writeln!(
             o,
-            "{pad}  flux terms, W m-2 (hourly; all steps with --json):\n{pad}  {:>11} {:>8} {:>8} {:>3} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+            "{pad}  flux terms, W m-2 (hourly; all steps with --json):\n{pad}  {:>11} {:>8} {:>8} {:>4} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6} {:>6} {:>5}",
             "local",
             "T_s K",
             "T_air K",
@@ -540,8 +561,13 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             "gnd_lw",
             "emitted",
             "convect",
+            "latent",
+            "rain",
             "internal",
-            "conduct"
+            "conduct",
+            "h_c",
+            "store",
+            "F_sky"
         );
         let mut next_h = 0.0;
         let last = th.series.len() - 1;
@@ -554,11 +580,11 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             let f = &r.surface;
             let _ = writeln!(
                 o,
-                "{pad}  {:>11} {:>8.2} {:>8.2} {:>3} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1}",
+                "{pad}  {:>11} {:>8.2} {:>8.2} {:>4.2} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>6.1} {:>6.2} {:>5.2}",
                 local_of(&th.start_local, r.t_s),
                 r.surface_temp_k,
                 r.air_temp_k,
-                r.sunlit as u8,
+                r.sunlit_fraction,
                 f.absorbed_direct_w_m2,
                 f.absorbed_diffuse_w_m2,
                 f.absorbed_ground_reflected_w_m2,
@@ -566,8 +592,13 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
                 f.ground_longwave_in_w_m2,
                 f.emitted_longwave_w_m2,
                 f.convection_w_m2,
+                f.latent_w_m2,
+                f.rain_w_m2,
                 f.internal_w_m2,
-                r.conduction_into_slab_w_m2
+                r.conduction_into_slab_w_m2,
+                f.convection_coeff_w_m2k,
+                r.water_store_mm,
+                r.sky_view
             );
         }
     }
