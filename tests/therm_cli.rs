@@ -161,3 +161,86 @@ fn therm_bad_inputs_give_clear_errors() {
         "{err}"
     );
 }
+
+/// Surface-kind parameters are checked where they are read: out of range,
+/// missing for the kind, or given to another kind, each error names the
+/// file, the line and the key; bad measurement heights name the flag.
+#[test]
+fn therm_bad_surface_parameters_give_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    let forcing = format!("{DATA}therm_ref_forcing.csv");
+    let run = |extra: &str, flags: &[&str]| {
+        std::fs::write(&mats, format!("{MATS}{extra}")).unwrap();
+        run_with(&mats, &forcing, flags)
+    };
+    let grass = "[material.grass]\nkind = \"vegetation\"\ndensity_kg_m3 = 2000.0\n\
+        specific_heat_j_kgk = 1800.0\nconductivity_w_mk = 0.5\nthickness_m = 0.5\n\
+        solar_absorptivity = 0.77\nthermal_emissivity = 0.98\ncanopy_height_m = 0.12\n";
+    // LAI out of range: line 19 (MATS is lines 1-9).
+    let e = run(&format!("{grass}lai = 50.0\nsoil_moisture = 1.0\n"), &[]);
+    assert!(
+        e.contains("m.toml:19") && e.contains("lai") && e.contains("10"),
+        "{e}"
+    );
+    // A negative resistance, line 21.
+    let e = run(
+        &format!("{grass}lai = 2.0\nsoil_moisture = 1.0\nmin_stomatal_resistance_s_m = -5.0\n"),
+        &[],
+    );
+    assert!(
+        e.contains("m.toml:21") && e.contains("min_stomatal_resistance_s_m"),
+        "{e}"
+    );
+    // A parameter the kind needs is missing.
+    let e = run(&format!("{grass}lai = 2.0\n"), &[]);
+    assert!(
+        e.contains("m.toml:") && e.contains("needs `soil_moisture`"),
+        "{e}"
+    );
+    // A parameter of another kind on a solid, line 9.
+    std::fs::write(
+        &mats,
+        MATS.replace(
+            "thermal_emissivity = 0.93",
+            "thermal_emissivity = 0.93\nlai = 2.0",
+        ),
+    )
+    .unwrap();
+    let e = run_with(&mats, &forcing, &[]);
+    assert!(
+        e.contains("m.toml:9") && e.contains("does not apply"),
+        "{e}"
+    );
+    // Measurement heights.
+    let e = run("", &["--wind-height-m", "0"]);
+    assert!(e.contains("wind_height_m"), "{e}");
+    let e = run("", &["--facet-height-m=-3"]);
+    assert!(e.contains("--facet-height-m"), "{e}");
+}
+
+/// Runs `irsig therm` on the asphalt of `mats` with `flags`; expects a
+/// failure and returns its message.
+fn run_with(mats: &std::path::Path, forcing: &str, flags: &[&str]) -> String {
+    let mut args = vec![
+        "therm",
+        "--materials",
+        mats.to_str().unwrap(),
+        "--material",
+        "asphalt",
+        "--forcing",
+        forcing,
+        "--lat",
+        "36",
+        "--lon",
+        "-80",
+        "--from",
+        "2021-05-04T05:00:00Z",
+        "--to",
+        "2021-05-04T06:00:00Z",
+    ];
+    args.extend_from_slice(flags);
+    let out = irsig(&args);
+    assert!(!out.status.success());
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}

@@ -420,6 +420,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         },
         ..ThermSettings::default()
     };
+    if !(a.facet_height_m.is_finite() && (0.0..=1e4).contains(&a.facet_height_m)) {
+        bail!(
+            "--facet-height-m {}: expected a height above the ground from 0 to 10000 m",
+            a.facet_height_m
+        );
+    }
     let model = SlabModel::new(&mat, o, &settings)
         .with_context(|| format!("material '{}'", a.material))?
         .with_height(a.facet_height_m);

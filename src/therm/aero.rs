@@ -344,15 +344,18 @@ impl Exchange {
         blend_convection(forced, c * dt.abs().cbrt())
     }
 
-    /// Sensible heat flux into the surface `h·(T_a − T_s)`, W/m², and its
+    /// Sensible heat flux into the surface `h·(T_a − T_s)`, W/m², its
     /// derivative with respect to `T_s` (central difference of 1 mK: the
-    /// stability factor and the blend make the analytic form long).
-    pub fn sensible_w_m2(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64) {
+    /// stability factor and the blend make the analytic form long) and the
+    /// coefficient `h` at `T_s`.
+    pub fn sensible_w_m2(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64, f64) {
         let q = |t: f64| self.coefficient_w_m2k(air_temp_k, t) * (air_temp_k - t);
+        let h = self.coefficient_w_m2k(air_temp_k, surf_temp_k);
         let d = 1e-3;
         (
-            q(surf_temp_k),
+            h * (air_temp_k - surf_temp_k),
             (q(surf_temp_k + d) - q(surf_temp_k - d)) / (2.0 * d),
+            h,
         )
     }
 }

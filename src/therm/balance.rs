@@ -143,17 +143,18 @@ impl Convection {
         }
     }
 
-    /// Convective flux into a surface `h_c·(T_air − T_s)` and its derivative
-    /// with respect to `T_s`, W/m² and W m⁻² K⁻¹, under the exchange
-    /// `ex` (used by [`Convection::SurfaceLayer`]) or the station wind
-    /// (used by [`Convection::Linear`]).
+    /// Convective flux into a surface `h_c·(T_air − T_s)`, its derivative
+    /// with respect to `T_s` and the coefficient `h_c` itself (W/m², W m⁻²
+    /// K⁻¹, W m⁻² K⁻¹), under the exchange `ex` (used by
+    /// [`Convection::SurfaceLayer`]) or the station wind (used by
+    /// [`Convection::Linear`]).
     pub fn flux_w_m2(
         &self,
         ex: &Exchange,
         wind_speed_m_s: f64,
         air_temp_k: f64,
         surf_temp_k: f64,
-    ) -> (f64, f64) {
+    ) -> (f64, f64, f64) {
         match *self {
             Convection::Linear {
                 still_air_w_m2k,
@@ -164,34 +165,13 @@ impl Convection {
                 let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
                 let free = free_coeff_w_m2k4_3 * dt.abs().cbrt();
                 if forced >= free {
-                    (forced * dt, -forced)
+                    (forced * dt, -forced, forced)
                 } else {
                     // d/dTs [c |dt|^(1/3) dt] = -(4/3) c |dt|^(1/3)
-                    (free * dt, -4.0 / 3.0 * free)
+                    (free * dt, -4.0 / 3.0 * free, free)
                 }
             }
             Convection::SurfaceLayer(_) => ex.sensible_w_m2(air_temp_k, surf_temp_k),
-        }
-    }
-
-    /// The coefficient itself, `h_c`, at surface temperature `surf_temp_k`.
-    pub fn coefficient_w_m2k(
-        &self,
-        ex: &Exchange,
-        wind_speed_m_s: f64,
-        air_temp_k: f64,
-        surf_temp_k: f64,
-    ) -> f64 {
-        match *self {
-            Convection::Linear {
-                still_air_w_m2k,
-                wind_coeff_j_m3k,
-                free_coeff_w_m2k4_3,
-            } => {
-                let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
-                forced.max(free_coeff_w_m2k4_3 * (air_temp_k - surf_temp_k).abs().cbrt())
-            }
-            Convection::SurfaceLayer(_) => ex.coefficient_w_m2k(air_temp_k, surf_temp_k),
         }
     }
 }
@@ -370,13 +350,7 @@ pub fn surface_fluxes(
     let sig = STEFAN_BOLTZMANN_W_M2K4;
     let emitted = emissivity * sig * surf_temp_k.powi(4);
     let d_emitted = 4.0 * emissivity * sig * surf_temp_k.powi(3);
-    let (convection, d_conv) = conv.flux_w_m2(
-        &drive.exchange,
-        drive.wind_speed_m_s,
-        drive.air_temp_k,
-        surf_temp_k,
-    );
-    let h = conv.coefficient_w_m2k(
+    let (convection, d_conv, h) = conv.flux_w_m2(
         &drive.exchange,
         drive.wind_speed_m_s,
         drive.air_temp_k,
@@ -450,7 +424,7 @@ pub fn exposed_back_flux_w_m2(
     back_temp_k: f64,
 ) -> (f64, f64) {
     let sig = STEFAN_BOLTZMANN_W_M2K4;
-    let (c, dc) = conv.flux_w_m2(ex, wind_speed_m_s, air_temp_k, back_temp_k);
+    let (c, dc, _) = conv.flux_w_m2(ex, wind_speed_m_s, air_temp_k, back_temp_k);
     let r = emissivity * sig * (air_temp_k.powi(4) - back_temp_k.powi(4));
     let dr = -4.0 * emissivity * sig * back_temp_k.powi(3);
     (area_factor * (c + r), area_factor * (dc + dr))
@@ -481,10 +455,11 @@ mod tests {
         let c = Convection::mcadams();
         let ex = Exchange::default();
         // 5.7 + 3.8·2 = 13.3 W/m²K, ΔT = 10 K → 133 W/m² into the surface.
-        let (q, dq) = c.flux_w_m2(&ex, 2.0, 300.0, 290.0);
+        let (q, dq, h) = c.flux_w_m2(&ex, 2.0, 300.0, 290.0);
+        assert!((h - 13.3).abs() < 1e-12);
         assert!((q - 133.0).abs() < 1e-9 && (dq + 13.3).abs() < 1e-12);
         // Free convection dominates at still air and ΔT = 200 K: 1.31·200^(1/3).
-        let (q, dq) = c.flux_w_m2(&ex, 0.0, 300.0, 500.0);
+        let (q, dq, _) = c.flux_w_m2(&ex, 0.0, 300.0, 500.0);
         let h = 1.31 * 200f64.cbrt();
         assert!((q + h * 200.0).abs() < 1e-9);
         // Numerical derivative check (central difference, 1e-4 relative).

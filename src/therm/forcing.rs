@@ -65,43 +65,14 @@ impl Forcing {
         self.ground_temp_k.unwrap_or(self.air_temp_k)
     }
 
-    /// A dry forcing sample (dew point [`DRY_AIR_DEW_POINT_K`], standard
-    /// pressure, no rain, ground at air temperature), for tests and tools
-    /// that give only the radiative and thermal fields.
-    #[allow(clippy::too_many_arguments)]
-    pub fn dry(
-        t_s: f64,
-        air_temp_k: f64,
-        sky_temp_k: f64,
-        wind_speed_m_s: f64,
-        dni_w_m2: f64,
-        dhi_w_m2: f64,
-        ghi_w_m2: f64,
-        sun_dir_enu: [f64; 3],
-    ) -> Forcing {
-        Forcing {
-            t_s,
-            air_temp_k,
-            sky_temp_k,
-            wind_speed_m_s,
-            dni_w_m2,
-            dhi_w_m2,
-            ghi_w_m2,
-            sun_dir_enu,
-            dew_point_k: DRY_AIR_DEW_POINT_K,
-            pressure_pa: 101_325.0,
-            precip_mm_h: 0.0,
-            ground_temp_k: None,
-        }
-    }
-
     /// Vapour pressure of the air, Pa (saturation at the dew point).
     pub fn vapour_pressure_pa(&self) -> f64 {
         super::aero::saturation_vapour_pressure_pa(self.dew_point_k)
     }
 }
 
-/// Dew point of "dry" test forcing, K (vapour pressure 0.2 Pa).
+/// Dew point of "dry" forcing in tests and in `irsig therm --forcing`
+/// files (which carry no humidity), K (vapour pressure 0.2 Pa).
 pub const DRY_AIR_DEW_POINT_K: f64 = 200.0;
 
 /// Solar "constant" at 1 AU used for the extraterrestrial irradiance,

@@ -56,7 +56,7 @@ use super::balance::{
     self, Convection, DriveInputs, Orientation, SurfaceDrive, SurfaceFluxes, SurfaceOptics,
 };
 use super::forcing::Forcing;
-use super::surface::{SurfaceKind, mixing_conductances, shortwave_fractions};
+use super::surface::{SurfaceKind, WaterBody, mixing_conductances, shortwave_fractions};
 
 /// What the back face (z = L) of the slab sees.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -692,20 +692,6 @@ impl SlabModel {
         self
     }
 
-    /// The same model with sky view factor `f_sky` (the rest of the
-    /// hemisphere is ground) instead of the unobstructed `(1 + cos β)/2`.
-    pub fn with_sky_view(mut self, f_sky: f64) -> Self {
-        if f_sky.is_finite() {
-            self.f_sky = f_sky.clamp(0.0, 1.0);
-        }
-        self
-    }
-
-    /// Sky view factor in use.
-    pub fn sky_view(&self) -> f64 {
-        self.f_sky
-    }
-
     /// The temperature-independent surface drive at an instant, with the
     /// sunlit fraction `sunlit` (0 shadow … 1 sun). A solid's water store
     /// is taken as dry; [`SlabModel::march`] wets it.
@@ -1014,12 +1000,18 @@ impl SlabModel {
         };
         // Water: the mixing depends on the profile. Start fully mixed and
         // iterate until the stable/unstable pattern repeats.
-        let rho_c = self.material.density_kg_m3 * self.material.specific_heat_j_kgk;
-        for (gi, base) in g.iter_mut().zip(&self.mesh.cond_w_m2k) {
-            let dz = self.material.conductivity_w_mk / base;
-            *gi =
-                (self.material.conductivity_w_mk + rho_c * water.convective_diffusivity_m2_s) / dz;
-        }
+        let fully_mixed = WaterBody {
+            eddy_diffusivity_m2_s: water.convective_diffusivity_m2_s,
+            ..water
+        };
+        mixing_conductances(
+            &self.mesh.cond_w_m2k,
+            &old,
+            self.material.conductivity_w_mk,
+            self.material.density_kg_m3 * self.material.specific_heat_j_kgk,
+            &fully_mixed,
+            &mut g,
+        );
         let mut prev = g.clone();
         for _ in 0..20 {
             new.copy_from_slice(&old);
