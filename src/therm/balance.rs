@@ -143,6 +143,40 @@ impl Convection {
         }
     }
 
+    /// The convective coefficient `h_c` at surface temperature
+    /// `surf_temp_k`, W m⁻² K⁻¹ (see [`Convection::flux_w_m2`]).
+    pub fn coefficient_w_m2k(
+        &self,
+        ex: &Exchange,
+        wind_speed_m_s: f64,
+        air_temp_k: f64,
+        surf_temp_k: f64,
+    ) -> f64 {
+        match *self {
+            Convection::Linear { .. } => {
+                let (forced, free) = self.linear_parts(wind_speed_m_s, air_temp_k - surf_temp_k);
+                forced.max(free)
+            }
+            Convection::SurfaceLayer(_) => ex.coefficient_w_m2k(air_temp_k, surf_temp_k),
+        }
+    }
+
+    /// The forced `a + b·v` and free `c·|ΔT|^(1/3)` parts of
+    /// [`Convection::Linear`] (zero for the surface layer).
+    fn linear_parts(&self, wind_speed_m_s: f64, dt: f64) -> (f64, f64) {
+        match *self {
+            Convection::Linear {
+                still_air_w_m2k,
+                wind_coeff_j_m3k,
+                free_coeff_w_m2k4_3,
+            } => (
+                still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0),
+                free_coeff_w_m2k4_3 * dt.abs().cbrt(),
+            ),
+            Convection::SurfaceLayer(_) => (0.0, 0.0),
+        }
+    }
+
     /// Convective flux into a surface `h_c·(T_air − T_s)`, its derivative
     /// with respect to `T_s` and the coefficient `h_c` itself (W/m², W m⁻²
     /// K⁻¹, W m⁻² K⁻¹), under the exchange `ex` (used by
@@ -156,14 +190,9 @@ impl Convection {
         surf_temp_k: f64,
     ) -> (f64, f64, f64) {
         match *self {
-            Convection::Linear {
-                still_air_w_m2k,
-                wind_coeff_j_m3k,
-                free_coeff_w_m2k4_3,
-            } => {
+            Convection::Linear { .. } => {
                 let dt = air_temp_k - surf_temp_k;
-                let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
-                let free = free_coeff_w_m2k4_3 * dt.abs().cbrt();
+                let (forced, free) = self.linear_parts(wind_speed_m_s, dt);
                 if forced >= free {
                     (forced * dt, -forced, forced)
                 } else {
@@ -363,16 +392,33 @@ pub fn surface_fluxes(
             super::aero::air_density_kg_m3(drive.pressure_pa, drive.air_temp_k)
                 * super::aero::CP_AIR_J_KGK
         };
-        super::aero::latent_w_m2(
-            h,
-            rho_cp,
-            drive.conductance_m_s,
-            drive.dew,
-            drive.evaporation_cap_w_m2,
-            drive.vapour_pressure_pa,
-            drive.pressure_pa,
-            drive.air_temp_k,
-            surf_temp_k,
+        let latent_at = |t: f64, h: f64| {
+            super::aero::latent_w_m2(
+                h,
+                rho_cp,
+                drive.conductance_m_s,
+                drive.dew,
+                drive.evaporation_cap_w_m2,
+                drive.vapour_pressure_pa,
+                drive.pressure_pa,
+                drive.air_temp_k,
+                t,
+            )
+            .0
+        };
+        // The derivative includes the coefficient's own dependence on T_s
+        // (stability): a central difference of 1 mK, as for the sensible
+        // flux. Without it Newton's Jacobian is wrong wherever the
+        // exchange is strongly stable, and the iteration crawls.
+        let d = 1e-3;
+        let h_at = |t: f64| {
+            conv.coefficient_w_m2k(&drive.exchange, drive.wind_speed_m_s, drive.air_temp_k, t)
+        };
+        (
+            latent_at(surf_temp_k, h),
+            (latent_at(surf_temp_k + d, h_at(surf_temp_k + d))
+                - latent_at(surf_temp_k - d, h_at(surf_temp_k - d)))
+                / (2.0 * d),
         )
     } else {
         (0.0, 0.0)
