@@ -70,6 +70,30 @@ fn accuracy_ladder_for_one_knob() {
     }
     assert!(ladder[3].1 * 10.0 < ladder[0].1, "{ladder:?}");
     assert_eq!(rows.last().unwrap()[knob], "default");
+    // Every row: RMS ≤ p99 ≤ max is not a law (RMS may exceed p99), but
+    // p99 ≤ max is, and the shadow-edge pixels are a subset of all pixels.
+    let n_px = 8 * 8;
+    for r in &rows {
+        let v = |name: &str| r[col(name)].parse::<f64>().unwrap();
+        for q in ["surface_temp", "apparent_temp"] {
+            assert!(
+                v(&format!("{q}_p99_k")) <= v(&format!("{q}_max_k")),
+                "{r:?}"
+            );
+            assert!(
+                v(&format!("{q}_rms_k")) <= v(&format!("{q}_max_k")),
+                "{r:?}"
+            );
+            let edge_max = v(&format!("edge_{q}_max_k"));
+            assert!(
+                edge_max.is_nan() || edge_max <= v(&format!("{q}_max_k")),
+                "{r:?}"
+            );
+        }
+        assert!(v("radiance_p99_pct") <= v("radiance_max_pct"), "{r:?}");
+        let edges: usize = r[col("edge_pixels")].parse().unwrap();
+        assert!(edges <= n_px, "{r:?}");
+    }
 }
 
 #[test]
