@@ -55,15 +55,7 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
         .collect()
 }
 
-/// A rayon pool with FTZ/DAZ set in every worker (as Embree recommends).
-pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
-    let mut b = rayon::ThreadPoolBuilder::new()
-        .start_handler(|_| crate::trace::embree::set_thread_ftz_daz());
-    if let Some(n) = threads {
-        b = b.num_threads(n as usize);
-    }
-    Ok(b.build()?)
-}
+pub use crate::render::thread_pool;
 
 /// A terminal progress bar over the render's stages (trace blocks, thermal
 /// solves, radiometry); reports may come from any worker thread and out of

@@ -17,6 +17,7 @@
 
 pub mod pixel;
 pub mod prepare;
+pub mod probe;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -114,6 +115,18 @@ fn add(c: &AtomicU64, n: usize) {
 
 /// Pixels per block side (in supersampled pixels) handed to one rayon task.
 const BLOCK: u32 = 16;
+
+/// A rayon pool with FTZ/DAZ set in every worker (as Embree recommends);
+/// `threads`: the number of workers (default: all cores). Renders give the
+/// same result in any pool.
+pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
+    let mut b = rayon::ThreadPoolBuilder::new()
+        .start_handler(|_| crate::trace::embree::set_thread_ftz_daz());
+    if let Some(n) = threads {
+        b = b.num_threads(n as usize);
+    }
+    Ok(b.build()?)
+}
 
 /// The supersampled camera: n×n rays per output pixel.
 pub fn sample_camera(st: &Static) -> Camera {

@@ -1,0 +1,456 @@
+//! Everything about one output pixel — its primary hit, the angles, the
+//! sun/shadow history, the temperature and its flux terms over the history,
+//! the specular bounce and background, every radiometric term
+//! (band-integrated, optionally per bin) and the band result — as plain,
+//! serialisable data ([`PixelProbe`]); `irsig probe` prints it as text or
+//! JSON.
+//!
+//! The pixel is computed by the render's own functions
+//! ([`super::trace_samples`], [`super::thermal_solution`],
+//! [`super::pixel::RadiometryContext::evaluate_with`]), so its
+//! `band_radiance` and `apparent_temperature` are those the render writes
+//! for that pixel (before the sensor's PSF, noise and quantisation).
+
+use anyhow::{Context, bail};
+use chrono::{DateTime, Duration, FixedOffset, Utc};
+use glam::Vec3;
+use serde::Serialize;
+
+use super::pixel::{ApparentTempLut, RadiometryContext, SampleResult, representatives};
+use super::{
+    Conditions, Sample, Static, Stats, Surface, angle_deg, azimuth_deg, output_pixel_samples,
+    prepare_conditions, prepare_static, thermal_solution, trace_samples, zenith_deg,
+};
+use crate::radiometry::RadianceTerms;
+use crate::scene::LoadedScene;
+use crate::therm::balance::Orientation;
+use crate::therm::cache::ThermCache;
+use crate::therm::slab::StepRecord;
+use crate::trace::Backend;
+
+/// Everything about one output pixel.
+#[derive(Clone, Debug, Serialize)]
+pub struct PixelProbe {
+    pub scene: String,
+    pub pixel: [u32; 2],
+    pub image_time_utc: String,
+    pub image_time_local: String,
+    pub band: String,
+    pub spectral_bins: usize,
+    pub supersample: u32,
+    pub sun: SunReport,
+    /// The pixel's n×n samples, row by row.
+    pub samples: Vec<SampleReport>,
+    /// What `irsig render` writes for this pixel.
+    pub pixel_result: PixelResult,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SunReport {
+    pub zenith_deg: f64,
+    pub azimuth_deg: f64,
+    pub dir_enu: [f64; 3],
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct PixelResult {
+    /// Mean of the samples' band radiance, W m⁻² sr⁻¹ µm⁻¹ (f64).
+    pub band_radiance_w_m2_sr_um: f64,
+    /// The same as the EXR stores it (f32).
+    pub band_radiance_f32: f32,
+    /// Band apparent temperature of the f32 radiance (as the render), K.
+    pub apparent_temperature_k: Option<f64>,
+    /// Mean surface temperature of the samples that hit, K.
+    pub surface_temperature_k: Option<f64>,
+    /// Mean of the samples' band-integrated terms.
+    pub terms: RadianceTerms,
+    /// Case of the centre sample.
+    pub case: u8,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SampleReport {
+    /// Pixel of the supersampled image.
+    pub sample_px: [u32; 2],
+    /// Unit direction of the primary ray (ENU).
+    pub ray_dir: [f32; 3],
+    pub hit: Option<SurfaceReport>,
+    pub angles: Option<Angles>,
+    /// Specular bounce (specular materials only).
+    pub bounce: Option<BounceReport>,
+    pub radiometry: RadiometryReport,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SurfaceReport {
+    /// Triangle index in the scene.
+    pub triangle: u32,
+    /// OBJ face index within its object.
+    pub facet: u32,
+    pub object: String,
+    pub material: String,
+    pub material_index: u32,
+    pub specularity: f64,
+    pub point_m: [f32; 3],
+    /// Unit geometric normal facing the incoming ray.
+    pub normal: [f32; 3],
+    pub slope_deg: f64,
+    pub aspect_deg: f64,
+    /// Distance along the incoming ray, m.
+    pub range_m: f32,
+    pub history: HistoryReport,
+    pub thermal: ThermalReport,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct HistoryReport {
+    /// Local clock time of the first sample.
+    pub start_local: String,
+    pub interval_min: f64,
+    /// One character per sample, oldest first (the last is the image time):
+    /// 1 sunlit, 0 not.
+    pub sunlit: String,
+    /// Why, per sample: `1` sunlit, `s` shadowed (a ray was blocked), `a`
+    /// facet facing away from the sun, `-` sun below the horizon.
+    pub reason: String,
+    /// Local clock time of each sample.
+    pub times_local: Vec<String>,
+    pub hours_sunlit: f64,
+    pub sun_now: bool,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ThermalReport {
+    /// Surface kind and its parameters (solid, vegetation, water).
+    pub surface: crate::therm::surface::SurfaceKind,
+    /// The ground tilted facets see (material name) and its temperature at
+    /// the image time, K.
+    pub ground_material: Option<String>,
+    pub ground_temp_k: f64,
+    /// Local clock time of the start of the series (`t_s` = 0).
+    pub start_local: String,
+    /// Surface temperature at the image time, K.
+    pub surface_temp_k: f64,
+    pub steps_accepted: usize,
+    pub steps_rejected: usize,
+    /// One record per thermal step, seconds since the history start, with
+    /// every surface flux term (W m⁻²).
+    pub series: Vec<StepRecord>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Angles {
+    /// Angle between the line of sight (towards the sensor) and the normal.
+    pub view_angle_deg: f64,
+    /// Zenith angle of the line of sight towards the sensor, at the target.
+    pub view_zenith_deg: f64,
+    /// Azimuth of the direction target → sensor, clockwise from north.
+    pub view_azimuth_deg: f64,
+    /// Angle between the sun direction and the normal (> 90: facing away).
+    pub sun_incidence_deg: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BounceReport {
+    /// Unit reflected direction (ENU).
+    pub dir: [f32; 3],
+    pub zenith_deg: f64,
+    pub azimuth_deg: f64,
+    /// `sky`, `ground plane` (leaves the scene downwards) or `surface`.
+    pub target: &'static str,
+    pub background: Option<SurfaceReport>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct RadiometryReport {
+    /// 1 diffuse, 2 specular→sky, 3 specular→background, 4 sky, 0 outside.
+    pub case: u8,
+    pub case_name: &'static str,
+    /// Band-integrated terms, W m⁻² sr⁻¹ µm⁻¹.
+    pub terms: RadianceTerms,
+    pub band_radiance_w_m2_sr_um: f64,
+    pub emissivity: f64,
+    pub spectral: Option<Vec<SpectralBin>>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SpectralBin {
+    pub wavenumber_cm1: f64,
+    pub wavelength_um: f64,
+    /// Band weight of the bin (the weights sum to 1).
+    pub weight: f64,
+    /// Spectral terms, W m⁻² sr⁻¹ µm⁻¹.
+    pub terms: RadianceTerms,
+}
+
+/// The name of a radiometric case (the paper's eqs. 1-4).
+pub fn case_name(case: u8) -> &'static str {
+    match case {
+        1 => "1: diffuse (eq. 1)",
+        2 => "2: specular, sky (eq. 2)",
+        3 => "3: specular, background (eq. 3)",
+        4 => "4: sky (eq. 4)",
+        _ => "0: leaves the scene downwards (ground at air temperature)",
+    }
+}
+
+struct Ctx<'a> {
+    st: &'a Static,
+    cond: &'a Conditions,
+    offset: FixedOffset,
+}
+
+impl Ctx<'_> {
+    fn local(&self, t: DateTime<Utc>) -> String {
+        t.with_timezone(&self.offset)
+            .format("%Y-%m-%dT%H:%M")
+            .to_string()
+    }
+
+    fn surface(&self, s: &Surface) -> anyhow::Result<SurfaceReport> {
+        let (st, cond) = (self.st, self.cond);
+        let sc = &st.scene;
+        let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
+        let mut reason = String::new();
+        for (sun, &lit) in cond.suns.iter().zip(&s.history) {
+            reason.push(if lit {
+                '1'
+            } else if !sun.up {
+                '-'
+            } else if s.normal.dot(sun.dir) <= 0.0 {
+                'a'
+            } else {
+                's'
+            });
+        }
+        let interval = Duration::seconds(cond.interval_s);
+        let sol = thermal_solution(st, cond, s)?;
+        let tri = s.prim as usize;
+        Ok(SurfaceReport {
+            triangle: s.prim,
+            facet: sc.tri_facet[tri],
+            object: sc.objects[sc.tri_object[tri] as usize].name.clone(),
+            material: sc.materials[s.material as usize].name.clone(),
+            material_index: s.material,
+            specularity: st.specularity[s.material as usize],
+            point_m: s.point.to_array(),
+            normal: s.normal.to_array(),
+            slope_deg: o.slope_deg,
+            aspect_deg: o.aspect_deg,
+            range_m: s.range_m,
+            history: HistoryReport {
+                start_local: self.local(cond.start),
+                interval_min: cond.interval_s as f64 / 60.0,
+                sunlit: s
+                    .history
+                    .iter()
+                    .map(|&b| if b { '1' } else { '0' })
+                    .collect(),
+                reason,
+                times_local: (0..s.history.len())
+                    .map(|k| self.local(cond.start + interval * k as i32))
+                    .collect(),
+                hours_sunlit: s.history.iter().filter(|b| **b).count() as f64
+                    * cond.interval_s as f64
+                    / 3600.0,
+                sun_now: s.sun_now(),
+            },
+            thermal: ThermalReport {
+                surface: cond.slabs[s.material as usize].surface,
+                ground_material: cond
+                    .ground_material
+                    .map(|g| self.st.scene.materials[g as usize].name.clone()),
+                ground_temp_k: cond.ground_temp_k,
+                start_local: self.local(cond.start),
+                surface_temp_k: s.temp_k,
+                steps_accepted: sol.steps_accepted,
+                steps_rejected: sol.steps_rejected,
+                series: sol.series.clone(),
+            },
+        })
+    }
+
+    fn sample(
+        &self,
+        px: (u32, u32),
+        s: &Sample,
+        r: SampleResult,
+        spectral: Option<Vec<SpectralBin>>,
+    ) -> anyhow::Result<SampleReport> {
+        let sun_dir = Vec3::from(self.cond.sun_now.sun_dir_enu.map(|v| v as f32));
+        let angles = s.surface.as_ref().map(|surf| Angles {
+            view_angle_deg: angle_deg(-s.dir, surf.normal),
+            view_zenith_deg: zenith_deg(-s.dir),
+            view_azimuth_deg: azimuth_deg(-s.dir.as_dvec3()),
+            sun_incidence_deg: angle_deg(sun_dir.normalize(), surf.normal),
+        });
+        let bounce = match &s.bounce {
+            None => None,
+            Some((d, bg)) => Some(BounceReport {
+                dir: d.to_array(),
+                zenith_deg: zenith_deg(*d),
+                azimuth_deg: azimuth_deg(d.as_dvec3()),
+                target: match bg {
+                    Some(_) => "surface",
+                    None if d.z > 0.0 => "sky",
+                    None => "ground plane",
+                },
+                background: bg.as_ref().map(|b| self.surface(b)).transpose()?,
+            }),
+        };
+        Ok(SampleReport {
+            sample_px: [px.0, px.1],
+            ray_dir: s.dir.to_array(),
+            hit: s.surface.as_ref().map(|h| self.surface(h)).transpose()?,
+            angles,
+            bounce,
+            radiometry: RadiometryReport {
+                case: r.case,
+                case_name: case_name(r.case),
+                terms: r.terms,
+                band_radiance_w_m2_sr_um: r.radiance_w_m2_sr_um,
+                emissivity: r.emissivity,
+                spectral,
+            },
+        })
+    }
+}
+
+/// Mean of the finite values (as the render averages a pixel's samples).
+fn finite_mean(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let (mut s, mut c) = (0.0, 0u32);
+    for x in v.filter(|x| x.is_finite()) {
+        s += x;
+        c += 1;
+    }
+    (c > 0).then(|| s / c as f64)
+}
+
+/// Probes output pixel (`x`, `y`) of a prepared scene. `cond.cache` should
+/// keep series (see [`ThermCache::new`]) for the thermal series to be
+/// reported; the temperatures are the same either way.
+pub fn probe(
+    st: &Static,
+    cond: &Conditions,
+    (x, y): (u32, u32),
+    spectral: bool,
+) -> anyhow::Result<PixelProbe> {
+    let cam = &st.scene.camera;
+    if x >= cam.width_px || y >= cam.height_px {
+        bail!(
+            "--pixel {x},{y}: outside the {}x{} image (columns 0..{}, rows 0..{})",
+            cam.width_px,
+            cam.height_px,
+            cam.width_px - 1,
+            cam.height_px - 1
+        );
+    }
+    let px = output_pixel_samples(st, x, y);
+    let mut stats = Stats::default();
+    let samples = trace_samples(st, cond, &px, &mut stats)?;
+    let rctx = RadiometryContext::new(st, cond)?;
+    let n = st.scene.scene.render.supersample.max(1);
+    // As the render: a uniform pixel evaluates its centre sample only and
+    // reports that result for each of its samples.
+    let rep = representatives(&samples.iter().collect::<Vec<_>>(), n);
+    let mut results: Vec<SampleResult> = Vec::new();
+    let mut bins = Vec::new();
+    for (k, s) in samples.iter().enumerate() {
+        if rep[k] != k {
+            results.push(SampleResult::default());
+            bins.push(None);
+            continue;
+        }
+        let mut spec: Vec<SpectralBin> = Vec::new();
+        let r = rctx.evaluate_with(s, |i, t: &RadianceTerms| {
+            if spectral {
+                spec.push(SpectralBin {
+                    wavenumber_cm1: st.band.wavenumber_cm1[i],
+                    wavelength_um: st.wavelength_um[i],
+                    weight: st.band.weights[i],
+                    terms: *t,
+                });
+            }
+        })?;
+        results.push(r);
+        bins.push(spectral.then_some(spec));
+    }
+    for k in 0..results.len() {
+        if rep[k] != k {
+            results[k] = results[rep[k]].clone();
+            bins[k] = bins[rep[k]].clone();
+        }
+    }
+    let radiance = finite_mean(results.iter().map(|r| r.radiance_w_m2_sr_um)).unwrap_or(f64::NAN);
+    let radiance_f32 = radiance as f32;
+    let lut = ApparentTempLut::new(&st.band);
+    let mut terms = RadianceTerms::default();
+    let k = results.len() as f64;
+    for r in &results {
+        terms.accumulate(&r.terms, 1.0 / k);
+    }
+    let centre_case = results[((n / 2) * n + n / 2) as usize].case;
+    let pixel_result = PixelResult {
+        band_radiance_w_m2_sr_um: radiance,
+        band_radiance_f32: radiance_f32,
+        apparent_temperature_k: lut.apparent_temp_k(&st.band, radiance_f32 as f64),
+        surface_temperature_k: finite_mean(
+            samples
+                .iter()
+                .map(|s| s.surface.as_ref().map_or(f64::NAN, |s| s.temp_k)),
+        ),
+        terms,
+        case: centre_case,
+    };
+    let sc = &st.scene.scene;
+    let offset = FixedOffset::east_opt((sc.site.utc_offset_h * 3600.0).round() as i32)
+        .context("site utc_offset_h out of range")?;
+    let ctx = Ctx { st, cond, offset };
+    let reports = px
+        .iter()
+        .zip(&samples)
+        .zip(results)
+        .zip(bins)
+        .map(|(((&p, s), r), b)| ctx.sample(p, s, r, b))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let sun = &cond.sun_now;
+    Ok(PixelProbe {
+        scene: st.scene.path.display().to_string(),
+        pixel: [x, y],
+        image_time_utc: cond.image_time.to_rfc3339(),
+        image_time_local: ctx.local(cond.image_time),
+        band: st.band.label.clone(),
+        spectral_bins: st.band.len(),
+        supersample: n,
+        sun: SunReport {
+            zenith_deg: sun.zenith_deg,
+            azimuth_deg: sun.azimuth_deg,
+            dir_enu: sun.sun_dir_enu,
+        },
+        samples: reports,
+        pixel_result,
+    })
+}
+
+/// Probes output pixel `pixel` (column, row from the top left) of a loaded
+/// scene at its image time, as `irsig probe` does: prepares the static part
+/// and the conditions (with a thermal cache that keeps the series), then
+/// calls [`probe`]. Runs in the current rayon pool (see
+/// [`super::thread_pool`]).
+pub fn probe_scene(
+    scene: LoadedScene,
+    tracer: Option<Backend>,
+    pixel: (u32, u32),
+    spectral: bool,
+) -> anyhow::Result<PixelProbe> {
+    let st = prepare_static(scene, tracer)?;
+    let t = st.scene.scene.time.utc(&st.scene.scene.site);
+    let mut cond = prepare_conditions(&st, t)?;
+    // Keep the thermal series (the temperatures do not change).
+    cond.cache = ThermCache::new(
+        *cond.cache.settings(),
+        cond.cache.orientation_quantum_deg(),
+        true,
+    );
+    probe(&st, &cond, pixel, spectral)
+}
