@@ -3,15 +3,12 @@
 //! ENVI cube with `--envi`.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::{Context, bail};
-use serde::Serialize;
+use anyhow::bail;
 
-use crate::output::{envi::write_envi, exr::write_exr, quicklook::write_png};
-use crate::render::{
-    Frame, Progress, Stage, Stats, prepare_conditions, prepare_static, render_with,
-};
+use crate::output::frame::write_rendered;
+use crate::render::{Progress, Stage, prepare_conditions, prepare_static, render_conditions};
 use crate::trace::Backend;
 
 #[derive(clap::Args, Debug)]
@@ -115,59 +112,6 @@ impl Default for ProgressBar {
     }
 }
 
-/// The JSON summary written beside the image.
-#[derive(Serialize)]
-pub struct Summary<'a> {
-    pub scene: String,
-    pub image_time_utc: String,
-    pub sun_zenith_deg: f64,
-    pub sun_azimuth_deg: f64,
-    pub band: String,
-    pub estimators: String,
-    pub quicklook: String,
-    pub planes: Vec<(String, String)>,
-    pub stats: &'a Stats,
-}
-
-/// Writes a frame's outputs next to `exr`; returns the summary text.
-pub fn write_frame(
-    exr: &Path,
-    frame: &Frame,
-    summary_of: impl FnOnce(String) -> anyhow::Result<String>,
-    envi: bool,
-) -> anyhow::Result<()> {
-    if exr.extension().and_then(|e| e.to_str()) != Some("exr") {
-        bail!("-o {}: the output must be an .exr path", exr.display());
-    }
-    if let Some(d) = exr.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(d).with_context(|| format!("cannot create {}", d.display()))?;
-    }
-    write_exr(exr, &frame.planes)?;
-    let p = &frame.planes;
-    let ql = p
-        .get("sensor_radiance")
-        .expect("render writes sensor_radiance");
-    let s = write_png(
-        &exr.with_extension("png"),
-        p.width,
-        p.height,
-        &ql.data,
-        "sensor_radiance W m-2 sr-1 um-1",
-    )?;
-    let quicklook = format!(
-        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
-        s.lo, s.hi
-    );
-    if envi {
-        write_envi(&exr.with_extension("img"), p, None, "irsig render planes")?;
-    }
-    let json = summary_of(quicklook)?;
-    crate::output::write_atomic(&exr.with_extension("json"), |w| {
-        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
-    })?;
-    Ok(())
-}
-
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
     if a.output.extension().and_then(|e| e.to_str()) != Some("exr") {
@@ -183,7 +127,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     };
     note("loading scene");
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
-    let (frame, summary) = pool.install(|| -> anyhow::Result<_> {
+    let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;
         let t = st.scene.scene.time.utc(&st.scene.scene.site);
         note("weather, sun and thermal forcing");
@@ -191,7 +135,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         note("rendering");
         let bar = tty.then(ProgressBar::new);
         let report = bar.as_ref().map(|b| move |p: Progress| b.report(p));
-        let frame = render_with(
+        let image = render_conditions(
             &st,
             &cond,
             report.as_ref().map(|f| f as &(dyn Fn(Progress) + Sync)),
@@ -199,46 +143,15 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         if let Some(b) = &bar {
             b.finish();
         }
-        let summary = (
-            st.scene.path.display().to_string(),
-            t.to_rfc3339(),
-            cond.sun_now.zenith_deg,
-            cond.sun_now.azimuth_deg,
-            st.band.label.clone(),
-            cond.estimators.to_string(),
-        );
-        Ok((frame, summary))
+        Ok(image)
     })?;
-    let planes: Vec<(String, String)> = frame
-        .planes
-        .planes
-        .iter()
-        .map(|p| (p.name.clone(), p.unit.clone()))
-        .collect();
-    write_frame(
-        &a.output,
-        &frame,
-        |quicklook| {
-            Ok(serde_json::to_string_pretty(&Summary {
-                scene: summary.0,
-                image_time_utc: summary.1,
-                sun_zenith_deg: summary.2,
-                sun_azimuth_deg: summary.3,
-                band: summary.4,
-                estimators: summary.5,
-                quicklook,
-                planes,
-                stats: &frame.stats,
-            })?)
-        },
-        a.envi,
-    )?;
-    let s = &frame.stats;
+    write_rendered(&a.output, &image, a.envi, None)?;
+    let s = &image.frame.stats;
     println!(
         "wrote {} ({}x{}), {:.2} s",
         a.output.display(),
-        frame.planes.width,
-        frame.planes.height,
+        image.frame.planes.width,
+        image.frame.planes.height,
         s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor
     );
     if a.stats {

@@ -6,7 +6,9 @@
 
 pub mod envi;
 pub mod exr;
+pub mod frame;
 pub mod quicklook;
+pub mod sequence;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -52,6 +54,53 @@ impl Planes {
 
     pub fn get(&self, name: &str) -> Option<&Plane> {
         self.planes.iter().find(|p| p.name == name)
+    }
+}
+
+impl Plane {
+    /// Statistics of the plane's finite values.
+    pub fn stats(&self) -> PlaneStats {
+        plane_stats(&self.data)
+    }
+}
+
+/// Summary statistics of the finite values of a plane.
+#[derive(Clone, Copy, Debug, serde::Serialize, PartialEq)]
+pub struct PlaneStats {
+    pub mean: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Population standard deviation.
+    pub std: f64,
+    /// Number of finite values.
+    pub count: usize,
+}
+
+/// Statistics of the finite values of `data` (NaN fields when none).
+pub fn plane_stats(data: &[f32]) -> PlaneStats {
+    let v: Vec<f64> = data
+        .iter()
+        .filter(|x| x.is_finite())
+        .map(|&x| x as f64)
+        .collect();
+    if v.is_empty() {
+        return PlaneStats {
+            mean: f64::NAN,
+            min: f64::NAN,
+            max: f64::NAN,
+            std: f64::NAN,
+            count: 0,
+        };
+    }
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+    PlaneStats {
+        mean,
+        min: v.iter().copied().fold(f64::INFINITY, f64::min),
+        max: v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        std: var.sqrt(),
+        count: v.len(),
     }
 }
 

@@ -15,9 +15,11 @@
 //! Everything is deterministic: results depend on pixel, key and seed only,
 //! never on thread scheduling.
 
+pub mod image;
 pub mod pixel;
 pub mod prepare;
 pub mod probe;
+pub mod sequence;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -33,6 +35,7 @@ use crate::therm::balance::Orientation;
 use crate::therm::slab::{SunHistory, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
+pub use image::{Rendered, render_at, render_conditions, render_scene};
 pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
 
 /// A surface point seen by a ray.

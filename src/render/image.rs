@@ -1,0 +1,72 @@
+//! One rendered image with what describes it (time, sun, band, forcing
+//! estimators): what `irsig render` writes and what each frame of a
+//! sequence holds.
+
+use chrono::{DateTime, Utc};
+
+use super::{
+    Conditions, Frame, ProgressFn, Static, prepare_conditions, prepare_static, render_with,
+};
+use crate::scene::LoadedScene;
+use crate::trace::Backend;
+
+/// A rendered image: its planes and statistics, and what describes it.
+pub struct Rendered {
+    /// The scene file.
+    pub scene: String,
+    pub image_time_utc: DateTime<Utc>,
+    pub sun_zenith_deg: f64,
+    pub sun_azimuth_deg: f64,
+    /// Band label.
+    pub band: String,
+    /// The forcing estimators used (weather files), as text.
+    pub estimators: String,
+    /// The planes (every output plane, at output resolution) and statistics.
+    pub frame: Frame,
+}
+
+/// Renders the prepared scene `st` at `image_time` (UTC): the conditions
+/// (weather forcing, sun samples, thermal cache) are prepared here. Runs in
+/// the current rayon pool (see [`super::thread_pool`]); `progress` is
+/// called from worker threads.
+pub fn render_at(
+    st: &Static,
+    image_time: DateTime<Utc>,
+    progress: ProgressFn,
+) -> anyhow::Result<Rendered> {
+    let cond = prepare_conditions(st, image_time)?;
+    render_conditions(st, &cond, progress)
+}
+
+/// Renders the prepared scene `st` under prepared conditions `cond` (see
+/// [`prepare_conditions`]).
+pub fn render_conditions(
+    st: &Static,
+    cond: &Conditions,
+    progress: ProgressFn,
+) -> anyhow::Result<Rendered> {
+    let frame = render_with(st, cond, progress)?;
+    Ok(Rendered {
+        scene: st.scene.path.display().to_string(),
+        image_time_utc: cond.image_time,
+        sun_zenith_deg: cond.sun_now.zenith_deg,
+        sun_azimuth_deg: cond.sun_now.azimuth_deg,
+        band: st.band.label.clone(),
+        estimators: cond.estimators.to_string(),
+        frame,
+    })
+}
+
+/// Renders a loaded scene at its image time, as `irsig render` does
+/// (`tracer`: default the scene's `render.tracer`). For several images of
+/// one scene, prepare it once with [`prepare_static`] and call
+/// [`render_at`], or see [`super::sequence`].
+pub fn render_scene(
+    scene: LoadedScene,
+    tracer: Option<Backend>,
+    progress: ProgressFn,
+) -> anyhow::Result<Rendered> {
+    let st = prepare_static(scene, tracer)?;
+    let t = st.scene.scene.time.utc(&st.scene.scene.site);
+    render_at(&st, t, progress)
+}
