@@ -8,8 +8,9 @@ cd "$(dirname "$0")/.."
 if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi
 
 # Debian packages: Embree (3 on Debian 12, 4 on Debian 13 / Ubuntu 24.04),
-# libclang for bindgen, a C compiler for the shim.
-PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates"
+# libclang for bindgen, a C compiler for the shim; python3-venv for the
+# Python package's virtual environment.
+PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
@@ -36,6 +37,15 @@ if [ "$(printf '%s\n1.85.0\n' "$ver" | sort -V | head -n1)" != "1.85.0" ]; then
 fi
 
 cargo build --release --locked
+
+# The Python package: a project virtual environment (.venv) with the
+# build backend, numpy/xarray/pandas and the test tools, then the package.
+if [ ! -x .venv/bin/python ]; then
+  python3 -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet --upgrade pip
+.venv/bin/python -m pip install --quiet -r python/requirements-dev.txt
+bash scripts/python-install.sh
 
 # A real render of the sample scene, to prove the whole chain works.
 bash scripts/sample-render.sh

@@ -15,6 +15,7 @@
 //! Everything is deterministic: results depend on pixel, key and seed only,
 //! never on thread scheduling.
 
+pub mod cancel;
 pub mod image;
 pub mod pixel;
 pub mod prepare;
@@ -369,6 +370,9 @@ fn trace_blocks(
     let traced: Vec<Vec<Sample>> = blocks
         .par_iter()
         .map(|px| {
+            if cancel::cancelled() {
+                return Vec::new();
+            }
             let s = trace_block(st, cond, cam, px, &counters);
             if let Some(f) = progress {
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -407,6 +411,7 @@ fn solve_temperatures(
     samples
         .par_chunks_mut(PROGRESS_CHUNK)
         .try_for_each(|chunk| -> anyhow::Result<()> {
+            cancel::check()?;
             for s in chunk.iter_mut() {
                 if let Some(surf) = s.surface.as_mut() {
                     surf.temp_k = temperature(st, cond, surf)?;
@@ -461,6 +466,7 @@ pub fn trace_frame_with(
         }
     }
     let traced = trace_blocks(st, cond, &cam, &blocks, stats, progress);
+    cancel::check()?;
     let mut samples: Vec<Option<Sample>> = vec![None; (w * h) as usize];
     for (px, ss) in blocks.iter().zip(traced) {
         for (&(x, y), s) in px.iter().zip(ss) {
@@ -514,6 +520,7 @@ pub fn trace_samples(
         .map(|&(bx, by)| block_pixels(bx, by, w, h))
         .collect();
     let traced = trace_blocks(st, cond, &cam, &blocks, stats, None);
+    cancel::check()?;
     let mut samples = Vec::with_capacity(pixels.len());
     for &p in pixels {
         let b = origins.binary_search(&origin(p)).expect("block traced");
@@ -553,6 +560,7 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
     let evaluated: Vec<pixel::SampleResult> = todo
         .par_chunks(PROGRESS_CHUNK)
         .map(|chunk| -> anyhow::Result<Vec<pixel::SampleResult>> {
+            cancel::check()?;
             let r = chunk
                 .iter()
                 .map(|&k| ctx.evaluate(&samples[k]))

@@ -1,0 +1,395 @@
+"""irsig: a physics-based thermal-infrared synthetic image generator.
+
+The Rust library does the work (``irsig._irsig``); this module turns its
+results into xarray Datasets, pandas DataFrames and plain dicts. See
+docs/python.md for the API.
+
+    >>> import irsig
+    >>> scene = irsig.Scene.load("scenes/airfield/scene.toml",
+    ...                          overrides={"sensor.width_px": 64, "sensor.height_px": 48})
+    >>> ds = irsig.render(scene)
+    >>> ds.apparent_temperature.max().item()
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json as _json
+import os as _os
+from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as _np
+import xarray as _xr
+
+from . import _irsig
+from ._irsig import IrsigError, SceneError, WeatherError
+
+__all__ = [
+    "IrsigError",
+    "SceneError",
+    "WeatherError",
+    "Scene",
+    "render",
+    "sequence",
+    "sweep",
+    "sun",
+    "PLANES",
+    "material_mask",
+]
+
+__version__ = _irsig.version()
+
+#: Long names of the render's planes (docs/render.md).
+PLANES = {
+    "band_radiance": "at-aperture band-averaged radiance (before PSF, noise, quantisation)",
+    "apparent_temperature": "blackbody temperature of the band radiance",
+    "surface_temperature": "thermal-model surface temperature at the image time",
+    "material": "material index of the facet at the pixel centre (-1 none)",
+    "facet": "triangle index in the loaded scene (-1 none)",
+    "sun_now": "share of the pixel's samples sunlit at the image time",
+    "hours_sunlit": "sunlit hours of the shadow history",
+    "range": "distance sensor to surface",
+    "view_angle": "angle between line of sight and facet normal",
+    "case": "the paper's radiometry equation used (1-4, 0 none)",
+    "emitted": "emitted radiance term",
+    "reflected_solar": "reflected direct solar radiance term",
+    "reflected_sky": "reflected sky radiance term",
+    "reflected_background": "reflected background radiance term",
+    "path_thermal": "thermal path radiance term",
+    "path_scattered": "scattered path radiance term",
+    "sensor_radiance": "band radiance after PSF and detector noise",
+    "dn": "quantised sensor radiance",
+}
+
+PathLike = Union[str, "_os.PathLike[str]"]
+Time = Union[None, str, _dt.datetime]
+Progress = Optional[Any]
+
+
+def _value_text(v: Any) -> str:
+    """A Python value as the text of a ``--set key=value`` override."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return v
+    if isinstance(v, Mapping):
+        return "{" + ",".join(f"{k}={_toml_value(x)}" for k, x in v.items()) + "}"
+    if isinstance(v, (list, tuple)):
+        return "[" + ",".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"override value {v!r}: expected a bool, number, str, dict or list")
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, str):
+        return _json.dumps(v)
+    return _value_text(v)
+
+
+def _time_text(t: Time) -> Optional[str]:
+    """None, or the text the extension parses (see ``render``)."""
+    if t is None or isinstance(t, str):
+        return t
+    if isinstance(t, _dt.datetime):
+        return t.isoformat()
+    if isinstance(t, _dt.time):
+        return t.isoformat()
+    if isinstance(t, _np.datetime64):
+        return str(t.astype("datetime64[s]"))
+    raise TypeError(f"time={t!r}: expected None, a str or a datetime")
+
+
+def _progress_fn(progress: Progress) -> Optional[Callable[[int, int], None]]:
+    """A ``callable(done, total)``; a tqdm-like bar (``update`` and
+    ``total``) is driven directly."""
+    if progress is None:
+        return None
+    if hasattr(progress, "update") and hasattr(progress, "total"):
+        bar = progress
+
+        def drive(done: int, total: int) -> None:
+            if bar.total != total:
+                bar.total = total
+                if hasattr(bar, "refresh"):
+                    bar.refresh()
+            bar.update(done - getattr(bar, "n", 0))
+
+        return drive
+    if callable(progress):
+        return progress
+    raise TypeError(f"progress={progress!r}: expected a callable(done, total) or a tqdm bar")
+
+
+class Scene:
+    """A loaded scene (``irsig check`` has validated it). Use
+    :meth:`Scene.load`."""
+
+    def __init__(self, inner: "_irsig.Scene"):
+        self._inner = inner
+
+    @classmethod
+    def load(
+        cls,
+        path: PathLike,
+        overrides: Optional[Mapping[str, Any]] = None,
+        unset: Iterable[str] = (),
+    ) -> "Scene":
+        """Loads a scene file. ``overrides`` maps dotted scene keys to values,
+        as the CLI's ``--set key=value`` (``{"sensor.band": "lwir",
+        "sensor.width_px": 128}``); ``unset`` removes keys or tables first, as
+        ``--unset``. Errors raise :class:`SceneError` with ``file``, ``line``
+        and ``column``."""
+        ov = [(str(k), _value_text(v)) for k, v in (overrides or {}).items()]
+        return cls(_irsig.Scene.load(_os.fspath(path), ov, [str(k) for k in unset]))
+
+    def with_overrides(self, overrides: Mapping[str, Any]) -> "Scene":
+        """The same scene file loaded with more overrides."""
+        merged = dict(self._inner.overrides)
+        merged.update({str(k): _value_text(v) for k, v in overrides.items()})
+        return Scene(_irsig.Scene.load(_os.fspath(self.path), list(merged.items()), []))
+
+    @property
+    def path(self) -> str:
+        return self._inner.path
+
+    @property
+    def overrides(self) -> dict:
+        return dict(self._inner.overrides)
+
+    @property
+    def text(self) -> str:
+        """The scene file's text with the overrides applied."""
+        return self._inner.text
+
+    @property
+    def size(self) -> tuple:
+        """(width, height) of the image in pixels."""
+        return self._inner.size
+
+    def check(self) -> dict:
+        """What ``irsig check --json`` prints: objects, facets, materials,
+        bounds, footprint, band, weather and what the render will need."""
+        return _json.loads(self._inner.check_json())
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+def _scene(scene: Union[Scene, PathLike]) -> Scene:
+    return scene if isinstance(scene, Scene) else Scene.load(scene)
+
+
+_FLAT_ATTRS = (
+    "scene",
+    "image_time_utc",
+    "image_time_local",
+    "utc_offset_h",
+    "latitude_deg",
+    "longitude_deg",
+    "sun_zenith_deg",
+    "sun_azimuth_deg",
+    "band",
+    "band_min_um",
+    "band_max_um",
+    "band_bins",
+    "estimators",
+    "air_temperature_k",
+)
+
+
+def _utc64(text: str) -> _np.datetime64:
+    t = _dt.datetime.fromisoformat(text).astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    return _np.datetime64(t, "ns")
+
+
+def _variables(planes, frame_dims=()) -> dict:
+    out = {}
+    for name, unit, data in planes:
+        out[name] = _xr.Variable(
+            (*frame_dims, "y", "x"),
+            data,
+            {"units": unit, "long_name": PLANES.get(name, name)},
+        )
+    return out
+
+
+def _xy_coords(height: int, width: int) -> dict:
+    return {
+        "y": ("y", _np.arange(height), {"long_name": "image row (0 at the top)"}),
+        "x": ("x", _np.arange(width), {"long_name": "image column (0 at the left)"}),
+    }
+
+
+def _frame_attrs(meta: dict) -> dict:
+    attrs = {k: meta[k] for k in _FLAT_ATTRS if k in meta}
+    attrs["camera"] = _json.dumps(meta.get("camera"))
+    attrs["stats"] = _json.dumps(meta.get("stats"))
+    attrs["irsig_version"] = __version__
+    return attrs
+
+
+def _name_materials(ds: _xr.Dataset, meta: dict) -> _xr.Dataset:
+    """CF flag attributes on the ``material`` plane: its values index
+    ``materials`` (the scene's material libraries, in order)."""
+    names = meta.get("materials") or []
+    if "material" in ds:
+        ds["material"].attrs["flag_values"] = _np.arange(len(names), dtype=_np.float32)
+        ds["material"].attrs["flag_meanings"] = " ".join(names)
+    ds.attrs["materials"] = _json.dumps(names)
+    return ds
+
+
+def _dataset(frame: dict) -> _xr.Dataset:
+    meta = _json.loads(frame["meta"])
+    planes = frame["planes"]
+    h, w = planes[0][2].shape
+    ds = _xr.Dataset(_variables(planes), coords=_xy_coords(h, w), attrs=_frame_attrs(meta))
+    _name_materials(ds, meta)
+    ds.coords["time"] = ((), _utc64(meta["image_time_utc"]), {"long_name": "image time (UTC)"})
+    return ds
+
+
+def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
+    """Frames of equal size stacked along ``dim``."""
+    metas = [_json.loads(f["meta"]) for f in frames]
+    names = [p[0] for p in frames[0]["planes"]]
+    units = {p[0]: p[1] for p in frames[0]["planes"]}
+    h, w = frames[0]["planes"][0][2].shape
+    for f in frames:
+        if [p[0] for p in f["planes"]] != names or f["planes"][0][2].shape != (h, w):
+            raise IrsigError(f"frames differ in planes or size along {dim}; render them one by one")
+    variables = {
+        name: _xr.Variable(
+            (dim, "y", "x"),
+            _np.stack([f["planes"][i][2] for f in frames]),
+            {"units": units[name], "long_name": PLANES.get(name, name)},
+        )
+        for i, name in enumerate(names)
+    }
+    coords = _xy_coords(h, w)
+    coords[dim] = (dim, coord, coord_attrs)
+    per_frame = {
+        "sun_zenith_deg": ("deg", "solar zenith angle at the image time"),
+        "sun_azimuth_deg": ("deg", "solar azimuth at the image time, clockwise from north"),
+        "air_temperature_k": ("K", "air temperature at the image time"),
+    }
+    for k, (u, ln) in per_frame.items():
+        variables[k] = _xr.Variable((dim,), _np.array([m[k] for m in metas]), {"units": u, "long_name": ln})
+    if dim != "time":
+        coords["time"] = (dim, _np.array([_utc64(m["image_time_utc"]) for m in metas]), {"long_name": "image time (UTC)"})
+    attrs = {k: v for k, v in _frame_attrs(metas[0]).items() if all(
+        _frame_attrs(m).get(k) == v for m in metas[1:])}
+    attrs["stats"] = _json.dumps([m.get("stats") for m in metas])
+    attrs["image_time_local"] = _json.dumps([m["image_time_local"] for m in metas])
+    return _name_materials(_xr.Dataset(variables, coords=coords, attrs=attrs), metas[0])
+
+
+def material_mask(ds: _xr.Dataset, name: str) -> _xr.DataArray:
+    """Where the ``material`` plane of a rendered Dataset is material
+    ``name`` (a boolean DataArray over the image)."""
+    names = _json.loads(ds.attrs["materials"])
+    if name not in names:
+        raise KeyError(f"material {name!r} is not in the scene's libraries: {', '.join(names)}")
+    return ds["material"] == names.index(name)
+
+
+def render(
+    scene: Union[Scene, PathLike],
+    time: Time = None,
+    threads: Optional[int] = None,
+    tracer: Optional[str] = None,
+    progress: Progress = None,
+) -> _xr.Dataset:
+    """Renders ``scene`` (as ``irsig render``) into an xarray Dataset: every
+    plane a float32 variable over (y, x) with ``units`` and ``long_name``;
+    the image time (UTC) as the ``time`` coordinate; sun angles, band
+    limits, site, estimators, camera and run statistics as attributes.
+
+    ``time``: None (the scene's ``[time]``), a local clock time on the scene's
+    date (``"14:00"``), a local date-time of the site's clock
+    (``"2001-08-08T14:00"`` or a naive ``datetime``) or an instant with an
+    offset (``"2001-08-08T18:00Z"`` or an aware ``datetime``).
+    ``threads``: worker threads (default: all cores; results do not depend
+    on it). ``tracer``: ``"embree"`` or ``"bvh"`` (default: the scene's).
+    ``progress``: ``callable(done, total)`` or a tqdm bar.
+
+    The GIL is released while rendering; Ctrl-C stops the render and raises
+    KeyboardInterrupt. The arrays are the render's own buffers (no copy).
+    """
+    sc = _scene(scene)
+    frame = _irsig.render(sc._inner, _time_text(time), threads, tracer, _progress_fn(progress))
+    return _dataset(frame)
+
+
+def sequence(
+    scene: Union[Scene, PathLike],
+    times: Optional[Sequence[Time]] = None,
+    *,
+    start: Optional[str] = None,
+    stop: Optional[str] = None,
+    step: Optional[str] = None,
+    threads: Optional[int] = None,
+    tracer: Optional[str] = None,
+    progress: Progress = None,
+) -> _xr.Dataset:
+    """A time sequence (as ``irsig sequence``): a Dataset with a ``time``
+    dimension (UTC), one frame per time; the static work (geometry, BVH,
+    tables) is done once. Give ``times`` (each as ``render``'s ``time``) or
+    ``start``, ``stop`` and ``step`` (local clock times such as ``"08:00"``,
+    ``"15:00"`` and a step such as ``"1h"``, ``"30min"``, as ``--from --to
+    --step``). Sun angles and air temperature are variables over ``time``;
+    ``image_time_local`` and ``stats`` are JSON lists in the attributes."""
+    sc = _scene(scene)
+    if times is None:
+        if start is None or stop is None or step is None:
+            raise TypeError("sequence: give times=[...] or start=, stop= and step=")
+        texts = _irsig.sequence_times(sc._inner, start, stop, step)
+    else:
+        if start is not None or stop is not None or step is not None:
+            raise TypeError("sequence: give times=[...] or start=, stop= and step=, not both")
+        texts = [_time_text(t) for t in times]
+        if not texts:
+            raise ValueError("sequence: times is empty")
+    frames = _irsig.sequence(sc._inner, texts, threads, tracer, _progress_fn(progress))
+    utc = _np.array([_utc64(_json.loads(f["meta"])["image_time_utc"]) for f in frames])
+    return _stacked(frames, "time", utc, {"long_name": "image time (UTC)"})
+
+
+def sweep(
+    scene: Union[Scene, PathLike],
+    key: str,
+    values: Sequence[Any],
+    *,
+    time: Time = None,
+    threads: Optional[int] = None,
+    tracer: Optional[str] = None,
+    progress: Progress = None,
+) -> _xr.Dataset:
+    """A sweep over a scene key (as ``irsig sweep --key --values``): a
+    Dataset with a dimension named ``key`` whose coordinate holds the
+    values (numbers where all are numbers). Every value's scene is loaded
+    (and checked) before any is rendered; geometry and atmosphere are
+    reused where the key leaves them unchanged."""
+    sc = _scene(scene)
+    texts = [_value_text(v) for v in values]
+    if not texts:
+        raise ValueError("sweep: values is empty")
+    frames = _irsig.sweep(sc._inner, key, texts, _time_text(time), threads, tracer, _progress_fn(progress))
+    try:
+        coord = _np.array([float(t) for t in texts])
+    except ValueError:
+        coord = _np.array(texts)
+    return _stacked(frames, key, coord, {"long_name": f"scene key {key}"})
+
+
+def sun(lat: float, lon: float, time: Union[str, _dt.datetime], elevation: float = 0.0) -> dict:
+    """Solar position (NREL SPA), as ``irsig sun --json``: zenith (apparent
+    and true), azimuth, elevation, Earth-Sun distance and the ENU unit
+    vector. ``time``: RFC 3339 with an offset or an aware datetime (a naive
+    datetime is taken as UTC)."""
+    if isinstance(time, _dt.datetime):
+        if time.tzinfo is None:
+            time = time.replace(tzinfo=_dt.timezone.utc)
+        time = time.isoformat()
+    return _json.loads(_irsig.sun(float(lat), float(lon), str(time), float(elevation)))

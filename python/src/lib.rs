@@ -1,0 +1,585 @@
+//! `irsig._irsig`: the Rust side of the Python package `irsig`. It holds
+//! no logic of its own beyond argument conversion: scenes are loaded,
+//! checked and rendered by the irsig library, and the results go back as
+//! numpy arrays (moved, not copied) and JSON text that `irsig/__init__.py`
+//! turns into xarray and pandas objects.
+//!
+//! Renders run in a scoped thread with the GIL released; the calling thread
+//! wakes every few milliseconds to check for signals (Ctrl-C sets the
+//! render's cancellation flag, see `irsig::render::cancel`) and to pass the
+//! progress on to the Python callback.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Duration;
+
+use chrono::{DateTime, NaiveDate, NaiveDateTime, Utc};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use irsig::render::cancel::{self, Cancelled};
+use irsig::render::{
+    Frame, Progress, Reused, Stage, Static, derive_static, prepare_conditions, prepare_static,
+    render_with,
+};
+use irsig::scene::{LoadedScene, SceneError, TimeSpec};
+use irsig::trace::Backend;
+
+create_exception!(
+    _irsig,
+    IrsigError,
+    PyException,
+    "An error of irsig; the message is the one the CLI prints."
+);
+create_exception!(
+    _irsig,
+    IrsigSceneError,
+    IrsigError,
+    "A scene, material, mesh or data file is wrong; `file`, `line` and `column` say where (line and column 0: unknown)."
+);
+create_exception!(
+    _irsig,
+    IrsigWeatherError,
+    IrsigError,
+    "A weather file is wrong or does not cover the history; `file` and `line` say where."
+);
+
+/// The Python exception of an irsig error: the message is the CLI's
+/// (`{e:#}`, the whole context chain), the class and attributes follow the
+/// first located error of the chain.
+fn to_py(e: anyhow::Error) -> PyErr {
+    if e.chain().any(|c| c.is::<Cancelled>()) {
+        return PyKeyboardInterrupt::new_err("render cancelled");
+    }
+    let msg = format!("{e:#}");
+    Python::with_gil(|py| {
+        let located = e.chain().find_map(|c| {
+            if let Some(s) = c.downcast_ref::<SceneError>() {
+                let (file, line, col) = match s {
+                    SceneError::Io { path, .. } => (path.display().to_string(), 0, 0),
+                    _ => s.location().map_or((String::new(), 0, 0), |l| {
+                        (l.file.display().to_string(), l.line, l.col)
+                    }),
+                };
+                Some((IrsigSceneError::new_err(msg.clone()), file, line, col))
+            } else if let Some(w) = c.downcast_ref::<irsig::therm::weather::WeatherError>() {
+                let (file, line) = weather_location(w);
+                Some((IrsigWeatherError::new_err(msg.clone()), file, line, 0))
+            } else {
+                None
+            }
+        });
+        match located {
+            Some((err, file, line, col)) => {
+                let v = err.value(py);
+                let _ = v.setattr("file", file);
+                let _ = v.setattr("line", line);
+                let _ = v.setattr("column", col);
+                err
+            }
+            None => IrsigError::new_err(msg),
+        }
+    })
+}
+
+/// File and line of a weather error, parsed from its `file:line: ...`
+/// message (line 0 when it names none).
+fn weather_location(w: &irsig::therm::weather::WeatherError) -> (String, usize) {
+    let s = w.to_string();
+    let head = s.split(": ").next().unwrap_or_default();
+    match head.rsplit_once(':') {
+        Some((f, l)) if l.parse::<usize>().is_ok() => (f.to_string(), l.parse().unwrap_or(0)),
+        _ => (head.to_string(), 0),
+    }
+}
+
+fn anyhow_py<T, E: Into<anyhow::Error>>(r: Result<T, E>) -> PyResult<T> {
+    r.map_err(|e| to_py(e.into()))
+}
+
+/// A loaded scene (with its overrides applied).
+#[pyclass(module = "irsig._irsig", frozen)]
+struct Scene {
+    scene: LoadedScene,
+    /// The scene file's text with the overrides applied (sweeps override
+    /// it further).
+    text: String,
+    overrides: Vec<(String, String)>,
+}
+
+#[pymethods]
+impl Scene {
+    /// Loads `path`, applying `overrides` ((key, value) pairs, the CLI's
+    /// `--set key=value`).
+    #[staticmethod]
+    #[pyo3(signature = (path, overrides = Vec::new(), unset = Vec::new()))]
+    fn load(
+        path: PathBuf,
+        overrides: Vec<(String, String)>,
+        unset: Vec<String>,
+    ) -> PyResult<Scene> {
+        let read = || -> anyhow::Result<(LoadedScene, String)> {
+            let text = std::fs::read_to_string(&path).map_err(|error| SceneError::Io {
+                path: path.clone(),
+                error,
+            })?;
+            if overrides.is_empty() && unset.is_empty() {
+                // Exactly the CLI's load without --set.
+                return Ok((irsig::scene::load(&path)?, text));
+            }
+            let text = if unset.is_empty() {
+                text
+            } else {
+                irsig::scene::remove_keys(&path, &text, &unset)?
+            };
+            let text = irsig::scene::apply_overrides(&path, &text, &overrides)?;
+            Ok((irsig::scene::load_text(&path, text.clone())?, text))
+        };
+        let (scene, text) = read().map_err(to_py)?;
+        Ok(Scene {
+            scene,
+            text,
+            overrides,
+        })
+    }
+
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.scene.path.clone()
+    }
+
+    #[getter]
+    fn overrides(&self) -> Vec<(String, String)> {
+        self.overrides.clone()
+    }
+
+    /// The scene file's text with the overrides applied.
+    #[getter]
+    fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The image size (width, height) in output pixels.
+    #[getter]
+    fn size(&self) -> (u32, u32) {
+        (self.scene.camera.width_px, self.scene.camera.height_px)
+    }
+
+    /// `irsig check --json` as JSON text.
+    fn check_json(&self) -> PyResult<String> {
+        anyhow_py(serde_json::to_string(&irsig::cli::check::summarize(
+            &self.scene,
+        )))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}, {} triangles, {}x{} px)",
+            self.scene.path.display().to_string(),
+            self.scene.triangles.len(),
+            self.scene.camera.width_px,
+            self.scene.camera.height_px
+        )
+    }
+}
+
+/// Progress of a whole call (one or more frames) in units of 1/1000 of a
+/// render stage: frame i, stage s at fraction f is i·3000 + s·1000 + 1000·f.
+struct Reporter {
+    frame: AtomicU64,
+    done: AtomicU64,
+}
+
+const STAGE_UNITS: u64 = 1000;
+const FRAME_UNITS: u64 = 3 * STAGE_UNITS;
+
+impl Reporter {
+    fn report(&self, p: Progress) {
+        let stage = match p.stage {
+            Stage::Trace => 0,
+            Stage::Thermal => 1,
+            Stage::Radiometry => 2,
+        };
+        let frac = (STAGE_UNITS * p.done.min(p.total))
+            .checked_div(p.total)
+            .unwrap_or(STAGE_UNITS);
+        let d = self.frame.load(Ordering::Relaxed) * FRAME_UNITS + stage * STAGE_UNITS + frac;
+        self.done.fetch_max(d, Ordering::Relaxed);
+    }
+
+    /// Frame `i` starts (the previous ones are complete).
+    fn start_frame(&self, i: u64) {
+        self.frame.store(i, Ordering::Relaxed);
+        self.done.fetch_max(i * FRAME_UNITS, Ordering::Relaxed);
+    }
+}
+
+/// Runs `work` in a rayon pool of `threads` workers (FTZ/DAZ set, the
+/// cancellation flag watched) on a scoped thread, with the GIL released.
+/// The calling thread polls for signals (Ctrl-C cancels the render and
+/// raises `KeyboardInterrupt`) and calls `progress(done, total)` when the
+/// progress moved; an exception from the callback cancels the render too.
+fn run_blocking<T: Send>(
+    py: Python<'_>,
+    threads: Option<u32>,
+    progress: Option<&Bound<'_, PyAny>>,
+    frames: u64,
+    work: impl FnOnce(&Reporter) -> anyhow::Result<T> + Send,
+) -> PyResult<T> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f2 = flag.clone();
+    let mut b = rayon::ThreadPoolBuilder::new().start_handler(move |_| {
+        irsig::trace::embree::set_thread_ftz_daz();
+        cancel::set_thread_flag(f2.clone());
+    });
+    if let Some(n) = threads {
+        if n == 0 {
+            return Err(IrsigError::new_err("threads must be at least 1"));
+        }
+        b = b.num_threads(n as usize);
+    }
+    let pool = b
+        .build()
+        .map_err(|e| IrsigError::new_err(format!("cannot start the thread pool: {e}")))?;
+    let rep = Reporter {
+        frame: AtomicU64::new(0),
+        done: AtomicU64::new(0),
+    };
+    let total = frames * FRAME_UNITS;
+    let caller = std::thread::current();
+    let mut pending: Option<PyErr> = None;
+    let result = std::thread::scope(|s| {
+        let rep = &rep;
+        let pool = &pool;
+        let h = s.spawn(move || {
+            let r = pool.install(|| work(rep));
+            caller.unpark();
+            r
+        });
+        let mut shown = u64::MAX;
+        loop {
+            py.allow_threads(|| {
+                if !h.is_finished() {
+                    std::thread::park_timeout(Duration::from_millis(20));
+                }
+            });
+            let finished = h.is_finished();
+            if let Some(cb) = progress {
+                let d = if finished {
+                    total
+                } else {
+                    rep.done.load(Ordering::Relaxed)
+                };
+                if d != shown {
+                    shown = d;
+                    if let Err(e) = cb.call1((d, total)) {
+                        pending = Some(e);
+                    }
+                }
+            }
+            if pending.is_none()
+                && let Err(e) = py.check_signals()
+            {
+                pending = Some(e);
+            }
+            if pending.is_some() {
+                flag.store(true, Ordering::Relaxed);
+            }
+            if finished || pending.is_some() {
+                break;
+            }
+        }
+        py.allow_threads(|| h.join())
+    });
+    if let Some(e) = pending {
+        return Err(e);
+    }
+    match result {
+        Ok(r) => r.map_err(to_py),
+        Err(_) => Err(IrsigError::new_err("the render panicked")),
+    }
+}
+
+/// The backend named `tracer` (None: the scene's).
+fn backend(tracer: Option<&str>) -> PyResult<Option<Backend>> {
+    match tracer {
+        None => Ok(None),
+        Some("embree") => Ok(Some(Backend::Embree)),
+        Some("bvh") => Ok(Some(Backend::Bvh)),
+        Some(t) => Err(IrsigError::new_err(format!(
+            "tracer={t:?}: expected \"embree\" or \"bvh\""
+        ))),
+    }
+}
+
+/// A frame's image time: `None` the scene's `[time]`; RFC 3339 with an
+/// offset (`2001-08-08T16:00:00Z`); a local date-time of the site's clock
+/// (`2001-08-08T12:00[:00]`); or a local clock time on the scene's date
+/// (`12:00[:00]`).
+fn image_time(
+    s: Option<&str>,
+    scene: &LoadedScene,
+) -> anyhow::Result<(NaiveDateTime, DateTime<Utc>)> {
+    let sc = &scene.scene;
+    let local = match s {
+        None => sc.time.local,
+        Some(s) => {
+            if let Ok(t) = DateTime::parse_from_rfc3339(s) {
+                let utc = t.with_timezone(&Utc);
+                let off = chrono::Duration::seconds((sc.site.utc_offset_h * 3600.0).round() as i64);
+                return Ok((utc.naive_utc() + off, utc));
+            }
+            local_time(s, sc.time.local.date())?
+        }
+    };
+    Ok((local, TimeSpec { local }.utc(&sc.site)))
+}
+
+fn local_time(s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
+    irsig::cli::sequence::parse_local_time("time", s, date).map_err(|_| {
+        anyhow::anyhow!(
+            "time={s:?}: expected RFC 3339 with an offset (2001-08-08T16:00:00Z), a local date-time of the site's clock (2001-08-08T12:00) or a local clock time on the scene's date (12:00)"
+        )
+    })
+}
+
+/// The local times from `start` to `stop` every `step` (`1h`, `30min`,
+/// ...), as `irsig sequence --from --to --step`, as ISO text.
+#[pyfunction]
+fn sequence_times(scene: &Scene, start: &str, stop: &str, step: &str) -> PyResult<Vec<String>> {
+    use irsig::cli::sequence::{parse_local_time, parse_step_s, time_steps};
+    let date = scene.scene.scene.time.local.date();
+    let r = || -> anyhow::Result<Vec<String>> {
+        let step_s = parse_step_s(step)?;
+        let from = parse_local_time("start", start, date)?;
+        let to = parse_local_time("stop", stop, date)?;
+        Ok(time_steps(from, to, step_s)?
+            .iter()
+            .map(|t| t.format("%Y-%m-%dT%H:%M:%S").to_string())
+            .collect())
+    };
+    r().map_err(to_py)
+}
+
+/// One rendered frame as Python objects: `planes` is a list of (name,
+/// unit, float32 array of shape (height, width)) whose data are the
+/// render's own buffers; `meta` is JSON text.
+fn frame_to_py<'py>(
+    py: Python<'py>,
+    frame: Frame,
+    meta: serde_json::Value,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (w, h) = (frame.planes.width as usize, frame.planes.height as usize);
+    let planes = PyList::empty(py);
+    for p in frame.planes.planes {
+        let a = PyArray1::from_vec(py, p.data).reshape([h, w])?;
+        planes.append((p.name, p.unit, a))?;
+    }
+    let mut meta = meta;
+    meta["stats"] = serde_json::to_value(&frame.stats).unwrap_or_default();
+    let d = PyDict::new(py);
+    d.set_item("planes", planes)?;
+    d.set_item("meta", meta.to_string())?;
+    Ok(d)
+}
+
+/// What a frame's Dataset carries as attributes.
+fn frame_meta(
+    st: &Static,
+    cond: &irsig::render::Conditions,
+    local: NaiveDateTime,
+) -> serde_json::Value {
+    let (lo, hi) = st.scene.response.support_um();
+    let bin_um: Vec<f64> = st.wavelength_um.clone();
+    let sc = &st.scene.scene;
+    serde_json::json!({
+        "scene": st.scene.path.display().to_string(),
+        "image_time_utc": cond.image_time.to_rfc3339(),
+        "image_time_local": local.format("%Y-%m-%dT%H:%M:%S").to_string(),
+        "utc_offset_h": sc.site.utc_offset_h,
+        "latitude_deg": sc.site.latitude_deg,
+        "longitude_deg": sc.site.longitude_deg,
+        "sun_zenith_deg": cond.sun_now.zenith_deg,
+        "sun_azimuth_deg": cond.sun_now.azimuth_deg,
+        "band": st.band.label,
+        "band_min_um": lo,
+        "band_max_um": hi,
+        "band_bins": bin_um.len(),
+        "estimators": cond.estimators.to_string(),
+        "air_temperature_k": cond.air_temp_k,
+        "camera": st.scene.camera,
+        "materials": st.scene.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(),
+    })
+}
+
+/// Renders one frame of a prepared static part at `time`.
+fn render_one(
+    st: &Static,
+    time: Option<&str>,
+    rep: &Reporter,
+) -> anyhow::Result<(Frame, serde_json::Value)> {
+    let (local, utc) = image_time(time, &st.scene)?;
+    let cond = prepare_conditions(st, utc)?;
+    let report = |p: Progress| rep.report(p);
+    let frame = render_with(st, &cond, Some(&report))?;
+    let meta = frame_meta(st, &cond, local);
+    Ok((frame, meta))
+}
+
+/// Renders `scene` at `time` (see `image_time`).
+#[pyfunction]
+#[pyo3(signature = (scene, time = None, threads = None, tracer = None, progress = None))]
+fn render<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    time: Option<String>,
+    threads: Option<u32>,
+    tracer: Option<String>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let be = backend(tracer.as_deref())?;
+    let loaded = scene.scene.clone();
+    let (frame, meta) = run_blocking(py, threads, progress.as_ref(), 1, |rep| {
+        let st = prepare_static(loaded, be)?;
+        render_one(&st, time.as_deref(), rep)
+    })?;
+    frame_to_py(py, frame, meta)
+}
+
+/// Renders `scene` at each of `times`; the static part (geometry, BVH,
+/// tables) is prepared once, as `irsig sequence` does.
+#[pyfunction]
+#[pyo3(signature = (scene, times, threads = None, tracer = None, progress = None))]
+fn sequence<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    times: Vec<String>,
+    threads: Option<u32>,
+    tracer: Option<String>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyList>> {
+    let be = backend(tracer.as_deref())?;
+    let loaded = scene.scene.clone();
+    let n = times.len() as u64;
+    let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
+        let st = prepare_static(loaded, be)?;
+        let mut out = Vec::with_capacity(times.len());
+        for (i, t) in times.iter().enumerate() {
+            rep.start_frame(i as u64);
+            let f = render_one(&st, Some(t), rep)
+                .map_err(|e| e.context(format!("frame {} ({t})", i + 1)))?;
+            out.push(f);
+        }
+        Ok(out)
+    })?;
+    let list = PyList::empty(py);
+    for (f, m) in frames {
+        list.append(frame_to_py(py, f, m)?)?;
+    }
+    Ok(list)
+}
+
+/// Renders `scene` with `key` set to each of `values` (scene keys, as
+/// `irsig sweep --key --values`): every value's scene is loaded (and so
+/// checked) before any is rendered; geometry and atmosphere are reused
+/// between frames where the key leaves them unchanged.
+#[pyfunction]
+#[pyo3(signature = (scene, key, values, time = None, threads = None, tracer = None, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn sweep<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    key: String,
+    values: Vec<String>,
+    time: Option<String>,
+    threads: Option<u32>,
+    tracer: Option<String>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyList>> {
+    let be = backend(tracer.as_deref())?;
+    let path = scene.scene.path.clone();
+    let scenes = values
+        .iter()
+        .map(|v| -> anyhow::Result<LoadedScene> {
+            let t = irsig::scene::apply_overrides(&path, &scene.text, &[(key.clone(), v.clone())])?;
+            irsig::scene::load_text(&path, t)
+                .map_err(|e| anyhow::Error::new(e).context(format!("sweep key {key} = {v}")))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()
+        .map_err(to_py)?;
+    let n = scenes.len() as u64;
+    let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
+        let mut st: Option<Static> = None;
+        let mut out = Vec::with_capacity(scenes.len());
+        for (i, (sc, v)) in scenes.into_iter().zip(&values).enumerate() {
+            rep.start_frame(i as u64);
+            let (s, reused): (Static, Reused) = derive_static(st.as_ref(), sc, be)?;
+            let s = st.insert(s);
+            let (f, mut m) = render_one(s, time.as_deref(), rep)
+                .map_err(|e| e.context(format!("frame {} ({key} = {v})", i + 1)))?;
+            m["reused"] =
+                serde_json::json!({"geometry": reused.geometry, "atmosphere": reused.atmosphere});
+            out.push((f, m));
+        }
+        Ok(out)
+    })?;
+    let list = PyList::empty(py);
+    for (f, m) in frames {
+        list.append(frame_to_py(py, f, m)?)?;
+    }
+    Ok(list)
+}
+
+/// Solar position (NREL SPA) at `time` (RFC 3339 with an offset) as JSON
+/// text, as `irsig sun --json`.
+#[pyfunction]
+#[pyo3(signature = (lat, lon, time, elevation = 0.0))]
+fn sun(lat: f64, lon: f64, time: &str, elevation: f64) -> PyResult<String> {
+    let t = irsig::cli::sun::parse_time(time).map_err(IrsigError::new_err)?;
+    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=180.0).contains(&lon) {
+        return Err(IrsigError::new_err(format!(
+            "lat={lat}, lon={lon}: expected latitude in [-90, 90] and longitude in [-180, 180] degrees"
+        )));
+    }
+    let opts = irsig::sun::SpaOptions::default();
+    let p = irsig::sun::solar_position_with(t, lat, lon, elevation, &opts);
+    Ok(serde_json::json!({
+        "time_utc": t.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true),
+        "lat_deg": lat,
+        "lon_deg": lon,
+        "elevation_m": elevation,
+        "zenith_deg": p.zenith_deg,
+        "true_zenith_deg": p.true_zenith_deg,
+        "azimuth_deg": p.azimuth_deg,
+        "elevation_deg": p.elevation_deg,
+        "earth_sun_distance_au": p.earth_sun_distance_au,
+        "sun_dir_enu": p.sun_dir_enu,
+    })
+    .to_string())
+}
+
+/// The version of the extension (and of the irsig library it was built with).
+#[pyfunction]
+fn version() -> &'static str {
+    env!("CARGO_PKG_VERSION")
+}
+
+#[pymodule]
+fn _irsig(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<Scene>()?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(sequence, m)?)?;
+    m.add_function(wrap_pyfunction!(sequence_times, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sun, m)?)?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add("IrsigError", py.get_type::<IrsigError>())?;
+    m.add("SceneError", py.get_type::<IrsigSceneError>())?;
+    m.add("WeatherError", py.get_type::<IrsigWeatherError>())?;
+    Ok(())
+}

@@ -1,0 +1,74 @@
+"""Bad input raises irsig exceptions carrying the CLI's message: file, line
+and key."""
+
+import pytest
+
+import irsig
+from conftest import AIRFIELD, SMALL, run_cli, set_args
+
+
+def cli_error(*args) -> str:
+    p = run_cli(*args, check=False)
+    assert p.returncode != 0
+    line = p.stderr.strip().splitlines()[-1]
+    assert line.startswith("irsig: error: ")
+    return line[len("irsig: error: "):]
+
+
+def test_unknown_key_names_file_line_and_key(tmp_path):
+    with pytest.raises(irsig.SceneError) as e:
+        irsig.Scene.load(AIRFIELD, overrides={"sensor.widht_px": 64})
+    err = e.value
+    assert isinstance(err, irsig.IrsigError)
+    assert err.file == str(AIRFIELD) and err.line > 0
+    assert "widht_px" in str(err) and "did you mean `width_px`" in str(err)
+    assert str(err) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", "--set", "sensor.widht_px=64")
+
+
+def test_out_of_range_value(tmp_path):
+    with pytest.raises(irsig.SceneError) as e:
+        irsig.Scene.load(AIRFIELD, overrides={"site.latitude_deg": 123.0})
+    assert e.value.file == str(AIRFIELD)
+    assert "latitude_deg" in str(e.value)
+    assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", "--set", "site.latitude_deg=123.0")
+
+
+def test_toml_syntax_error_in_a_scene_file(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(AIRFIELD.read_text().replace("[time]", "[time", 1))
+    with pytest.raises(irsig.SceneError) as e:
+        irsig.Scene.load(bad)
+    assert e.value.file == str(bad) and e.value.line > 0
+    assert str(e.value) == cli_error("check", bad)
+
+
+def test_missing_file():
+    with pytest.raises(irsig.SceneError) as e:
+        irsig.Scene.load("no/such/scene.toml")
+    assert e.value.file == "no/such/scene.toml"
+    assert "cannot read" in str(e.value)
+
+
+def test_bad_arguments():
+    s = irsig.Scene.load(AIRFIELD, overrides=SMALL)
+    with pytest.raises(irsig.IrsigError, match="time="):
+        irsig.render(s, time="noon")
+    with pytest.raises(irsig.IrsigError, match="tracer="):
+        irsig.render(s, tracer="optix")
+    with pytest.raises(irsig.IrsigError, match="threads"):
+        irsig.render(s, threads=0)
+    with pytest.raises(irsig.IrsigError, match="step"):
+        irsig.sequence(s, start="09:00", stop="10:00", step="often")
+    with pytest.raises(irsig.SceneError, match="sweep key"):
+        irsig.sweep(s, "sensor.width_px", [32, -1])
+
+
+def test_weather_error_names_the_weather_file(tmp_path):
+    # A weather file that does not cover the scene's history.
+    w = tmp_path / "w.csv"
+    w.write_text("time,air_temp_c\n")
+    with pytest.raises(irsig.IrsigError) as e:
+        s = irsig.Scene.load(AIRFIELD, overrides={**SMALL, "weather.file": str(w)})
+        irsig.render(s)
+    assert str(w) in str(e.value)
+    assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args({**SMALL, "weather.file": str(w)}))

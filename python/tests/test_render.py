@@ -1,0 +1,80 @@
+"""irsig.render against `irsig render`: the same planes, bit for bit (the
+CLI's EXR is read with the OpenEXR wheel from PyPI), and the metadata."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import irsig
+from conftest import AIRFIELD, SMALL, bits
+
+
+@pytest.fixture(scope="module")
+def small():
+    return irsig.Scene.load(AIRFIELD, overrides=SMALL)
+
+
+@pytest.fixture(scope="module")
+def ds(small):
+    return irsig.render(small, threads=2)
+
+
+def test_render_equals_cli_exr_bit_for_bit(ds, cli_small):
+    exr, summary = cli_small
+    assert isinstance(ds, xr.Dataset)
+    assert sorted(ds.data_vars) == sorted(exr)
+    for name, a in exr.items():
+        v = ds[name]
+        assert v.dims == ("y", "x") and v.dtype == np.float32
+        assert np.array_equal(bits(v.values), bits(a)), name
+    assert [[n, ds[n].attrs["units"]] for n, _ in summary["planes"]] == summary["planes"]
+
+
+def test_metadata_matches_cli_summary(ds, cli_small):
+    _, summary = cli_small
+    assert ds.attrs["image_time_utc"] == summary["image_time_utc"]
+    assert ds.attrs["sun_zenith_deg"] == summary["sun_zenith_deg"]
+    assert ds.attrs["sun_azimuth_deg"] == summary["sun_azimuth_deg"]
+    assert ds.attrs["band"] == summary["band"]
+    assert ds.attrs["estimators"] == summary["estimators"]
+    assert ds.sizes == {"y": 48, "x": 64}
+    assert ds.time.values == np.datetime64("2001-08-08T16:00:00")
+    assert 2.9 < ds.attrs["band_min_um"] < ds.attrs["band_max_um"] < 5.6
+    for v in ds.data_vars.values():
+        assert v.attrs["long_name"] and "units" in v.attrs
+
+
+def test_planes_are_the_render_buffers(ds):
+    a = ds.band_radiance.to_numpy()
+    # xarray hands out the array the extension made from the render's Vec:
+    # no copy, so every access sees the same memory.
+    assert np.shares_memory(a, ds.band_radiance.values)
+    assert a.flags.c_contiguous and not a.flags.owndata
+
+
+def test_threads_and_time_forms_agree(small, ds):
+    one = irsig.render(small, threads=1, time="12:00")
+    utc = irsig.render(small, threads=2, time="2001-08-08T16:00:00Z")
+    for other in (one, utc):
+        for name in ds.data_vars:
+            assert np.array_equal(bits(other[name].values), bits(ds[name].values)), name
+
+
+def test_check_is_the_cli_json():
+    import json
+
+    from conftest import run_cli
+
+    assert irsig.Scene.load(AIRFIELD).check() == json.loads(run_cli("check", AIRFIELD, "--json").stdout)
+
+
+def test_sun_matches_cli():
+    import json
+
+    from conftest import run_cli
+
+    t = "2001-08-08T16:00:00Z"
+    py = irsig.sun(43.1566, -77.6088, t)
+    cli = json.loads(run_cli("sun", "--lat", 43.1566, "--lon", -77.6088, "--time", t, "--json").stdout)
+    for k in ("zenith_deg", "azimuth_deg", "elevation_deg", "earth_sun_distance_au"):
+        assert py[k] == cli[k], k

@@ -1,0 +1,75 @@
+"""The GIL is released during a render, Ctrl-C stops one, and progress
+reaches a callback."""
+
+import os
+import signal
+import threading
+import time
+
+import pytest
+
+import irsig
+from conftest import AIRFIELD
+
+
+def scene(w, h):
+    return irsig.Scene.load(AIRFIELD, overrides={"sensor.width_px": w, "sensor.height_px": h})
+
+
+def test_a_python_thread_runs_during_a_render():
+    s = scene(160, 120)
+    count = 0
+    stop = threading.Event()
+
+    def spin():
+        nonlocal count
+        while not stop.is_set():
+            count += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        t0 = time.perf_counter()
+        before = count
+        irsig.render(s, threads=1)
+        during = count - before
+        seconds = time.perf_counter() - t0
+    finally:
+        stop.set()
+        t.join()
+    # A render holding the GIL would leave the counter (nearly) still; with
+    # the GIL released it counts millions of times per second.
+    assert seconds > 0.05
+    assert during > 20_000 * seconds, (during, seconds)
+
+
+def test_progress_reaches_the_callback():
+    calls = []
+    irsig.render(scene(64, 48), progress=lambda d, t: calls.append((d, t)))
+    assert calls and calls[-1][0] == calls[-1][1]
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
+
+
+def test_an_exception_in_the_callback_stops_the_render():
+    def boom(done, total):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        irsig.render(scene(64, 48), progress=boom)
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals go to the main thread")
+def test_ctrl_c_interrupts_a_render():
+    s = scene(512, 512)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        irsig.render(s, threads=1)
+    elapsed = time.perf_counter() - t0
+    timer.join()
+    # The full render takes several seconds on one thread; the cancelled
+    # one stops at the next block or chunk of samples.
+    assert elapsed < 2.0, elapsed
+    # The package still works afterwards.
+    assert irsig.render(scene(16, 12)).sizes == {"y": 12, "x": 16}
