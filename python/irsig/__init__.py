@@ -32,6 +32,7 @@ __all__ = [
     "render",
     "sequence",
     "sweep",
+    "probe",
     "sun",
     "PLANES",
     "material_mask",
@@ -192,9 +193,7 @@ _FLAT_ATTRS = (
     "band",
     "band_min_um",
     "band_max_um",
-    "band_bins",
     "estimators",
-    "air_temperature_k",
 )
 
 
@@ -272,7 +271,6 @@ def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
     per_frame = {
         "sun_zenith_deg": ("deg", "solar zenith angle at the image time"),
         "sun_azimuth_deg": ("deg", "solar azimuth at the image time, clockwise from north"),
-        "air_temperature_k": ("K", "air temperature at the image time"),
     }
     for k, (u, ln) in per_frame.items():
         variables[k] = _xr.Variable((dim,), _np.array([m[k] for m in metas]), {"units": u, "long_name": ln})
@@ -381,6 +379,25 @@ def sweep(
     except ValueError:
         coord = _np.array(texts)
     return _stacked(frames, key, coord, {"long_name": f"scene key {key}"})
+
+
+def probe(
+    scene: Union[Scene, PathLike],
+    x: int,
+    y: int,
+    *,
+    time: Time = None,
+    spectral: bool = False,
+    threads: Optional[int] = None,
+    tracer: Optional[str] = None,
+) -> dict:
+    """Everything about output pixel (``x``, ``y``) (column, row from the top
+    left) at ``time`` (as ``render``'s), as ``irsig probe --json``: the hit,
+    material, angles, sun/shadow history, thermal series and flux terms,
+    every radiometric term (per spectral bin with ``spectral=True``) and
+    ``pixel_result``, what ``render`` gives for the pixel."""
+    sc = _scene(scene)
+    return _json.loads(_irsig.probe(sc._inner, int(x), int(y), _time_text(time), spectral, threads, tracer))
 
 
 def sun(lat: float, lon: float, time: Union[str, _dt.datetime], elevation: float = 0.0) -> dict:

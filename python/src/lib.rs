@@ -22,10 +22,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use irsig::render::cancel::{self, Cancelled};
-use irsig::render::{
-    Frame, Progress, Reused, Stage, Static, derive_static, prepare_conditions, prepare_static,
-    render_with,
-};
+use irsig::render::sequence::{FramePlan, Frames, plan_sequence, plan_sweep};
+use irsig::render::{Progress, Rendered, Stage, prepare_static, render_at};
 use irsig::scene::{LoadedScene, SceneError, TimeSpec};
 use irsig::trace::Backend;
 
@@ -351,13 +349,13 @@ fn local_time(s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
 /// ...), as `irsig sequence --from --to --step`, as ISO text.
 #[pyfunction]
 fn sequence_times(scene: &Scene, start: &str, stop: &str, step: &str) -> PyResult<Vec<String>> {
-    use irsig::cli::sequence::{parse_local_time, parse_step_s, time_steps};
+    use irsig::cli::sequence::{parse_local_time, parse_step_s};
     let date = scene.scene.scene.time.local.date();
     let r = || -> anyhow::Result<Vec<String>> {
         let step_s = parse_step_s(step)?;
         let from = parse_local_time("start", start, date)?;
         let to = parse_local_time("stop", stop, date)?;
-        Ok(time_steps(from, to, step_s)?
+        Ok(irsig::render::sequence::time_steps(from, to, step_s)?
             .iter()
             .map(|t| t.format("%Y-%m-%dT%H:%M:%S").to_string())
             .collect())
@@ -365,21 +363,27 @@ fn sequence_times(scene: &Scene, start: &str, stop: &str, step: &str) -> PyResul
     r().map_err(to_py)
 }
 
-/// One rendered frame as Python objects: `planes` is a list of (name,
+/// One rendered image as Python objects: `planes` is a list of (name,
 /// unit, float32 array of shape (height, width)) whose data are the
 /// render's own buffers; `meta` is JSON text.
-fn frame_to_py<'py>(
+fn image_to_py<'py>(
     py: Python<'py>,
-    frame: Frame,
-    meta: serde_json::Value,
+    image: Rendered,
+    mut meta: serde_json::Value,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let frame = image.frame;
     let (w, h) = (frame.planes.width as usize, frame.planes.height as usize);
     let planes = PyList::empty(py);
     for p in frame.planes.planes {
         let a = PyArray1::from_vec(py, p.data).reshape([h, w])?;
         planes.append((p.name, p.unit, a))?;
     }
-    let mut meta = meta;
+    meta["scene"] = image.scene.into();
+    meta["image_time_utc"] = image.image_time_utc.to_rfc3339().into();
+    meta["sun_zenith_deg"] = image.sun_zenith_deg.into();
+    meta["sun_azimuth_deg"] = image.sun_azimuth_deg.into();
+    meta["band"] = image.band.into();
+    meta["estimators"] = image.estimators.into();
     meta["stats"] = serde_json::to_value(&frame.stats).unwrap_or_default();
     let d = PyDict::new(py);
     d.set_item("planes", planes)?;
@@ -387,47 +391,21 @@ fn frame_to_py<'py>(
     Ok(d)
 }
 
-/// What a frame's Dataset carries as attributes.
-fn frame_meta(
-    st: &Static,
-    cond: &irsig::render::Conditions,
-    local: NaiveDateTime,
-) -> serde_json::Value {
-    let (lo, hi) = st.scene.response.support_um();
-    let bin_um: Vec<f64> = st.wavelength_um.clone();
-    let sc = &st.scene.scene;
+/// What a frame's Dataset carries beside the image's own description: the
+/// local time, site, band limits, camera and materials of its scene.
+fn scene_meta(sc: &LoadedScene, local: NaiveDateTime) -> serde_json::Value {
+    let (lo, hi) = sc.response.support_um();
+    let site = &sc.scene.site;
     serde_json::json!({
-        "scene": st.scene.path.display().to_string(),
-        "image_time_utc": cond.image_time.to_rfc3339(),
         "image_time_local": local.format("%Y-%m-%dT%H:%M:%S").to_string(),
-        "utc_offset_h": sc.site.utc_offset_h,
-        "latitude_deg": sc.site.latitude_deg,
-        "longitude_deg": sc.site.longitude_deg,
-        "sun_zenith_deg": cond.sun_now.zenith_deg,
-        "sun_azimuth_deg": cond.sun_now.azimuth_deg,
-        "band": st.band.label,
+        "utc_offset_h": site.utc_offset_h,
+        "latitude_deg": site.latitude_deg,
+        "longitude_deg": site.longitude_deg,
         "band_min_um": lo,
         "band_max_um": hi,
-        "band_bins": bin_um.len(),
-        "estimators": cond.estimators.to_string(),
-        "air_temperature_k": cond.air_temp_k,
-        "camera": st.scene.camera,
-        "materials": st.scene.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(),
+        "camera": sc.camera,
+        "materials": sc.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(),
     })
-}
-
-/// Renders one frame of a prepared static part at `time`.
-fn render_one(
-    st: &Static,
-    time: Option<&str>,
-    rep: &Reporter,
-) -> anyhow::Result<(Frame, serde_json::Value)> {
-    let (local, utc) = image_time(time, &st.scene)?;
-    let cond = prepare_conditions(st, utc)?;
-    let report = |p: Progress| rep.report(p);
-    let frame = render_with(st, &cond, Some(&report))?;
-    let meta = frame_meta(st, &cond, local);
-    Ok((frame, meta))
 }
 
 /// Renders `scene` at `time` (see `image_time`).
@@ -442,16 +420,64 @@ fn render<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let be = backend(tracer.as_deref())?;
+    let (local, utc) = image_time(time.as_deref(), &scene.scene).map_err(to_py)?;
+    let meta = scene_meta(&scene.scene, local);
     let loaded = scene.scene.clone();
-    let (frame, meta) = run_blocking(py, threads, progress.as_ref(), 1, |rep| {
+    let image = run_blocking(py, threads, progress.as_ref(), 1, |rep| {
         let st = prepare_static(loaded, be)?;
-        render_one(&st, time.as_deref(), rep)
+        let report = |p: Progress| rep.report(p);
+        render_at(&st, utc, Some(&report))
     })?;
-    frame_to_py(py, frame, meta)
+    image_to_py(py, image, meta)
 }
 
-/// Renders `scene` at each of `times`; the static part (geometry, BVH,
-/// tables) is prepared once, as `irsig sequence` does.
+/// Renders planned frames (`irsig::render::sequence::Frames`, the static
+/// part shared as the CLI shares it) with the GIL released; progress moves
+/// frame by frame.
+fn render_frames<'py>(
+    py: Python<'py>,
+    plans: Vec<FramePlan>,
+    threads: Option<u32>,
+    tracer: Option<Backend>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyList>> {
+    // Each frame's scene description: a plan without a scene keeps the
+    // scene of the plan before.
+    let mut metas = Vec::with_capacity(plans.len());
+    let mut last: Option<&LoadedScene> = None;
+    for p in &plans {
+        last = p.scene.as_ref().or(last);
+        let Some(sc) = last else {
+            return Err(IrsigError::new_err("the first frame has no scene"));
+        };
+        metas.push(scene_meta(sc, p.local.unwrap_or(sc.scene.time.local)));
+    }
+    let n = plans.len() as u64;
+    let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
+        let mut out = Vec::with_capacity(plans.len());
+        for f in Frames::new(plans, tracer) {
+            let f = f?;
+            rep.start_frame(f.index as u64 + 1);
+            out.push(f);
+        }
+        Ok(out)
+    })?;
+    let list = PyList::empty(py);
+    for (f, mut m) in frames.into_iter().zip(metas) {
+        m["value"] = f.value.into();
+        m["image_time_local"] = f.local.format("%Y-%m-%dT%H:%M:%S").to_string().into();
+        m["reused"] = serde_json::json!({
+            "geometry": f.reused.geometry,
+            "atmosphere": f.reused.atmosphere,
+        });
+        list.append(image_to_py(py, f.image, m)?)?;
+    }
+    Ok(list)
+}
+
+/// Renders `scene` at each of `times` (each as `render`'s `time`), as
+/// `irsig sequence`: the static part (geometry, BVH, tables) is prepared
+/// once.
 #[pyfunction]
 #[pyo3(signature = (scene, times, threads = None, tracer = None, progress = None))]
 fn sequence<'py>(
@@ -463,30 +489,20 @@ fn sequence<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyList>> {
     let be = backend(tracer.as_deref())?;
-    let loaded = scene.scene.clone();
-    let n = times.len() as u64;
-    let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
-        let st = prepare_static(loaded, be)?;
-        let mut out = Vec::with_capacity(times.len());
-        for (i, t) in times.iter().enumerate() {
-            rep.start_frame(i as u64);
-            let f = render_one(&st, Some(t), rep)
-                .map_err(|e| e.context(format!("frame {} ({t})", i + 1)))?;
-            out.push(f);
-        }
-        Ok(out)
-    })?;
-    let list = PyList::empty(py);
-    for (f, m) in frames {
-        list.append(frame_to_py(py, f, m)?)?;
-    }
-    Ok(list)
+    let locals = times
+        .iter()
+        .map(|t| image_time(Some(t), &scene.scene).map(|(local, _)| local))
+        .collect::<anyhow::Result<Vec<_>>>()
+        .map_err(to_py)?;
+    let plans = plan_sequence(scene.scene.clone(), &locals);
+    render_frames(py, plans, threads, be, progress)
 }
 
-/// Renders `scene` with `key` set to each of `values` (scene keys, as
-/// `irsig sweep --key --values`): every value's scene is loaded (and so
+/// Renders `scene` with `key` set to each of `values` (TOML values), as
+/// `irsig sweep --key --values`: every value's scene is loaded (and so
 /// checked) before any is rendered; geometry and atmosphere are reused
-/// between frames where the key leaves them unchanged.
+/// between frames where the key leaves them unchanged. `time`: every
+/// frame's image time (default: each scene's `[time]`).
 #[pyfunction]
 #[pyo3(signature = (scene, key, values, time = None, threads = None, tracer = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
@@ -501,37 +517,43 @@ fn sweep<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyList>> {
     let be = backend(tracer.as_deref())?;
-    let path = scene.scene.path.clone();
-    let scenes = values
-        .iter()
-        .map(|v| -> anyhow::Result<LoadedScene> {
-            let t = irsig::scene::apply_overrides(&path, &scene.text, &[(key.clone(), v.clone())])?;
-            irsig::scene::load_text(&path, t)
-                .map_err(|e| anyhow::Error::new(e).context(format!("sweep key {key} = {v}")))
-        })
-        .collect::<anyhow::Result<Vec<_>>>()
-        .map_err(to_py)?;
-    let n = scenes.len() as u64;
-    let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
-        let mut st: Option<Static> = None;
-        let mut out = Vec::with_capacity(scenes.len());
-        for (i, (sc, v)) in scenes.into_iter().zip(&values).enumerate() {
-            rep.start_frame(i as u64);
-            let (s, reused): (Static, Reused) = derive_static(st.as_ref(), sc, be)?;
-            let s = st.insert(s);
-            let (f, mut m) = render_one(s, time.as_deref(), rep)
-                .map_err(|e| e.context(format!("frame {} ({key} = {v})", i + 1)))?;
-            m["reused"] =
-                serde_json::json!({"geometry": reused.geometry, "atmosphere": reused.atmosphere});
-            out.push((f, m));
-        }
-        Ok(out)
-    })?;
-    let list = PyList::empty(py);
-    for (f, m) in frames {
-        list.append(frame_to_py(py, f, m)?)?;
+    let local = match time.as_deref() {
+        None => None,
+        Some(t) => Some(image_time(Some(t), &scene.scene).map_err(to_py)?.0),
+    };
+    let values: Vec<&str> = values.iter().map(String::as_str).collect();
+    let mut plans = plan_sweep(&scene.scene.path, &scene.text, &key, &values).map_err(to_py)?;
+    for p in &mut plans {
+        p.local = local.or(p.local);
     }
-    Ok(list)
+    render_frames(py, plans, threads, be, progress)
+}
+
+/// Everything about output pixel (`x`, `y`) (column, row from the top
+/// left) at `time`, as `irsig probe --json` (JSON text).
+#[pyfunction]
+#[pyo3(signature = (scene, x, y, time = None, spectral = false, threads = None, tracer = None))]
+#[allow(clippy::too_many_arguments)]
+fn probe(
+    py: Python<'_>,
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    time: Option<String>,
+    spectral: bool,
+    threads: Option<u32>,
+    tracer: Option<String>,
+) -> PyResult<String> {
+    let be = backend(tracer.as_deref())?;
+    let mut loaded = scene.scene.clone();
+    if let Some(t) = time.as_deref() {
+        // The image time is the scene's `[time] local`.
+        loaded.scene.time.local = image_time(Some(t), &scene.scene).map_err(to_py)?.0;
+    }
+    let report = run_blocking(py, threads, None, 1, |_| {
+        irsig::render::probe::probe_scene(loaded, be, (x, y), spectral)
+    })?;
+    anyhow_py(serde_json::to_string(&report))
 }
 
 /// Solar position (NREL SPA) at `time` (RFC 3339 with an offset) as JSON
@@ -577,6 +599,7 @@ fn _irsig(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sequence_times, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sun, m)?)?;
+    m.add_function(wrap_pyfunction!(probe, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add("IrsigError", py.get_type::<IrsigError>())?;
     m.add("SceneError", py.get_type::<IrsigSceneError>())?;

@@ -59,8 +59,17 @@ def test_bad_arguments():
         irsig.render(s, threads=0)
     with pytest.raises(irsig.IrsigError, match="step"):
         irsig.sequence(s, start="09:00", stop="10:00", step="often")
-    with pytest.raises(irsig.SceneError, match="sweep key"):
+
+
+
+def test_sweep_error_names_the_value(tmp_path):
+    s = irsig.Scene.load(AIRFIELD, overrides=SMALL)
+    with pytest.raises(irsig.SceneError) as e:
         irsig.sweep(s, "sensor.width_px", [32, -1])
+    assert e.value.file == str(AIRFIELD)
+    cli = cli_error("sweep", AIRFIELD, "--key", "sensor.width_px", "--values", "32,-1", "-o", tmp_path, *set_args(SMALL))
+    assert str(e.value) == cli
+    assert "sweep --key sensor.width_px = -1" in cli
 
 
 def test_weather_error_names_the_weather_file(tmp_path):

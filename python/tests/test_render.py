@@ -78,3 +78,17 @@ def test_sun_matches_cli():
     cli = json.loads(run_cli("sun", "--lat", 43.1566, "--lon", -77.6088, "--time", t, "--json").stdout)
     for k in ("zenith_deg", "azimuth_deg", "elevation_deg", "earth_sun_distance_au"):
         assert py[k] == cli[k], k
+
+
+def test_probe_is_the_cli_json_and_the_render(small, ds):
+    import json
+
+    from conftest import run_cli, set_args
+
+    p = irsig.probe(small, 40, 30)
+    cli = json.loads(run_cli("probe", AIRFIELD, "--pixel", "40,30", "--json", *set_args(SMALL)).stdout)
+    assert p == cli
+    r = np.float32(p["pixel_result"]["band_radiance_f32"])
+    assert bits(np.array([r]))[0] == bits(ds.band_radiance.values[30:31, 40])[0]
+    later = irsig.probe(small, 40, 30, time="15:00")
+    assert later["image_time_local"].startswith("2001-08-08T15:00")

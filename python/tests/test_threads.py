@@ -73,3 +73,15 @@ def test_ctrl_c_interrupts_a_render():
     assert elapsed < 2.0, elapsed
     # The package still works afterwards.
     assert irsig.render(scene(16, 12)).sizes == {"y": 12, "x": 16}
+
+
+def test_a_tqdm_like_bar_is_driven():
+    class Bar:
+        total, n = None, 0
+
+        def update(self, k):
+            self.n += k
+
+    bar = Bar()
+    irsig.sequence(scene(16, 12), times=["10:00", "11:00"], progress=bar)
+    assert bar.total == 6000 and bar.n == bar.total
