@@ -1,6 +1,9 @@
 //! `irsig therm`: surface temperature and every flux term of one material
 //! and facet over time (the seed paper's Fig. 6 use).
 //!
+//! The computation is [`crate::therm::series::facet_series`]; this file
+//! parses the flags and prints its rows (table, CSV or JSON).
+//!
 //! ```text
 //! irsig therm --materials mats.toml --material concrete
 //!             (--weather <TMY3|EPW|CSV> | --forcing <forcing.csv>)
@@ -26,18 +29,16 @@
 //!   (`[material.NAME]` tables, docs/scene-format.md), e.g. scenes/materials.toml.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, bail};
-use chrono::{DateTime, Duration, NaiveTime, Timelike, Utc};
-use serde::Serialize;
 
 use crate::therm::aero::SurfaceLayer;
 use crate::therm::balance::{Convection, Orientation};
-use crate::therm::forcing::Forcing;
-use crate::therm::slab::{
-    SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, ThermSettings,
+use crate::therm::series::{
+    FacetRun, ForcingSource, ThermRow, facet_series, load_material, parse_shadow_ranges, parse_time,
 };
+use crate::therm::slab::SpinUpStart;
 
 /// `--convection`.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,207 +134,6 @@ pub struct Args {
     pub json: bool,
 }
 
-/// A shadow range: absolute UTC interval or daily UTC time-of-day interval.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ShadowRange {
-    Absolute(DateTime<Utc>, DateTime<Utc>),
-    Daily(NaiveTime, NaiveTime),
-}
-
-impl ShadowRange {
-    pub fn contains(&self, t: DateTime<Utc>) -> bool {
-        match *self {
-            ShadowRange::Absolute(a, b) => t >= a && t < b,
-            ShadowRange::Daily(a, b) => {
-                let tod = t.time().with_nanosecond(0).unwrap_or(t.time());
-                if a <= b {
-                    tod >= a && tod < b
-                } else {
-                    tod >= a || tod < b
-                }
-            }
-        }
-    }
-}
-
-/// Parses `--shadow`: `START/END` (RFC 3339) or `HH:MM-HH:MM`, comma-separated.
-pub fn parse_shadow_ranges(s: &str) -> anyhow::Result<Vec<ShadowRange>> {
-    let mut out = Vec::new();
-    for (i, part) in s
-        .split(',')
-        .map(str::trim)
-        .filter(|p| !p.is_empty())
-        .enumerate()
-    {
-        let what = || {
-            format!(
-                "--shadow range {} '{part}': expected START/END (RFC 3339) or HH:MM-HH:MM",
-                i + 1
-            )
-        };
-        if let Some((a, b)) = part.split_once('/') {
-            let a = parse_time(a).with_context(what)?;
-            let b = parse_time(b).with_context(what)?;
-            if b <= a {
-                bail!("{}: end is not after start", what());
-            }
-            out.push(ShadowRange::Absolute(a, b));
-        } else if let Some((a, b)) = part.split_once('-') {
-            let a = NaiveTime::parse_from_str(a.trim(), "%H:%M").with_context(what)?;
-            let b = NaiveTime::parse_from_str(b.trim(), "%H:%M").with_context(what)?;
-            out.push(ShadowRange::Daily(a, b));
-        } else {
-            bail!("{}", what());
-        }
-    }
-    Ok(out)
-}
-
-fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
-    Ok(DateTime::parse_from_rfc3339(s.trim())
-        .with_context(|| format!("'{s}' is not an RFC 3339 time (e.g. 2021-05-05T12:00:00Z)"))?
-        .with_timezone(&Utc))
-}
-
-/// Reads a forcing CSV (columns in the module docs). Errors name the file,
-/// the line and the column.
-pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
-    let file = path.display();
-    let text = std::fs::read_to_string(path).with_context(|| format!("{file}: cannot read"))?;
-    const COLS: [&str; 10] = [
-        "t_s",
-        "air_temp_k",
-        "sky_temp_k",
-        "wind_speed_m_s",
-        "dni_w_m2",
-        "dhi_w_m2",
-        "ghi_w_m2",
-        "sun_e",
-        "sun_n",
-        "sun_u",
-    ];
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
-    let (hl, header) = lines
-        .next()
-        .with_context(|| format!("{file}: empty file"))?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let idx: Vec<usize> = COLS
-        .iter()
-        .map(|c| {
-            names.iter().position(|n| n == c).with_context(|| {
-                format!(
-                    "{file}:{}: header lacks column '{c}' (expected {})",
-                    hl + 1,
-                    COLS.join(",")
-                )
-            })
-        })
-        .collect::<anyhow::Result<_>>()?;
-    let mut out = Vec::new();
-    for (ln, line) in lines {
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let mut v = [0.0; 10];
-        for (k, &j) in idx.iter().enumerate() {
-            let s = fields
-                .get(j)
-                .with_context(|| format!("{file}:{}: missing column '{}'", ln + 1, COLS[k]))?;
-            v[k] = s
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .with_context(|| {
-                    format!(
-                        "{file}:{}: column '{}': '{s}' is not a finite number",
-                        ln + 1,
-                        COLS[k]
-                    )
-                })?;
-        }
-        out.push(Forcing {
-            t_s: v[0],
-            air_temp_k: v[1],
-            sky_temp_k: v[2],
-            wind_speed_m_s: v[3],
-            dni_w_m2: v[4],
-            dhi_w_m2: v[5],
-            ghi_w_m2: v[6],
-            sun_dir_enu: [v[7], v[8], v[9]],
-            dew_point_k: crate::therm::forcing::DRY_AIR_DEW_POINT_K,
-            pressure_pa: 101_325.0,
-            precip_mm_h: 0.0,
-            ground_temp_k: None,
-        });
-    }
-    crate::therm::slab::validate_forcing(&out).with_context(|| format!("{file}"))?;
-    Ok(out)
-}
-
-/// Forcing from a weather file: `read_weather_file_with` + `build_forcing`
-/// (`n_steps + 1` samples); the estimators used are reported on stderr.
-fn forcing_from_weather(
-    a: &Args,
-    start: DateTime<Utc>,
-    step_s: f64,
-    n_steps: usize,
-) -> anyhow::Result<Vec<Forcing>> {
-    use chrono::Datelike;
-    let opts = crate::therm::weather::ReadOptions {
-        coerce_year: a.typical_year.then(|| start.year()),
-        ..Default::default()
-    };
-    let history =
-        crate::therm::weather::read_weather_file_with(a.weather.as_deref().unwrap(), &opts)?
-            .history;
-    let site = crate::sun::Site {
-        lat_deg: a.lat,
-        lon_deg: a.lon,
-        elevation_m: a.elevation,
-    };
-    let (forcing, report) =
-        crate::therm::forcing::build_forcing(&history, &site, start, step_s, n_steps)?;
-    for l in report.lines() {
-        eprintln!("{l}");
-    }
-    Ok(forcing)
-}
-
-/// One output row: time, the record, and the flux terms.
-#[derive(Serialize)]
-struct Row {
-    time_utc: String,
-    #[serde(flatten)]
-    rec: StepRecord,
-}
-
-#[derive(Serialize)]
-struct Report<'a> {
-    material: &'a str,
-    properties: SlabMaterial,
-    orientation: Orientation,
-    settings: ThermSettings,
-    nodes: usize,
-    rows: Vec<Row>,
-}
-
-/// The slab of material `name` in a material library (the scene format).
-pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
-    let lib = crate::scene::material::load_library(path)?;
-    match lib.iter().find(|m| m.name == name) {
-        Some(m) => Ok(crate::render::prepare::slab_of(m)),
-        None => bail!(
-            "{}: no material `{name}`; the library defines: {}",
-            path.display(),
-            lib.iter()
-                .map(|m| m.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
-}
-
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let mat = load_material(&a.materials, &a.material)?;
     let from = parse_time(&a.from).context("--from")?;
@@ -341,70 +141,29 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if to < from {
         bail!("--to {} is before --from {}", a.to, a.from);
     }
-    if !(a.step.is_finite() && a.step > 0.0) {
-        bail!("--step {}: expected a positive number of minutes", a.step);
-    }
-    if !(a.spin_up_h.is_finite() && a.spin_up_h >= 0.0) {
-        bail!("--spin-up-h {}: expected hours >= 0", a.spin_up_h);
-    }
-    if !(-90.0..=90.0).contains(&a.lat) || !(-180.0..=360.0).contains(&a.lon) {
-        bail!(
-            "--lat {} --lon {}: expected latitude in [-90, 90] and longitude in [-180, 360]",
-            a.lat,
-            a.lon
-        );
-    }
-    let start = from - Duration::milliseconds((a.spin_up_h * 3.6e6).round() as i64);
-    let forcing = match &a.forcing {
-        Some(p) => {
-            let f = read_forcing_csv(p)?;
-            let end_s = (to - start).num_milliseconds() as f64 / 1e3;
-            let f: Vec<Forcing> = f.into_iter().filter(|x| x.t_s <= end_s + 1e-6).collect();
-            if f.is_empty() || f[0].t_s > 0.0 || f.last().unwrap().t_s < end_s - 1e-6 {
-                bail!(
-                    "{}: the forcing must cover t_s = 0 (= --from − --spin-up-h) to {end_s} s (= --to)",
-                    p.display()
-                );
-            }
-            f
-        }
-        None => {
-            let step_s = a.step * 60.0;
-            let total_s = (to - start).num_milliseconds() as f64 / 1e3;
-            let n_steps = (total_s / step_s).ceil().max(1.0) as usize;
-            forcing_from_weather(&a, start, step_s, n_steps)?
-        }
-    };
-    let at = |t_s: f64| start + Duration::milliseconds((t_s * 1e3).round() as i64);
-    let shadow = match &a.shadow {
-        Some(s) => {
-            let ranges = parse_shadow_ranges(s)?;
-            // Sampled on a uniform grid of the smallest forcing interval.
-            let dt = forcing
-                .windows(2)
-                .map(|w| w[1].t_s - w[0].t_s)
-                .fold(f64::INFINITY, f64::min);
-            let dt = if dt.is_finite() {
-                dt.round().max(1.0)
-            } else {
-                60.0
-            };
-            let n = (forcing.last().unwrap().t_s / dt).ceil() as usize + 1;
-            Some(SunHistory {
-                start_s: 0,
-                interval_s: dt as i64,
-                sunlit: (0..n)
-                    .map(|i| !ranges.iter().any(|r| r.contains(at(i as f64 * dt))))
-                    .collect(),
-            })
-        }
-        None => None,
-    };
-    let o = Orientation {
-        slope_deg: a.slope,
-        aspect_deg: a.aspect,
-    };
-    let settings = ThermSettings {
+    let run = FacetRun {
+        material_name: a.material.clone(),
+        material: mat,
+        forcing: match (&a.forcing, &a.weather) {
+            (Some(p), _) => ForcingSource::ForcingCsv(p.clone()),
+            (None, Some(p)) => ForcingSource::Weather {
+                path: p.clone(),
+                typical_year: a.typical_year,
+            },
+            (None, None) => bail!("give --weather or --forcing"),
+        },
+        site: crate::sun::Site {
+            lat_deg: a.lat,
+            lon_deg: a.lon,
+            elevation_m: a.elevation,
+        },
+        orientation: Orientation {
+            slope_deg: a.slope,
+            aspect_deg: a.aspect,
+        },
+        from,
+        to,
+        step_min: a.step,
         spin_up_h: a.spin_up_h,
         spin_up_start: match a.spin_up_start {
             SpinUpArg::MeanForcing => SpinUpStart::MeanForcing,
@@ -418,42 +177,22 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             }),
             ConvectionArg::Mcadams => Convection::mcadams(),
         },
-        ..ThermSettings::default()
+        facet_height_m: a.facet_height_m,
+        shadow: match &a.shadow {
+            Some(s) => parse_shadow_ranges(s)?,
+            None => Vec::new(),
+        },
     };
-    if !(a.facet_height_m.is_finite() && (0.0..=1e4).contains(&a.facet_height_m)) {
-        bail!(
-            "--facet-height-m {}: expected a height above the ground from 0 to 10000 m",
-            a.facet_height_m
-        );
+    let series = facet_series(&run)?;
+    for l in &series.estimator_lines {
+        eprintln!("{l}");
     }
-    let model = SlabModel::new(&mat, o, &settings)
-        .with_context(|| format!("material '{}'", a.material))?
-        .with_height(a.facet_height_m);
-    let sol = model.solve(&forcing, shadow.as_ref(), true)?;
-    let from_s = (from - start).num_milliseconds() as f64 / 1e3;
-    let rows: Vec<Row> = sol
-        .series
-        .iter()
-        .filter(|r| r.t_s >= from_s - 1e-6)
-        .map(|r| Row {
-            time_utc: at(r.t_s).to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
-            rec: *r,
-        })
-        .collect();
     let mut out = std::io::stdout().lock();
     if a.json {
-        let rep = Report {
-            material: &a.material,
-            properties: mat,
-            orientation: o,
-            settings,
-            nodes: model.nodes(),
-            rows,
-        };
-        serde_json::to_writer_pretty(&mut out, &rep)?;
+        serde_json::to_writer_pretty(&mut out, &series)?;
         writeln!(out)?;
     } else {
-        write_table(&mut out, &rows, a.csv)?;
+        write_table(&mut out, &series.rows, a.csv)?;
     }
     Ok(0)
 }
@@ -484,7 +223,7 @@ const COLUMNS: [&str; 23] = [
     "surface_temp_c",
 ];
 
-fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result<()> {
+fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::Result<()> {
     let sep = if csv { "," } else { " " };
     if csv {
         writeln!(out, "{}", COLUMNS.join(sep))?;
@@ -526,27 +265,4 @@ fn write_table(out: &mut impl Write, rows: &[Row], csv: bool) -> std::io::Result
         )?;
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shadow_ranges_parse_and_contain() {
-        let r =
-            parse_shadow_ranges("2021-05-05T18:00:00Z/2021-05-05T20:00:00Z, 22:00-02:00").unwrap();
-        assert_eq!(r.len(), 2);
-        let t = |s: &str| parse_time(s).unwrap();
-        assert!(
-            r[0].contains(t("2021-05-05T19:59:00Z")) && !r[0].contains(t("2021-05-05T20:00:00Z"))
-        );
-        assert!(
-            r[1].contains(t("2021-05-06T01:00:00Z")) && r[1].contains(t("2021-05-06T23:00:00Z"))
-        );
-        assert!(!r[1].contains(t("2021-05-06T12:00:00Z")));
-        let e = parse_shadow_ranges("18:00-xx").unwrap_err();
-        assert!(format!("{e:#}").contains("--shadow range 1"));
-        assert!(parse_shadow_ranges("2021-05-05T20:00:00Z/2021-05-05T18:00:00Z").is_err());
-    }
 }

@@ -12,7 +12,7 @@ use glam::Vec3;
 use crate::atmos::{Atmosphere, SpectralAtmosphere};
 use crate::radiometry::{Band, Emissivity, SpectralGrid, SpectralResponse};
 use crate::scene::LoadedScene;
-use crate::scene::material::{BackBoundary as SceneBack, Emissivity as SceneEmissivity, Material};
+use crate::scene::material::{Emissivity as SceneEmissivity, Material};
 use crate::scene::spec::{AtmosphereModel, TracerKind, WeatherSpec};
 use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
@@ -76,28 +76,9 @@ pub struct Conditions {
     pub slabs: Vec<SlabMaterial>,
 }
 
-/// The thermal slab of a scene material.
+/// The thermal slab of a scene material (see [`Material::slab`]).
 pub fn slab_of(m: &Material) -> SlabMaterial {
-    SlabMaterial {
-        density_kg_m3: m.density_kg_m3,
-        specific_heat_j_kgk: m.specific_heat_j_kgk,
-        conductivity_w_mk: m.conductivity_w_mk,
-        thickness_m: m.thickness_m,
-        solar_absorptivity: m.solar_absorptivity,
-        thermal_emissivity: m.thermal_emissivity,
-        back: match &m.back {
-            SceneBack::Insulated => BackBoundary::Insulated,
-            SceneBack::Air { exposed_area } => BackBoundary::ExposedToAir {
-                area_factor: *exposed_area,
-            },
-            SceneBack::DeepGround { temp_c } => BackBoundary::DeepGround {
-                temp_k: temp_c.map(|c| c + 273.15),
-            },
-        },
-        internal_power_w_m2: m.internal_power_w_m2,
-        ground_albedo: None,
-        surface: m.surface,
-    }
+    m.slab()
 }
 
 /// The spectral emissivity model of a scene material.

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::error::{Location, SceneError};
 use super::tomlsrc::{Seg, TomlSource};
 use crate::therm::aero::Canopy;
+use crate::therm::slab::{BackBoundary as SlabBack, SlabMaterial};
 use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
 
 /// A material library file.
@@ -187,6 +188,31 @@ pub struct Material {
 }
 
 impl Material {
+    /// The thermal slab of this material: the one place where the thermal
+    /// model's description ([`SlabMaterial`]) is derived from the scene's.
+    pub fn slab(&self) -> SlabMaterial {
+        SlabMaterial {
+            density_kg_m3: self.density_kg_m3,
+            specific_heat_j_kgk: self.specific_heat_j_kgk,
+            conductivity_w_mk: self.conductivity_w_mk,
+            thickness_m: self.thickness_m,
+            solar_absorptivity: self.solar_absorptivity,
+            thermal_emissivity: self.thermal_emissivity,
+            back: match &self.back {
+                BackBoundary::Insulated => SlabBack::Insulated,
+                BackBoundary::Air { exposed_area } => SlabBack::ExposedToAir {
+                    area_factor: *exposed_area,
+                },
+                BackBoundary::DeepGround { temp_c } => SlabBack::DeepGround {
+                    temp_k: temp_c.map(|c| c + 273.15),
+                },
+            },
+            internal_power_w_m2: self.internal_power_w_m2,
+            ground_albedo: None,
+            surface: self.surface,
+        }
+    }
+
     /// Thermal diffusivity k/(ρc), m²/s.
     pub fn diffusivity_m2_s(&self) -> f64 {
         self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)

@@ -9,6 +9,8 @@ pub mod aero;
 pub mod balance;
 pub mod cache;
 pub mod forcing;
+pub mod forcing_csv;
+pub mod series;
 pub mod slab;
 pub mod surface;
 pub mod weather;

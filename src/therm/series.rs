@@ -1,0 +1,313 @@
+//! One facet's surface temperature and every flux term over time (the
+//! seed paper's Fig. 6 use; `irsig therm`): a material's slab at a site and
+//! orientation, forced by a weather file or a ready forcing CSV, marched
+//! from a spin-up start, optionally shaded over time ranges.
+//!
+//! * The march starts `spin_up_h` hours before `from` (from a steady
+//!   state, [`SpinUpStart`]: under the mean forcing, or the first sample)
+//!   and reports one row per forcing sample from `from` to `to`.
+//! * A forcing CSV ([`super::forcing_csv`]) has its `t_s = 0` at the start
+//!   of the spin-up, `from − spin_up_h`; its own step is used.
+//! * Shadow ranges ([`ShadowRange`]) shade the facet (no direct sun); the
+//!   history is sampled on a uniform grid of the smallest forcing interval.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+use chrono::{DateTime, Duration, NaiveTime, Timelike, Utc};
+use serde::Serialize;
+
+use super::balance::{Convection, Orientation};
+use super::forcing::Forcing;
+use super::forcing_csv::read_forcing_csv;
+use super::slab::{SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, ThermSettings};
+
+/// A shadow range: absolute UTC interval or daily UTC time-of-day interval
+/// (start included, end excluded; a daily range may wrap past midnight).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowRange {
+    Absolute(DateTime<Utc>, DateTime<Utc>),
+    Daily(NaiveTime, NaiveTime),
+}
+
+impl ShadowRange {
+    /// Whether `t` lies in the range.
+    pub fn contains(&self, t: DateTime<Utc>) -> bool {
+        match *self {
+            ShadowRange::Absolute(a, b) => t >= a && t < b,
+            ShadowRange::Daily(a, b) => {
+                let tod = t.time().with_nanosecond(0).unwrap_or(t.time());
+                if a <= b {
+                    tod >= a && tod < b
+                } else {
+                    tod >= a || tod < b
+                }
+            }
+        }
+    }
+}
+
+/// Parses comma-separated shadow ranges: `START/END` (RFC 3339) or
+/// `HH:MM-HH:MM` (daily, UTC).
+pub fn parse_shadow_ranges(s: &str) -> anyhow::Result<Vec<ShadowRange>> {
+    let mut out = Vec::new();
+    for (i, part) in s
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .enumerate()
+    {
+        let what = || {
+            format!(
+                "--shadow range {} '{part}': expected START/END (RFC 3339) or HH:MM-HH:MM",
+                i + 1
+            )
+        };
+        if let Some((a, b)) = part.split_once('/') {
+            let a = parse_time(a).with_context(what)?;
+            let b = parse_time(b).with_context(what)?;
+            if b <= a {
+                bail!("{}: end is not after start", what());
+            }
+            out.push(ShadowRange::Absolute(a, b));
+        } else if let Some((a, b)) = part.split_once('-') {
+            let a = NaiveTime::parse_from_str(a.trim(), "%H:%M").with_context(what)?;
+            let b = NaiveTime::parse_from_str(b.trim(), "%H:%M").with_context(what)?;
+            out.push(ShadowRange::Daily(a, b));
+        } else {
+            bail!("{}", what());
+        }
+    }
+    Ok(out)
+}
+
+/// Parses an RFC 3339 time into UTC.
+pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
+    Ok(DateTime::parse_from_rfc3339(s.trim())
+        .with_context(|| format!("'{s}' is not an RFC 3339 time (e.g. 2021-05-05T12:00:00Z)"))?
+        .with_timezone(&Utc))
+}
+
+/// The slab of material `name` in a material library (the scene format).
+pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
+    let lib = crate::scene::material::load_library(path)?;
+    match lib.iter().find(|m| m.name == name) {
+        Some(m) => Ok(m.slab()),
+        None => bail!(
+            "{}: no material `{name}`; the library defines: {}",
+            path.display(),
+            lib.iter()
+                .map(|m| m.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// Where the forcing comes from.
+#[derive(Clone, Debug)]
+pub enum ForcingSource {
+    /// A weather file (TMY3, EnergyPlus EPW or plain CSV); `typical_year`:
+    /// its records take the year of the spin-up start.
+    Weather { path: PathBuf, typical_year: bool },
+    /// A ready forcing CSV (see [`super::forcing_csv`]).
+    ForcingCsv(PathBuf),
+}
+
+/// What [`facet_series`] computes: plain inputs.
+#[derive(Clone, Debug)]
+pub struct FacetRun {
+    /// The material's name (reported) and its slab.
+    pub material_name: String,
+    pub material: SlabMaterial,
+    pub forcing: ForcingSource,
+    /// Site (latitude, longitude, elevation); used with a weather file.
+    pub site: crate::sun::Site,
+    pub orientation: Orientation,
+    /// First and last output time.
+    pub from: DateTime<Utc>,
+    pub to: DateTime<Utc>,
+    /// Forcing/output step, minutes (a weather file only; a forcing CSV
+    /// has its own).
+    pub step_min: f64,
+    pub spin_up_h: f64,
+    pub spin_up_start: SpinUpStart,
+    pub convection: Convection,
+    /// Height of the facet above the ground, m (0-10000).
+    pub facet_height_m: f64,
+    /// Time ranges in which the facet is shaded.
+    pub shadow: Vec<ShadowRange>,
+}
+
+/// One output row: the time, then the step's record (flattened).
+#[derive(Clone, Debug, Serialize)]
+pub struct ThermRow {
+    /// RFC 3339, whole seconds.
+    pub time_utc: String,
+    #[serde(flatten)]
+    pub rec: StepRecord,
+}
+
+/// The facet's series; serialises as `irsig therm --json` prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct FacetSeries {
+    pub material: String,
+    pub properties: SlabMaterial,
+    pub orientation: Orientation,
+    pub settings: ThermSettings,
+    /// Nodes of the slab's grid.
+    pub nodes: usize,
+    pub rows: Vec<ThermRow>,
+    /// The weather estimators used, one line each (none for a forcing CSV).
+    #[serde(skip)]
+    pub estimator_lines: Vec<String>,
+}
+
+/// Forcing from a weather file (`n_steps + 1` samples from `start`) and the
+/// report of the estimators used.
+fn forcing_from_weather(
+    path: &Path,
+    typical_year: bool,
+    site: &crate::sun::Site,
+    start: DateTime<Utc>,
+    step_s: f64,
+    n_steps: usize,
+) -> anyhow::Result<(Vec<Forcing>, Vec<String>)> {
+    use chrono::Datelike;
+    let opts = super::weather::ReadOptions {
+        coerce_year: typical_year.then(|| start.year()),
+        ..Default::default()
+    };
+    let history = super::weather::read_weather_file_with(path, &opts)?.history;
+    let (forcing, report) = super::forcing::build_forcing(&history, site, start, step_s, n_steps)?;
+    Ok((forcing, report.lines()))
+}
+
+/// Marches the facet of `run` and returns its rows from `run.from` to
+/// `run.to`.
+pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
+    let (from, to) = (run.from, run.to);
+    if to < from {
+        bail!(
+            "--to {} is before --from {}",
+            to.to_rfc3339(),
+            from.to_rfc3339()
+        );
+    }
+    if !(run.step_min.is_finite() && run.step_min > 0.0) {
+        bail!(
+            "--step {}: expected a positive number of minutes",
+            run.step_min
+        );
+    }
+    if !(run.spin_up_h.is_finite() && run.spin_up_h >= 0.0) {
+        bail!("--spin-up-h {}: expected hours >= 0", run.spin_up_h);
+    }
+    let (lat, lon) = (run.site.lat_deg, run.site.lon_deg);
+    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=360.0).contains(&lon) {
+        bail!(
+            "--lat {lat} --lon {lon}: expected latitude in [-90, 90] and longitude in [-180, 360]"
+        );
+    }
+    let start = from - Duration::milliseconds((run.spin_up_h * 3.6e6).round() as i64);
+    let (forcing, estimator_lines) = match &run.forcing {
+        ForcingSource::ForcingCsv(p) => {
+            let f = read_forcing_csv(p)?;
+            let end_s = (to - start).num_milliseconds() as f64 / 1e3;
+            let f: Vec<Forcing> = f.into_iter().filter(|x| x.t_s <= end_s + 1e-6).collect();
+            if f.is_empty() || f[0].t_s > 0.0 || f[f.len() - 1].t_s < end_s - 1e-6 {
+                bail!(
+                    "{}: the forcing must cover t_s = 0 (= --from − --spin-up-h) to {end_s} s (= --to)",
+                    p.display()
+                );
+            }
+            (f, Vec::new())
+        }
+        ForcingSource::Weather { path, typical_year } => {
+            let step_s = run.step_min * 60.0;
+            let total_s = (to - start).num_milliseconds() as f64 / 1e3;
+            let n_steps = (total_s / step_s).ceil().max(1.0) as usize;
+            forcing_from_weather(path, *typical_year, &run.site, start, step_s, n_steps)?
+        }
+    };
+    let at = |t_s: f64| start + Duration::milliseconds((t_s * 1e3).round() as i64);
+    let shadow = (!run.shadow.is_empty()).then(|| {
+        // Sampled on a uniform grid of the smallest forcing interval.
+        let dt = forcing
+            .windows(2)
+            .map(|w| w[1].t_s - w[0].t_s)
+            .fold(f64::INFINITY, f64::min);
+        let dt = if dt.is_finite() {
+            dt.round().max(1.0)
+        } else {
+            60.0
+        };
+        let last = forcing.last().map_or(0.0, |f| f.t_s);
+        let n = (last / dt).ceil() as usize + 1;
+        SunHistory {
+            start_s: 0,
+            interval_s: dt as i64,
+            sunlit: (0..n)
+                .map(|i| !run.shadow.iter().any(|r| r.contains(at(i as f64 * dt))))
+                .collect(),
+        }
+    });
+    let settings = ThermSettings {
+        spin_up_h: run.spin_up_h,
+        spin_up_start: run.spin_up_start,
+        convection: run.convection,
+        ..ThermSettings::default()
+    };
+    if !(run.facet_height_m.is_finite() && (0.0..=1e4).contains(&run.facet_height_m)) {
+        bail!(
+            "--facet-height-m {}: expected a height above the ground from 0 to 10000 m",
+            run.facet_height_m
+        );
+    }
+    let model = SlabModel::new(&run.material, run.orientation, &settings)
+        .with_context(|| format!("material '{}'", run.material_name))?
+        .with_height(run.facet_height_m);
+    let sol = model.solve(&forcing, shadow.as_ref(), true)?;
+    let from_s = (from - start).num_milliseconds() as f64 / 1e3;
+    let rows = sol
+        .series
+        .iter()
+        .filter(|r| r.t_s >= from_s - 1e-6)
+        .map(|r| ThermRow {
+            time_utc: at(r.t_s).to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+            rec: *r,
+        })
+        .collect();
+    Ok(FacetSeries {
+        material: run.material_name.clone(),
+        properties: run.material,
+        orientation: run.orientation,
+        settings,
+        nodes: model.nodes(),
+        rows,
+        estimator_lines,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_ranges_parse_and_contain() {
+        let r =
+            parse_shadow_ranges("2021-05-05T18:00:00Z/2021-05-05T20:00:00Z, 22:00-02:00").unwrap();
+        assert_eq!(r.len(), 2);
+        let t = |s: &str| parse_time(s).unwrap();
+        assert!(
+            r[0].contains(t("2021-05-05T19:59:00Z")) && !r[0].contains(t("2021-05-05T20:00:00Z"))
+        );
+        assert!(
+            r[1].contains(t("2021-05-06T01:00:00Z")) && r[1].contains(t("2021-05-06T23:00:00Z"))
+        );
+        assert!(!r[1].contains(t("2021-05-06T12:00:00Z")));
+        let e = parse_shadow_ranges("18:00-xx").unwrap_err();
+        assert!(format!("{e:#}").contains("--shadow range 1"));
+        assert!(parse_shadow_ranges("2021-05-05T20:00:00Z/2021-05-05T18:00:00Z").is_err());
+    }
+}
