@@ -1,11 +1,12 @@
 //! `irsig atmos`: list the shipped atmosphere tables and show what a scene
-//! would use (τ, path and sky radiance, band-integrated and spectral).
+//! would use (τ, path and sky radiance, band-integrated and spectral;
+//! [`crate::radiometry::atmos_view`]).
 
 use anyhow::Context;
 use clap::{Args as ClapArgs, Subcommand};
 
-use crate::atmos::{Atmosphere, list_builtin};
-use crate::radiometry::{Band, SpectralGrid, SpectralResponse};
+use crate::atmos::list_builtin;
+use crate::radiometry::atmos_view::{AtmosGeometry, atmos_view};
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
@@ -65,81 +66,53 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
 }
 
 fn show(s: ShowArgs) -> anyhow::Result<i32> {
-    let atm = Atmosphere::by_name_or_path(&s.name)?;
-    let resp = if std::path::Path::new(&s.band).is_file() {
-        SpectralResponse::from_csv(std::path::Path::new(&s.band))?
-    } else {
-        SpectralResponse::parse_band(&s.band)?
+    let g = AtmosGeometry {
+        altitude_km: s.altitude,
+        view_zenith_deg: s.zenith,
+        sky_zenith_deg: s.sky_zenith.unwrap_or(s.zenith),
+        sun_zenith_deg: s.sun_zenith,
+        rel_azimuth_deg: s.rel_azimuth,
     };
-    let grid = SpectralGrid::new(atm.wavenumber_cm1().to_vec())?;
-    let band = Band::new(&grid, &resp)?;
-    let sa = atm.resample(&band.wavenumber_cm1)?;
-    let n = sa.len();
-    let sky_zen = s.sky_zenith.unwrap_or(s.zenith);
-    let path = sa.path(s.altitude, s.zenith, s.sun_zenith, s.rel_azimuth)?;
-    let mut l_de = vec![0.0; n];
-    let mut l_ds = vec![0.0; n];
-    let mut tau1 = vec![0.0; n];
-    let mut e_gnd = vec![0.0; n];
-    sa.l_de(sky_zen, &mut l_de)?;
-    sa.l_ds(s.sun_zenith, s.rel_azimuth, sky_zen, &mut l_ds)?;
-    sa.tau_sun(s.sun_zenith, &mut tau1)?;
-    sa.sun_irradiance_ground(s.sun_zenith, &mut e_gnd)?;
-    let dome_de = sa.sky_dome_l_de().to_vec();
-    let dome_ds = sa.sky_dome_l_ds(s.sun_zenith)?;
+    let v = atmos_view(&s.name, &s.band, g)?;
+    let n = v.wavenumber_cm1.len();
     if s.csv {
         println!(
             "wavenumber_cm1,wavelength_um,weight,tau2,l_ue,l_us,l_de,l_ds,l_de_dome,l_ds_dome,tau1,e_sun_ground"
         );
         for i in 0..n {
-            let nu = band.wavenumber_cm1[i];
+            let nu = v.wavenumber_cm1[i];
             println!(
                 "{nu},{:.6},{:.6e},{:.6},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6},{:.6e}",
                 1e4 / nu,
-                band.weights[i],
-                path.tau2[i],
-                path.l_ue_w_m2_sr_um[i],
-                path.l_us_w_m2_sr_um[i],
-                l_de[i],
-                l_ds[i],
-                dome_de[i],
-                dome_ds[i],
-                tau1[i],
-                e_gnd[i]
+                v.weight[i],
+                v.tau2[i],
+                v.l_ue[i],
+                v.l_us[i],
+                v.l_de[i],
+                v.l_ds[i],
+                v.l_de_dome[i],
+                v.l_ds_dome[i],
+                v.tau1[i],
+                v.e_sun_ground[i]
             );
         }
         return Ok(0);
     }
-    let t = &atm.table;
-    println!("atmosphere   {} — {}", t.name, t.description);
-    println!("table        {}", t.source.display());
+    println!("atmosphere   {} — {}", v.name, v.description);
+    println!("table        {}", v.source.display());
     println!(
         "geometry     sensor {} km, view zenith {}°, sky zenith {}°, sun zenith {}°, relative azimuth {}°",
-        s.altitude, s.zenith, sky_zen, s.sun_zenith, s.rel_azimuth
+        g.altitude_km, g.view_zenith_deg, g.sky_zenith_deg, g.sun_zenith_deg, g.rel_azimuth_deg
     );
     println!(
         "band         {} ({} bins of {} cm-1 grid)",
-        band.label,
-        band.len(),
-        grid.wavenumber_cm1.len()
+        v.band, n, v.grid_bins
     );
     println!(
         "band-integrated (response-weighted mean over the band; radiance W m-2 sr-1 um-1, irradiance W m-2 um-1):"
     );
-    let rows: [(&str, &[f64]); 10] = [
-        ("tau2 (target->sensor)", &path.tau2),
-        ("L_UE path thermal", &path.l_ue_w_m2_sr_um),
-        ("L_US path scattered", &path.l_us_w_m2_sr_um),
-        ("L_DE sky thermal", &l_de),
-        ("L_DS sky scattered", &l_ds),
-        ("L_DE sky dome average", &dome_de),
-        ("L_DS sky dome average", &dome_ds),
-        ("tau1 (sun->ground)", &tau1),
-        ("E_S exo-atmospheric", sa.e_sun_exo()),
-        ("tau1*E_S at ground", &e_gnd),
-    ];
-    for (label, v) in rows {
-        println!("  {label:<24} {:>12.5e}", band.integrate(v));
+    for (label, x) in &v.band_integrated {
+        println!("  {label:<24} {x:>12.5e}");
     }
     println!("spectral:");
     println!(
@@ -147,18 +120,18 @@ fn show(s: ShowArgs) -> anyhow::Result<i32> {
         "cm-1", "um", "tau2", "L_UE", "L_US", "L_DE", "L_DS", "tau1", "tau1*E_S"
     );
     for i in 0..n {
-        let nu = band.wavenumber_cm1[i];
+        let nu = v.wavenumber_cm1[i];
         println!(
             "  {:>8.1} {:>8.4} {:>8.5} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>8.5} {:>11.4e}",
             nu,
             1e4 / nu,
-            path.tau2[i],
-            path.l_ue_w_m2_sr_um[i],
-            path.l_us_w_m2_sr_um[i],
-            l_de[i],
-            l_ds[i],
-            tau1[i],
-            e_gnd[i]
+            v.tau2[i],
+            v.l_ue[i],
+            v.l_us[i],
+            v.l_de[i],
+            v.l_ds[i],
+            v.tau1[i],
+            v.e_sun_ground[i]
         );
     }
     Ok(0)

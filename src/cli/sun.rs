@@ -1,10 +1,10 @@
-//! `irsig sun`: print the solar position (NREL SPA) for a site and an instant.
+//! `irsig sun`: print the solar position (NREL SPA) for a site and an instant
+//! ([`crate::sun::report::sun_report`]).
 
+use crate::sun::report::sun_report;
+use crate::sun::{SolarPosition, SpaOptions};
 use anyhow::Context;
 use chrono::{DateTime, Utc};
-use serde::Serialize;
-
-use crate::sun::{SolarPosition, SpaOptions, solar_position_with, validate_site};
 
 /// What `--time` accepts, repeated in error messages.
 pub const TIME_FORMAT_HELP: &str =
@@ -65,22 +65,6 @@ fn parse_lon(s: &str) -> Result<f64, String> {
     parse_deg(s, "longitude", 180.0, "east")
 }
 
-#[derive(Serialize)]
-struct Report<'a> {
-    time_utc: String,
-    lat_deg: f64,
-    lon_deg: f64,
-    elevation_m: f64,
-    zenith_deg: f64,
-    true_zenith_deg: f64,
-    azimuth_deg: f64,
-    elevation_deg: f64,
-    earth_sun_distance_au: f64,
-    sun_dir_enu: [f64; 3],
-    delta_t_s: f64,
-    options: &'a SpaOptions,
-}
-
 /// The text output of `irsig sun`.
 pub fn format_text(time: DateTime<Utc>, p: &SolarPosition) -> String {
     let v = p.sun_dir_enu;
@@ -105,52 +89,20 @@ pub fn format_text(time: DateTime<Utc>, p: &SolarPosition) -> String {
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
-    validate_site(a.lat, a.lon, a.elevation).map_err(anyhow::Error::msg)?;
-    if !(a.pressure_hpa > 0.0 && a.pressure_hpa < 2000.0) {
-        anyhow::bail!(
-            "--pressure-hpa {} is out of range: expected hPa in (0, 2000)",
-            a.pressure_hpa
-        );
-    }
-    if !(-100.0..=100.0).contains(&a.temp_c) {
-        anyhow::bail!(
-            "--temp-c {} is out of range: expected °C in [-100, 100]",
-            a.temp_c
-        );
-    }
     let opts = SpaOptions {
         pressure_hpa: a.pressure_hpa,
         temp_c: a.temp_c,
         delta_t_s: a.delta_t,
         ..SpaOptions::default()
     };
-    let p = solar_position_with(a.time, a.lat, a.lon, a.elevation, &opts);
+    let r = sun_report(a.time, a.lat, a.lon, a.elevation, &opts)?;
     if a.json {
-        let r = Report {
-            time_utc: a.time.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true),
-            lat_deg: a.lat,
-            lon_deg: a.lon,
-            elevation_m: a.elevation,
-            zenith_deg: p.zenith_deg,
-            true_zenith_deg: p.true_zenith_deg,
-            azimuth_deg: p.azimuth_deg,
-            elevation_deg: p.elevation_deg,
-            earth_sun_distance_au: p.earth_sun_distance_au,
-            sun_dir_enu: p.sun_dir_enu,
-            delta_t_s: a.delta_t.unwrap_or_else(|| {
-                crate::sun::delta_t_s(
-                    chrono::Datelike::year(&a.time),
-                    chrono::Datelike::month(&a.time),
-                )
-            }),
-            options: &opts,
-        };
         println!(
             "{}",
             serde_json::to_string_pretty(&r).context("serialising the solar position")?
         );
     } else {
-        print!("{}", format_text(a.time, &p));
+        print!("{}", format_text(a.time, &r.position));
     }
     Ok(0)
 }

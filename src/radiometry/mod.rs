@@ -6,6 +6,7 @@
 // Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod atmos_view;
 pub mod emissivity;
 pub mod equations;
 pub mod planck;

@@ -13,6 +13,7 @@ pub mod error;
 pub mod material;
 pub mod obj;
 pub mod spec;
+pub mod summary;
 pub mod tomlsrc;
 
 use std::collections::HashMap;

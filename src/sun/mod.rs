@@ -19,6 +19,8 @@
 use chrono::{DateTime, Datelike, Utc};
 use serde::{Deserialize, Serialize};
 
+pub mod approx;
+pub mod report;
 mod tables;
 
 /// Options of the SPA beyond time and site.

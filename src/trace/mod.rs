@@ -11,6 +11,7 @@
 
 pub mod bvh;
 pub mod crosscheck;
+pub mod crosscheck_file;
 pub mod embree;
 pub mod meshgen;
 pub mod offset;

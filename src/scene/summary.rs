@@ -1,0 +1,207 @@
+//! A scene's summary (`irsig check`): objects, facets, materials, bounds,
+//! the sensor's footprint and what the render will need.
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use super::{LoadedScene, WeatherSpec};
+
+/// Facet counts of one material.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MaterialUse {
+    pub name: String,
+    pub triangles: usize,
+    pub specularity: f64,
+    pub internal_power_w_m2: f64,
+    pub library: PathBuf,
+}
+
+/// What the render will need.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Needs {
+    /// Reflected/scattered solar terms in the radiometry: the band reaches
+    /// below 5 µm and the sun is up at the image time.
+    pub solar_reflection: bool,
+    /// Solar heating in the thermal model: the sun is up at some time of
+    /// the history (then shadow-history rays are traced).
+    pub solar_heating: bool,
+    /// Approximate solar elevation at the image time, degrees.
+    pub sun_elevation_deg: f64,
+    /// Specular-bounce rays: some facet has a material with specularity > 0.
+    pub specular_rays: bool,
+    pub specular_materials: Vec<String>,
+    /// Materials with an internal heat source.
+    pub heated_materials: Vec<String>,
+    /// Spectral samples in the band at the render's step.
+    pub spectral_samples: usize,
+    /// Thermal steps of the history and shadow-history samples per pixel.
+    pub thermal_steps: usize,
+    pub shadow_samples: usize,
+}
+
+/// The summary `irsig check` prints: what a scene holds and what
+/// rendering it will need.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SceneSummary {
+    pub scene: PathBuf,
+    pub site: super::Site,
+    pub time_local: String,
+    pub time_utc: String,
+    pub objects: usize,
+    pub faces: usize,
+    pub triangles: usize,
+    pub vertices: usize,
+    pub degenerate_skipped: usize,
+    pub materials: Vec<MaterialUse>,
+    pub bounds_min_m: [f32; 3],
+    pub bounds_max_m: [f32; 3],
+    pub camera: super::CameraGeometry,
+    /// Image corners on the plane z = target z (TL, TR, BR, BL); `null`
+    /// where a corner ray misses the ground (above the horizon).
+    pub footprint_m: [Option<[f64; 3]>; 4],
+    /// Ground sample distance at the image centre (across, along), m.
+    pub centre_gsd_m: Option<[f64; 2]>,
+    pub band_um: (f64, f64),
+    pub weather: String,
+    pub atmosphere: String,
+    pub needs: Needs,
+}
+
+/// Builds the summary of a loaded scene.
+pub fn summarize(s: &LoadedScene) -> SceneSummary {
+    let sc = &s.scene;
+    let mut counts = vec![0usize; s.materials.len()];
+    for &m in &s.tri_material {
+        counts[m as usize] += 1;
+    }
+    let materials: Vec<MaterialUse> = s
+        .materials
+        .iter()
+        .zip(&counts)
+        .map(|(m, &n)| MaterialUse {
+            name: m.name.clone(),
+            triangles: n,
+            specularity: m.specularity,
+            internal_power_w_m2: m.internal_power_w_m2,
+            library: m.library.clone(),
+        })
+        .collect();
+    let used = |f: &dyn Fn(&super::Material) -> bool| -> Vec<String> {
+        s.materials
+            .iter()
+            .zip(&counts)
+            .filter(|(m, n)| **n > 0 && f(m))
+            .map(|(m, _)| m.name.clone())
+            .collect()
+    };
+    let specular_materials = used(&|m| m.is_specular());
+    let heated_materials = used(&|m| m.internal_power_w_m2 != 0.0);
+    let (lo, hi) = s.bounds_m();
+    let ground_z = match &sc.sensor.pose {
+        super::SensorPose::LookAt { target_m, .. }
+        | super::SensorPose::Altitude { target_m, .. }
+        | super::SensorPose::SlantRange { target_m, .. } => target_m[2],
+    };
+    let band_um = s.response.support_um();
+    let t_utc = sc.time.utc(&sc.site);
+    let sun_el = crate::sun::approx::approx_sun_elevation_deg(
+        t_utc,
+        sc.site.latitude_deg,
+        sc.site.longitude_deg,
+    );
+    // Sun up at any time of the history (sampled every 15 min)?
+    let n_hist = (sc.render.history_hours * 4.0).ceil() as i64;
+    let solar_heating = (0..=n_hist).any(|k| {
+        let t = t_utc - chrono::Duration::minutes(15 * k);
+        crate::sun::approx::approx_sun_elevation_deg(t, sc.site.latitude_deg, sc.site.longitude_deg)
+            > 0.0
+    });
+    let (wn_lo, wn_hi) = (1e4 / band_um.1, 1e4 / band_um.0);
+    let spectral_samples = ((wn_hi - wn_lo) / sc.render.spectral_step_cm1).floor() as usize + 1;
+    let faces = s.objects.iter().map(|o| o.face_count as usize).sum();
+    SceneSummary {
+        scene: s.path.clone(),
+        site: sc.site.clone(),
+        time_local: sc.time.local.format("%Y-%m-%d %H:%M:%S").to_string(),
+        time_utc: t_utc.format("%Y-%m-%d %H:%M:%S UTC").to_string(),
+        objects: s.objects.len(),
+        faces,
+        triangles: s.triangles.len(),
+        vertices: s.positions.len(),
+        degenerate_skipped: s.degenerate_skipped,
+        materials,
+        bounds_min_m: lo,
+        bounds_max_m: hi,
+        camera: s.camera,
+        footprint_m: s.camera.footprint(ground_z),
+        centre_gsd_m: s.camera.centre_gsd_m(ground_z),
+        band_um,
+        weather: match &sc.weather {
+            WeatherSpec::File { path, format } => {
+                format!("{format:?} file {}", s.resolve(path).display())
+            }
+            WeatherSpec::Constant(w) => format!(
+                "constant: wind {} m/s, air {}..{} °C, dew point {} °C, cloud {}",
+                w.wind_m_s, w.air_min_c, w.air_max_c, w.dew_point_c, w.cloud_fraction
+            ),
+        },
+        atmosphere: format!(
+            "{:?}, visibility {} km",
+            sc.atmosphere.model, sc.atmosphere.visibility_km
+        ),
+        needs: Needs {
+            solar_reflection: band_um.0 < 5.0 && sun_el > 0.0,
+            solar_heating,
+            sun_elevation_deg: sun_el,
+            specular_rays: !specular_materials.is_empty(),
+            specular_materials,
+            heated_materials,
+            spectral_samples,
+            thermal_steps: (sc.render.history_hours * 60.0 / sc.render.thermal_step_min).ceil()
+                as usize,
+            shadow_samples: (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil()
+                as usize,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_of_the_airfield() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let s = crate::scene::load(&root.join("scenes/airfield/scene.toml")).unwrap();
+        let sum = summarize(&s);
+        assert_eq!(sum.objects, 24);
+        assert_eq!(sum.triangles, s.triangles.len());
+        assert_eq!(
+            sum.materials.iter().map(|m| m.triangles).sum::<usize>(),
+            sum.triangles
+        );
+        // MWIR at noon: solar reflection needed; specular roof present
+        assert!(sum.needs.solar_reflection && sum.needs.solar_heating && sum.needs.specular_rays);
+        assert!(
+            sum.needs
+                .specular_materials
+                .contains(&"painted_steel_roof".to_string())
+        );
+        assert_eq!(
+            sum.needs.heated_materials,
+            vec!["vehicle_engine".to_string()]
+        );
+        // 3-5 µm = 2000-3333.3 cm⁻¹ at 20 cm⁻¹ steps: 67 samples
+        assert_eq!(sum.needs.spectral_samples, 67);
+        assert_eq!(
+            (sum.needs.thermal_steps, sum.needs.shadow_samples),
+            (36, 36)
+        );
+        // footprint contains the target; JSON serialises
+        let fp = sum.footprint_m.map(|p| p.unwrap());
+        assert!(fp[0][1] > 20.0 && fp[2][1] < 20.0 && fp[0][0] < 0.0 && fp[1][0] > 0.0);
+        let json = serde_json::to_string(&sum).unwrap();
+        assert!(json.contains("\"solar_reflection\":true"));
+    }
+}

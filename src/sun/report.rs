@@ -1,0 +1,76 @@
+//! The solar position of a site and instant with the inputs that gave it
+//! (what `irsig sun` prints), checked inputs included.
+
+use chrono::{DateTime, Utc};
+use serde::Serialize;
+
+use super::{SolarPosition, SpaOptions, solar_position_with, validate_site};
+
+/// The solar position and its inputs; serialises as `irsig sun --json`
+/// prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SunReport {
+    pub time_utc: String,
+    pub lat_deg: f64,
+    pub lon_deg: f64,
+    pub elevation_m: f64,
+    pub zenith_deg: f64,
+    pub true_zenith_deg: f64,
+    pub azimuth_deg: f64,
+    pub elevation_deg: f64,
+    pub earth_sun_distance_au: f64,
+    pub sun_dir_enu: [f64; 3],
+    /// ΔT used (the options' or the Espenak & Meeus model's), s.
+    pub delta_t_s: f64,
+    pub options: SpaOptions,
+    /// The position itself.
+    #[serde(skip)]
+    pub position: SolarPosition,
+}
+
+/// The solar position (NREL SPA) at `time` for a site (latitude and
+/// longitude in degrees, east positive; elevation in metres); checks the
+/// site and the refraction inputs (pressure in (0, 2000) hPa, temperature
+/// in [-100, 100] °C).
+pub fn sun_report(
+    time: DateTime<Utc>,
+    lat_deg: f64,
+    lon_deg: f64,
+    elevation_m: f64,
+    opts: &SpaOptions,
+) -> anyhow::Result<SunReport> {
+    validate_site(lat_deg, lon_deg, elevation_m).map_err(anyhow::Error::msg)?;
+    if !(opts.pressure_hpa > 0.0 && opts.pressure_hpa < 2000.0) {
+        anyhow::bail!(
+            "--pressure-hpa {} is out of range: expected hPa in (0, 2000)",
+            opts.pressure_hpa
+        );
+    }
+    if !(-100.0..=100.0).contains(&opts.temp_c) {
+        anyhow::bail!(
+            "--temp-c {} is out of range: expected °C in [-100, 100]",
+            opts.temp_c
+        );
+    }
+    let p = solar_position_with(time, lat_deg, lon_deg, elevation_m, opts);
+    Ok(SunReport {
+        time_utc: time.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true),
+        lat_deg,
+        lon_deg,
+        elevation_m,
+        zenith_deg: p.zenith_deg,
+        true_zenith_deg: p.true_zenith_deg,
+        azimuth_deg: p.azimuth_deg,
+        elevation_deg: p.elevation_deg,
+        earth_sun_distance_au: p.earth_sun_distance_au,
+        sun_dir_enu: p.sun_dir_enu,
+        delta_t_s: opts.delta_t_s.unwrap_or_else(|| {
+            super::delta_t_s(
+                chrono::Datelike::year(&time),
+                chrono::Datelike::month(&time),
+            )
+        }),
+        options: *opts,
+        position: p,
+    })
+}

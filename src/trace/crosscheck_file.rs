@@ -1,0 +1,120 @@
+//! The cross-check of a scene or mesh file (`irsig crosscheck`): its
+//! geometry, a camera and sun directions, traced with both backends
+//! ([`super::crosscheck::run`]).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::Context;
+use glam::{DVec3, Vec3};
+
+use super::bvh::BvhTracer;
+use super::crosscheck::{self, Report, Tolerances};
+use super::embree::EmbreeTracer;
+use super::{Geometry, QueryMode};
+use crate::sensor::camera::Camera;
+
+/// The camera and sun directions of a mesh input (a scene has its own).
+#[derive(Clone, Copy, Debug)]
+pub struct MeshView {
+    /// Image size of the generated oblique camera, pixels.
+    pub width: u32,
+    pub height: u32,
+    /// Number of solar-history directions (a summer day's arc).
+    pub sun_samples: u32,
+}
+
+/// Loads an OBJ file as one triangle soup (faces fan-triangulated), with
+/// the scene loader's line-numbered errors.
+pub fn load_obj(path: &Path) -> anyhow::Result<Geometry> {
+    let m = crate::scene::obj::load_obj(path)?;
+    let positions = m.positions.iter().map(|p| Vec3::from(*p)).collect();
+    let triangles = m
+        .faces
+        .iter()
+        .flat_map(|f| (1..f.verts.len() - 1).map(move |k| [f.verts[0], f.verts[k], f.verts[k + 1]]))
+        .collect();
+    Geometry::new(positions, triangles).with_context(|| format!("{}: bad geometry", path.display()))
+}
+
+/// A camera looking at the centre of `bounds` from the south-west, 35° off
+/// nadir, framing the whole bounding box.
+pub fn oblique_camera(bounds: (Vec3, Vec3), width: u32, height: u32) -> Camera {
+    let (lo, hi) = (bounds.0.as_dvec3(), bounds.1.as_dvec3());
+    let center = (lo + hi) / 2.0;
+    let radius = ((hi - lo).length() / 2.0).max(1.0);
+    let dir = DVec3::new(-0.4, -0.5, 1.0).normalize();
+    let fov_deg: f64 = 50.0;
+    let dist = radius / (fov_deg.to_radians() / 2.0).sin();
+    Camera::look_at(center + dir * dist, center, fov_deg, width, height)
+}
+
+/// `n` sun directions along a mid-latitude summer arc (elevation 8°-65°,
+/// azimuth 70°-290°), ENU.
+pub fn sun_arc(n: u32) -> Vec<Vec3> {
+    (0..n)
+        .map(|i| {
+            let f = if n > 1 {
+                i as f32 / (n - 1) as f32
+            } else {
+                0.5
+            };
+            let az = (70.0 + 220.0 * f).to_radians();
+            let el = (8.0 + 57.0 * (std::f32::consts::PI * f).sin()).to_radians();
+            Vec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin())
+        })
+        .collect()
+}
+
+/// Sun directions (ENU) of a scene's shadow history: every
+/// `shadow_interval_min` over `history_hours` before the image time, sun
+/// above the horizon.
+pub fn scene_sun_dirs(s: &crate::scene::LoadedScene) -> Vec<Vec3> {
+    let sc = &s.scene;
+    let end = sc.time.utc(&sc.site);
+    let step_s = (sc.render.shadow_interval_min * 60.0).round() as i64;
+    let n = (sc.render.history_hours * 3600.0 / step_s as f64).round() as i64;
+    (0..=n)
+        .filter_map(|k| {
+            let t = end - chrono::Duration::seconds(step_s * (n - k));
+            let p = crate::sun::solar_position(
+                t,
+                sc.site.latitude_deg,
+                sc.site.longitude_deg,
+                sc.site.elevation_m,
+            );
+            (p.elevation_deg > 0.0).then(|| DVec3::from(p.sun_dir_enu).as_vec3())
+        })
+        .collect()
+}
+
+/// Cross-checks the backends on `input`: a scene file (`.toml`: its
+/// sensor camera and the sun directions of its shadow history) or an OBJ
+/// mesh (an oblique camera and a sun arc from `mesh`).
+pub fn crosscheck_file(input: &Path, mesh: MeshView) -> anyhow::Result<Report> {
+    let is_scene = input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let (geometry, camera, suns) = if is_scene {
+        let s = crate::scene::load(input)?;
+        let positions = s.positions.iter().map(|p| Vec3::from(*p)).collect();
+        let g = Geometry::new(positions, s.triangles.clone())
+            .with_context(|| format!("{}: bad geometry", input.display()))?;
+        (g, Camera::from_geometry(&s.camera), scene_sun_dirs(&s))
+    } else {
+        let g = load_obj(input)?;
+        let cam = oblique_camera(g.bounds(), mesh.width, mesh.height);
+        (g, cam, sun_arc(mesh.sun_samples))
+    };
+    let geometry = Arc::new(geometry);
+    let embree = EmbreeTracer::new(geometry.clone(), QueryMode::Packet16)?;
+    let bvh = BvhTracer::new(geometry.clone());
+    Ok(crosscheck::run(
+        &geometry,
+        &embree,
+        &bvh,
+        &camera,
+        &suns,
+        Tolerances::default(),
+    ))
+}
