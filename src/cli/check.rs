@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 
 use crate::scene;
-use crate::scene::summary::{SceneSummary, summarize};
+use crate::scene::summary::SceneSummary;
+pub use crate::scene::summary::summarize;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
