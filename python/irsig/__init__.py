@@ -220,6 +220,30 @@ def _xy_coords(height: int, width: int) -> dict:
     }
 
 
+#: Mean Earth radius for the local tangent-plane lat/lon of hit points, m.
+_EARTH_RADIUS_M = 6371008.8
+
+
+def _point_coords(points, meta: dict, frame_dims=()) -> dict:
+    """2-D coordinates of what each pixel's centre ray hits: ``east``,
+    ``north``, ``up`` in the scene frame (m, the site at the origin) and
+    ``lat``/``lon`` from the site's latitude and longitude (local
+    tangent-plane approximation); NaN where the ray sees no surface."""
+    dims = (*frame_dims, "y", "x")
+    out = {}
+    for name, data in points:
+        out[name] = (dims, data, {"units": "m", "long_name": f"{name} coordinate of the surface point seen (scene frame)"})
+    lat0, lon0 = meta.get("latitude_deg"), meta.get("longitude_deg")
+    if lat0 is not None and lon0 is not None and "east" in out:
+        east, north = out["east"][1].astype(_np.float64), out["north"][1].astype(_np.float64)
+        lat = lat0 + _np.degrees(north / _EARTH_RADIUS_M)
+        lon = lon0 + _np.degrees(east / (_EARTH_RADIUS_M * _np.cos(_np.radians(lat0))))
+        note = "of the surface point seen (local tangent plane at the site)"
+        out["lat"] = (dims, lat, {"units": "degrees_north", "long_name": f"latitude {note}"})
+        out["lon"] = (dims, lon, {"units": "degrees_east", "long_name": f"longitude {note}"})
+    return out
+
+
 def _frame_attrs(meta: dict) -> dict:
     attrs = {k: meta[k] for k in _FLAT_ATTRS if k in meta}
     attrs["camera"] = _json.dumps(meta.get("camera"))
@@ -243,7 +267,8 @@ def _dataset(frame: dict) -> _xr.Dataset:
     meta = _json.loads(frame["meta"])
     planes = frame["planes"]
     h, w = planes[0][2].shape
-    ds = _xr.Dataset(_variables(planes), coords=_xy_coords(h, w), attrs=_frame_attrs(meta))
+    coords = {**_xy_coords(h, w), **_point_coords(frame["points"], meta)}
+    ds = _xr.Dataset(_variables(planes), coords=coords, attrs=_frame_attrs(meta))
     _name_materials(ds, meta)
     ds.coords["time"] = ((), _utc64(meta["image_time_utc"]), {"long_name": "image time (UTC)"})
     return ds
@@ -268,6 +293,15 @@ def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
     }
     coords = _xy_coords(h, w)
     coords[dim] = (dim, coord, coord_attrs)
+    first = frames[0]["points"]
+    same = all(
+        all(_np.array_equal(a[1], b[1], equal_nan=True) for a, b in zip(first, f["points"])) for f in frames[1:]
+    )
+    if same:
+        coords.update(_point_coords(first, metas[0]))
+    else:
+        stacked = [(name, _np.stack([f["points"][i][1] for f in frames])) for i, (name, _) in enumerate(first)]
+        coords.update(_point_coords(stacked, metas[0], (dim,)))
     per_frame = {
         "sun_zenith_deg": ("deg", "solar zenith angle at the image time"),
         "sun_azimuth_deg": ("deg", "solar azimuth at the image time, clockwise from north"),

@@ -378,6 +378,14 @@ fn image_to_py<'py>(
         let a = PyArray1::from_vec(py, p.data).reshape([h, w])?;
         planes.append((p.name, p.unit, a))?;
     }
+    let points = PyList::empty(py);
+    for (i, axis) in hit_points(&frame.samples, frame.sample_width as usize, w, h)
+        .into_iter()
+        .enumerate()
+    {
+        let name = ["east", "north", "up"][i];
+        points.append((name, PyArray1::from_vec(py, axis).reshape([h, w])?))?;
+    }
     meta["scene"] = image.scene.into();
     meta["image_time_utc"] = image.image_time_utc.to_rfc3339().into();
     meta["sun_zenith_deg"] = image.sun_zenith_deg.into();
@@ -387,8 +395,36 @@ fn image_to_py<'py>(
     meta["stats"] = serde_json::to_value(&frame.stats).unwrap_or_default();
     let d = PyDict::new(py);
     d.set_item("planes", planes)?;
+    d.set_item("points", points)?;
     d.set_item("meta", meta.to_string())?;
     Ok(d)
+}
+
+/// The scene-frame point (east, north, up, m) each output pixel's centre
+/// sample hits (NaN where it sees no surface), three `w`×`h` planes.
+fn hit_points(
+    samples: &[irsig::render::Sample],
+    sample_width: usize,
+    w: usize,
+    h: usize,
+) -> [Vec<f32>; 3] {
+    let n = (sample_width / w.max(1)).max(1);
+    let mut out = [
+        vec![f32::NAN; w * h],
+        vec![f32::NAN; w * h],
+        vec![f32::NAN; w * h],
+    ];
+    for y in 0..h {
+        for x in 0..w {
+            let k = (y * n + n / 2) * sample_width + x * n + n / 2;
+            if let Some(p) = samples.get(k).and_then(|s| s.surface.as_ref()) {
+                for (axis, v) in out.iter_mut().zip(p.point.to_array()) {
+                    axis[y * w + x] = v;
+                }
+            }
+        }
+    }
+    out
 }
 
 /// What a frame's Dataset carries beside the image's own description: the

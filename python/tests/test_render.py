@@ -1,6 +1,8 @@
 """irsig.render against `irsig render`: the same planes, bit for bit (the
 CLI's EXR is read with the OpenEXR wheel from PyPI), and the metadata."""
 
+import json
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -92,3 +94,18 @@ def test_probe_is_the_cli_json_and_the_render(small, ds):
     assert bits(np.array([r]))[0] == bits(ds.band_radiance.values[30:31, 40])[0]
     later = irsig.probe(small, 40, 30, time="15:00")
     assert later["image_time_local"].startswith("2001-08-08T15:00")
+
+
+def test_hit_point_coordinates(ds):
+    # Where the ray sees a surface, the range is the distance from the
+    # camera to the point; elsewhere the coordinates are NaN.
+    cam = json.loads(ds.attrs["camera"])
+    pos = np.array(cam["position_m"])
+    p = np.stack([ds.east.values, ds.north.values, ds.up.values], axis=-1).astype(np.float64)
+    hit = np.isfinite(ds.surface_temperature.values)
+    assert hit.any()
+    assert np.array_equal(hit, np.isfinite(p[..., 0]))
+    d = np.linalg.norm(p[hit] - pos, axis=-1)
+    assert np.allclose(d, ds.range.values[hit], rtol=1e-4)
+    assert abs(ds.lat.values[hit].mean() - ds.attrs["latitude_deg"]) < 0.01
+    assert ds.lon.units == "degrees_east"
