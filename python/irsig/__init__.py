@@ -23,6 +23,7 @@ import xarray as _xr
 
 from . import _irsig
 from ._irsig import IrsigError, SceneError, WeatherError
+from . import atmos
 
 __all__ = [
     "IrsigError",
@@ -33,7 +34,9 @@ __all__ = [
     "sequence",
     "sweep",
     "probe",
+    "therm",
     "sun",
+    "atmos",
     "PLANES",
     "material_mask",
 ]
@@ -434,13 +437,98 @@ def probe(
     return _json.loads(_irsig.probe(sc._inner, int(x), int(y), _time_text(time), spectral, threads, tracer))
 
 
-def sun(lat: float, lon: float, time: Union[str, _dt.datetime], elevation: float = 0.0) -> dict:
+def sun(
+    lat: float,
+    lon: float,
+    time: Union[str, _dt.datetime],
+    elevation: float = 0.0,
+    *,
+    pressure_hpa: Optional[float] = None,
+    temp_c: Optional[float] = None,
+    delta_t_s: Optional[float] = None,
+) -> dict:
     """Solar position (NREL SPA), as ``irsig sun --json``: zenith (apparent
-    and true), azimuth, elevation, Earth-Sun distance and the ENU unit
-    vector. ``time``: RFC 3339 with an offset or an aware datetime (a naive
-    datetime is taken as UTC)."""
+    and true), azimuth, elevation, Earth-Sun distance, the ENU unit vector
+    and the options used. ``time``: RFC 3339 with an offset or a datetime (a
+    naive one is taken as UTC); ``pressure_hpa``, ``temp_c``: refraction
+    inputs (default 1013.25 hPa, 12 °C); ``delta_t_s``: TT - UT (default
+    modelled)."""
     if isinstance(time, _dt.datetime):
         if time.tzinfo is None:
             time = time.replace(tzinfo=_dt.timezone.utc)
         time = time.isoformat()
-    return _json.loads(_irsig.sun(float(lat), float(lon), str(time), float(elevation)))
+    return _json.loads(
+        _irsig.sun(float(lat), float(lon), str(time), float(elevation), pressure_hpa, temp_c, delta_t_s)
+    )
+
+
+def _utc_text(t: Union[str, _dt.datetime]) -> str:
+    if isinstance(t, _dt.datetime):
+        if t.tzinfo is None:
+            t = t.replace(tzinfo=_dt.timezone.utc)
+        return t.isoformat()
+    return str(t)
+
+
+#: The columns of ``irsig therm --csv``, in its order (after ``time_utc``).
+_THERM_COLUMNS = [
+    "t_s", "surface_temp_k", "air_temp_k", "sunlit", "absorbed_direct_w_m2", "absorbed_diffuse_w_m2",
+    "absorbed_ground_reflected_w_m2", "sky_longwave_in_w_m2", "ground_longwave_in_w_m2",
+    "emitted_longwave_w_m2", "convection_w_m2", "latent_w_m2", "rain_w_m2", "internal_w_m2",
+    "net_surface_w_m2", "conduction_into_slab_w_m2", "back_w_m2", "convection_coeff_w_m2k",
+    "water_store_mm", "sky_view", "sunlit_fraction", "surface_temp_c",
+]
+
+
+def therm(
+    materials: PathLike,
+    material: str,
+    *,
+    lat: float,
+    lon: float,
+    start: Union[str, _dt.datetime],
+    stop: Union[str, _dt.datetime],
+    weather: Optional[PathLike] = None,
+    forcing: Optional[PathLike] = None,
+    typical_year: bool = False,
+    elevation: float = 0.0,
+    slope: float = 0.0,
+    aspect: float = 180.0,
+    step_min: float = 15.0,
+    spin_up_h: float = 24.0,
+    spin_up_start: str = "mean-forcing",
+    convection: str = "surface-layer",
+    wind_height_m: float = 10.0,
+    air_height_m: float = 2.0,
+    site_roughness_m: float = 0.03,
+    facet_height_m: float = 0.0,
+    shadow: Optional[str] = None,
+):
+    """Surface temperature and every flux term of one material and facet
+    over time, as ``irsig therm`` (its flags are the keywords, with the
+    same defaults): a ``pandas.DataFrame`` indexed by UTC time with the
+    columns of ``irsig therm --csv`` (``t_s``, ``surface_temp_k``,
+    ``air_temp_k``, ``sunlit``, the surface fluxes in W m-2, ...,
+    ``surface_temp_c``). ``df.attrs`` holds the material's properties, the
+    orientation, the thermal settings and the weather estimators used.
+    ``start``/``stop``: RFC 3339 instants or datetimes (naive = UTC)."""
+    import pandas as pd
+
+    out = _json.loads(
+        _irsig.therm(
+            _os.fspath(materials), material, float(lat), float(lon), _utc_text(start), _utc_text(stop),
+            None if weather is None else _os.fspath(weather), None if forcing is None else _os.fspath(forcing),
+            typical_year, float(elevation), float(slope), float(aspect), float(step_min), float(spin_up_h),
+            spin_up_start, convection, float(wind_height_m), float(air_height_m), float(site_roughness_m),
+            float(facet_height_m), shadow,
+        )
+    )
+    rows = [{**{k: v for k, v in r.items() if k != "surface"}, **r["surface"]} for r in out["rows"]]
+    df = pd.DataFrame(rows)
+    df = df.rename(columns={"net_w_m2": "net_surface_w_m2"})
+    df["surface_temp_c"] = df["surface_temp_k"] - 273.15
+    first = [c for c in _THERM_COLUMNS if c in df.columns]
+    df = df[first + [c for c in df.columns if c not in first]]
+    df.index = pd.DatetimeIndex(pd.to_datetime(df.pop("time_utc"), utc=True), name="time_utc")
+    df.attrs = {k: out[k] for k in ("material", "properties", "orientation", "settings", "nodes", "estimators")}
+    return df

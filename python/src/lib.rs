@@ -169,7 +169,7 @@ impl Scene {
 
     /// `irsig check --json` as JSON text.
     fn check_json(&self) -> PyResult<String> {
-        anyhow_py(serde_json::to_string(&irsig::cli::check::summarize(
+        anyhow_py(serde_json::to_string(&irsig::scene::summary::summarize(
             &self.scene,
         )))
     }
@@ -592,32 +592,153 @@ fn probe(
     anyhow_py(serde_json::to_string(&report))
 }
 
-/// Solar position (NREL SPA) at `time` (RFC 3339 with an offset) as JSON
-/// text, as `irsig sun --json`.
+/// Solar position (NREL SPA) at `time` (RFC 3339 with an offset), as
+/// `irsig sun --json` (JSON text).
 #[pyfunction]
-#[pyo3(signature = (lat, lon, time, elevation = 0.0))]
-fn sun(lat: f64, lon: f64, time: &str, elevation: f64) -> PyResult<String> {
+#[pyo3(signature = (lat, lon, time, elevation = 0.0, pressure_hpa = None, temp_c = None, delta_t_s = None))]
+fn sun(
+    lat: f64,
+    lon: f64,
+    time: &str,
+    elevation: f64,
+    pressure_hpa: Option<f64>,
+    temp_c: Option<f64>,
+    delta_t_s: Option<f64>,
+) -> PyResult<String> {
     let t = irsig::cli::sun::parse_time(time).map_err(IrsigError::new_err)?;
-    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=180.0).contains(&lon) {
-        return Err(IrsigError::new_err(format!(
-            "lat={lat}, lon={lon}: expected latitude in [-90, 90] and longitude in [-180, 180] degrees"
-        )));
-    }
-    let opts = irsig::sun::SpaOptions::default();
-    let p = irsig::sun::solar_position_with(t, lat, lon, elevation, &opts);
-    Ok(serde_json::json!({
-        "time_utc": t.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true),
-        "lat_deg": lat,
-        "lon_deg": lon,
-        "elevation_m": elevation,
-        "zenith_deg": p.zenith_deg,
-        "true_zenith_deg": p.true_zenith_deg,
-        "azimuth_deg": p.azimuth_deg,
-        "elevation_deg": p.elevation_deg,
-        "earth_sun_distance_au": p.earth_sun_distance_au,
-        "sun_dir_enu": p.sun_dir_enu,
-    })
-    .to_string())
+    let d = irsig::sun::SpaOptions::default();
+    let opts = irsig::sun::SpaOptions {
+        pressure_hpa: pressure_hpa.unwrap_or(d.pressure_hpa),
+        temp_c: temp_c.unwrap_or(d.temp_c),
+        delta_t_s,
+        ..d
+    };
+    let r = irsig::sun::report::sun_report(t, lat, lon, elevation, &opts).map_err(to_py)?;
+    anyhow_py(serde_json::to_string(&r))
+}
+
+/// The shipped atmosphere tables: (name, path, description).
+#[pyfunction]
+fn atmos_list() -> PyResult<Vec<(String, PathBuf, String)>> {
+    anyhow_py(irsig::atmos::list_builtin())
+}
+
+/// What atmosphere `name` contributes for one geometry over `band`, as
+/// `irsig atmos show` (JSON text).
+#[pyfunction]
+#[pyo3(signature = (name, altitude_km, zenith_deg, sky_zenith_deg = None, sun_zenith_deg = 45.0, rel_azimuth_deg = 90.0, band = "8-14"))]
+fn atmos_show(
+    name: &str,
+    altitude_km: f64,
+    zenith_deg: f64,
+    sky_zenith_deg: Option<f64>,
+    sun_zenith_deg: f64,
+    rel_azimuth_deg: f64,
+    band: &str,
+) -> PyResult<String> {
+    use irsig::radiometry::atmos_view::{AtmosGeometry, atmos_view};
+    let g = AtmosGeometry {
+        altitude_km,
+        view_zenith_deg: zenith_deg,
+        sky_zenith_deg: sky_zenith_deg.unwrap_or(zenith_deg),
+        sun_zenith_deg,
+        rel_azimuth_deg,
+    };
+    let v = atmos_view(name, band, g).map_err(to_py)?;
+    anyhow_py(serde_json::to_string(&v))
+}
+
+/// Surface temperature and every flux term of one material and facet over
+/// time, as `irsig therm --json` (JSON text); the arguments are its flags
+/// (`irsig::therm::series::FacetRun`).
+#[pyfunction]
+#[pyo3(signature = (
+    materials, material, lat, lon, start, stop, weather = None, forcing = None,
+    typical_year = false, elevation = 0.0, slope = 0.0, aspect = 180.0, step_min = 15.0,
+    spin_up_h = 24.0, spin_up_start = "mean-forcing", convection = "surface-layer",
+    wind_height_m = 10.0, air_height_m = 2.0, site_roughness_m = 0.03, facet_height_m = 0.0,
+    shadow = None,
+))]
+#[allow(clippy::too_many_arguments)]
+fn therm(
+    py: Python<'_>,
+    materials: PathBuf,
+    material: String,
+    lat: f64,
+    lon: f64,
+    start: &str,
+    stop: &str,
+    weather: Option<PathBuf>,
+    forcing: Option<PathBuf>,
+    typical_year: bool,
+    elevation: f64,
+    slope: f64,
+    aspect: f64,
+    step_min: f64,
+    spin_up_h: f64,
+    spin_up_start: &str,
+    convection: &str,
+    wind_height_m: f64,
+    air_height_m: f64,
+    site_roughness_m: f64,
+    facet_height_m: f64,
+    shadow: Option<&str>,
+) -> PyResult<String> {
+    use irsig::therm::balance::{Convection, Orientation};
+    use irsig::therm::series::{
+        FacetRun, ForcingSource, facet_series, load_material, parse_shadow_ranges, parse_time,
+    };
+    use irsig::therm::slab::SpinUpStart;
+    let build = || -> anyhow::Result<FacetRun> {
+        Ok(FacetRun {
+            material_name: material.clone(),
+            material: load_material(&materials, &material)?,
+            forcing: match (forcing, weather) {
+                (Some(p), None) => ForcingSource::ForcingCsv(p),
+                (None, Some(path)) => ForcingSource::Weather { path, typical_year },
+                _ => anyhow::bail!("give weather= or forcing= (one of them)"),
+            },
+            site: irsig::sun::Site {
+                lat_deg: lat,
+                lon_deg: lon,
+                elevation_m: elevation,
+            },
+            orientation: Orientation {
+                slope_deg: slope,
+                aspect_deg: aspect,
+            },
+            from: parse_time(start).map_err(|e| e.context("start"))?,
+            to: parse_time(stop).map_err(|e| e.context("stop"))?,
+            step_min,
+            spin_up_h,
+            spin_up_start: match spin_up_start {
+                "mean-forcing" => SpinUpStart::MeanForcing,
+                "first-sample" => SpinUpStart::FirstSample,
+                s => anyhow::bail!(
+                    "spin_up_start={s:?}: expected \"mean-forcing\" or \"first-sample\""
+                ),
+            },
+            convection: match convection {
+                "surface-layer" => Convection::SurfaceLayer(irsig::therm::aero::SurfaceLayer {
+                    wind_height_m,
+                    air_height_m,
+                    site_roughness_m,
+                }),
+                "mcadams" => Convection::mcadams(),
+                c => anyhow::bail!("convection={c:?}: expected \"surface-layer\" or \"mcadams\""),
+            },
+            facet_height_m,
+            shadow: shadow
+                .map(parse_shadow_ranges)
+                .transpose()?
+                .unwrap_or_default(),
+        })
+    };
+    let run = build().map_err(to_py)?;
+    let series = run_blocking(py, Some(1), None, 1, |_| facet_series(&run))?;
+    let mut v = serde_json::to_value(&series).map_err(|e| to_py(e.into()))?;
+    v["estimators"] = series.estimator_lines.into();
+    Ok(v.to_string())
 }
 
 /// The version of the extension (and of the irsig library it was built with).
@@ -636,6 +757,9 @@ fn _irsig(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sun, m)?)?;
     m.add_function(wrap_pyfunction!(probe, m)?)?;
+    m.add_function(wrap_pyfunction!(atmos_list, m)?)?;
+    m.add_function(wrap_pyfunction!(atmos_show, m)?)?;
+    m.add_function(wrap_pyfunction!(therm, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add("IrsigError", py.get_type::<IrsigError>())?;
     m.add("SceneError", py.get_type::<IrsigSceneError>())?;
