@@ -58,6 +58,8 @@
 // Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod adjust;
+pub mod standard;
 pub mod table;
 
 use std::path::{Path, PathBuf};
