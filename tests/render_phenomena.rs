@@ -11,8 +11,10 @@
 //! * LWIR: the same thermal shadow, but reflected sunlight is < 1 % of the
 //!   emission (vs. > 5 % in MWIR).
 //! * LWIR at a fixed 10 km slant range (Fig. 14): contrast falls with view
-//!   zenith, and the specular hangar roof turns dark against its
-//!   surroundings at 75°: its emissivity falls and it mirrors a cold sky.
+//!   zenith, and the specular hangar roof loses its contrast against its
+//!   surroundings at 75°: its emissivity falls and it mirrors the sky.
+//! * The atmosphere follows the weather: the path's thermal radiance at
+//!   15:00 exceeds that at 03:00 (9 K warmer air).
 
 mod common;
 
@@ -322,12 +324,16 @@ fn view_zenith_contrast_falls_and_specular_roof_turns_dark() {
     assert!(a.1 > b.1 && b.1 > c.1, "std falls with view zenith");
     assert!(a.2.abs() > b.2.abs() && b.2.abs() > c.2.abs());
     assert!(c.1 < 0.7 * a.1);
-    // The roof turns dark against its surroundings at 75°, mirroring the
-    // sky far more than at nadir.
-    // (With transpiring grass the surroundings are ~10 K cooler than the
-    // old soil-slab grass, so the roof ends just below them: −0.25 K, from
-    // +3.6 K at nadir.)
-    assert!(c.3 < a.3 - 3.0 && c.3 < 0.0, "the roof turns dark at 75°");
+    // The roof loses its contrast against its surroundings at 75°,
+    // mirroring the sky far more than at nadir. (With the table's own
+    // mid-latitude-summer sky it turned just dark, −0.25 K from +3.6 K at
+    // nadir; the sky now follows the weather, a humid 32 °C noon whose sky
+    // irradiance is 418 W/m² against the table's 354, so the mirrored sky
+    // is warmer: +0.37 K from +3.1 K.)
+    assert!(
+        c.3 < a.3 - 2.5 && c.3 < 0.2 * a.3,
+        "the roof loses its contrast at 75°"
+    );
     assert!(c.4 > 3.0 * a.4, "the roof mirrors the sky at grazing view");
 }
 
@@ -379,4 +385,16 @@ fn grass_pond_and_pavement_against_the_air_day_and_night() {
         at(concrete)
     );
     assert!(at(pond) < at(asphalt) && at(pond) < at(concrete));
+    // Issue: path radiance at 03:00 and 15:00 was identical while the air
+    // swung 9 K. The path to the sensor at 1.5 km takes g = 0.57 of it
+    // (5 K: +8 % at 10 µm), and the night's moister air (vapour pressure
+    // 2.5 vs 2.3 kPa) makes the night path 7 % more opaque, so it emits
+    // more: measured +2.8 %; more than 2 % asserted (0 % before).
+    let all: Vec<bool> = day.plane("material").iter().map(|&v| v >= 0.0).collect();
+    let (pd, pn) = (
+        mean(&day, "path_thermal", &all),
+        mean(&night, "path_thermal", &all),
+    );
+    eprintln!("path thermal radiance: 15:00 {pd:.4}, 03:00 {pn:.4} W m-2 sr-1");
+    assert!(pd > 1.02 * pn, "the path follows the air temperature");
 }

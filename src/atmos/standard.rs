@@ -258,4 +258,31 @@ mod tests {
         let names = |v: &[&StandardAtmosphere]| v.iter().map(|s| s.name).collect::<Vec<_>>();
         assert_eq!(names(&by_e), names(&by_w));
     }
+
+    /// The surface temperatures against the shipped LOWTRAN tables: the
+    /// sky's brightness temperature at 89° zenith in the opaque 15 µm CO₂
+    /// band centre (660 cm⁻¹) is that of the air within a few hundred
+    /// metres of the ground, i.e. T₀ minus a lapse of 6.5 K/km over that
+    /// depth (plus for sub-arctic winter's surface inversion): within 3.5 K.
+    #[test]
+    fn surface_temperatures_match_the_tables() {
+        use crate::radiometry::brightness_temp_k;
+        for s in &STANDARD_ATMOSPHERES {
+            let sa = crate::atmos::Atmosphere::builtin(s.name).unwrap().full();
+            let i = sa
+                .wavenumber_cm1
+                .iter()
+                .position(|&v| (v - 660.0).abs() < 1e-6)
+                .unwrap();
+            let mut l = vec![0.0; sa.len()];
+            sa.l_de(89.0, &mut l).unwrap();
+            let tb = brightness_temp_k(1e4 / 660.0, l[i]).unwrap();
+            assert!(
+                (tb - s.surface_temp_k).abs() < 3.5,
+                "{}: {tb} vs {}",
+                s.name,
+                s.surface_temp_k
+            );
+        }
+    }
 }

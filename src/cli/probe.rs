@@ -209,6 +209,9 @@ pub fn to_text(r: &PixelProbe) -> String {
         "sun: zenith {:.3}°, azimuth {:.3}°",
         r.sun.zenith_deg, r.sun.azimuth_deg
     );
+    for (k, line) in r.atmosphere.lines().iter().enumerate() {
+        let _ = writeln!(o, "{}{line}", if k == 0 { "atmosphere: " } else { "  " });
+    }
     for s in &r.samples {
         let _ = writeln!(
             o,

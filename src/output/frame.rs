@@ -19,6 +19,8 @@ pub struct Summary<'a> {
     pub sun_azimuth_deg: f64,
     pub band: String,
     pub estimators: String,
+    /// The atmosphere table, why, and how it followed the weather.
+    pub atmosphere: &'a crate::render::atmosphere::AtmosphereReport,
     /// What the quicklook shows and its stretch.
     pub quicklook: String,
     /// (name, unit) of every plane, in EXR order.
@@ -99,6 +101,7 @@ pub fn write_rendered(
                 sun_azimuth_deg: r.sun_azimuth_deg,
                 band: r.band.clone(),
                 estimators: r.estimators.clone(),
+                atmosphere: &r.atmosphere,
                 quicklook,
                 planes: plane_list(&r.frame),
                 stats: &r.frame.stats,

@@ -21,6 +21,8 @@ pub struct Rendered {
     pub band: String,
     /// The forcing estimators used (weather files), as text.
     pub estimators: String,
+    /// The atmosphere table, why, and how it followed the weather.
+    pub atmosphere: super::atmosphere::AtmosphereReport,
     /// The planes (every output plane, at output resolution) and statistics.
     pub frame: Frame,
 }
@@ -53,6 +55,7 @@ pub fn render_conditions(
         sun_azimuth_deg: cond.sun_now.azimuth_deg,
         band: st.band.label.clone(),
         estimators: cond.estimators.to_string(),
+        atmosphere: cond.atmosphere_report.clone(),
         frame,
     })
 }

@@ -15,6 +15,7 @@
 //! Everything is deterministic: results depend on pixel, key and seed only,
 //! never on thread scheduling.
 
+pub mod atmosphere;
 pub mod cancel;
 pub mod image;
 pub mod pixel;

@@ -156,7 +156,7 @@ fn fold_deg(d: f64) -> f64 {
 impl<'a> RadiometryContext<'a> {
     pub fn new(st: &'a Static, cond: &'a Conditions) -> anyhow::Result<Self> {
         let n = st.band.len();
-        let sa = &st.atmosphere;
+        let sa = &cond.atmosphere;
         let sun = &cond.sun_now;
         let r2 = sun.earth_sun_distance_au * sun.earth_sun_distance_au;
         let e_exo = sa.e_sun_exo().iter().map(|e| e / r2).collect();
@@ -196,7 +196,7 @@ impl<'a> RadiometryContext<'a> {
         }
         let (h, vz, rel) = (k.0 as f64 * 0.01, k.1 as f64 * 0.05, k.2 as f64 * 5.0);
         let vz = vz.min(MAX_VIEW_ZENITH_DEG);
-        let sa = &self.st.atmosphere;
+        let sa = &self.cond.atmosphere;
         let p = if h >= LOWEST_ALT_KM {
             sa.path(h, vz, self.sun_zenith_deg.min(90.0), rel)?
         } else {
@@ -240,7 +240,7 @@ impl<'a> RadiometryContext<'a> {
         }
         let n = self.st.band.len();
         let (mut de, mut ds) = (vec![0.0; n], vec![0.0; n]);
-        let sa = &self.st.atmosphere;
+        let sa = &self.cond.atmosphere;
         let z = k.0 as f64 * 0.05;
         sa.l_de(z, &mut de)?;
         if self.sun_zenith_deg < 90.0 {

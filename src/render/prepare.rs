@@ -5,15 +5,18 @@
 
 use std::sync::Arc;
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 use chrono::{DateTime, Utc};
 use glam::Vec3;
 
-use crate::atmos::{Atmosphere, SpectralAtmosphere};
+use super::atmosphere::{
+    AtmosphereReport, AtmosphereSource, atmosphere_source, frame_atmosphere, load_atmosphere,
+};
+use crate::atmos::SpectralAtmosphere;
 use crate::radiometry::{Band, Emissivity, SpectralGrid, SpectralResponse};
 use crate::scene::LoadedScene;
 use crate::scene::material::{Emissivity as SceneEmissivity, Material};
-use crate::scene::spec::{AtmosphereModel, TracerKind, WeatherSpec};
+use crate::scene::spec::{TracerKind, WeatherSpec};
 use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
@@ -34,7 +37,13 @@ pub struct Static {
     pub band: Band,
     /// Wavelength of each band bin, µm.
     pub wavelength_um: Vec<f64>,
+    /// The atmosphere table over the band's bins, as computed.
     pub atmosphere: SpectralAtmosphere,
+    /// Which table and why.
+    pub atmosphere_source: AtmosphereSource,
+    /// The table on its own full grid, for the per-frame sky fit (when the
+    /// scene follows the weather with a standard profile).
+    pub atmosphere_full: Option<Arc<SpectralAtmosphere>>,
 }
 
 /// One sample of the sun/shadow history.
@@ -74,6 +83,10 @@ pub struct Conditions {
     /// The scene's slabs with `deep_ground = {}` set to
     /// [`deep_ground_temp_k`] (indexed like the scene's materials).
     pub slabs: Vec<SlabMaterial>,
+    /// The frame's atmosphere: [`Static::atmosphere`] adjusted to the
+    /// weather at the image time (`atmos::adjust`).
+    pub atmosphere: SpectralAtmosphere,
+    pub atmosphere_report: AtmosphereReport,
 }
 
 /// The thermal slab of a scene material (see [`Material::slab`]).
@@ -102,19 +115,6 @@ pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
                 .with_context(|| format!("material {}: emissivity table", m.name))?,
             )
         }
-    })
-}
-
-/// Name of the built-in table of a standard atmosphere.
-fn atmosphere_name(m: &AtmosphereModel) -> Option<&'static str> {
-    Some(match m {
-        AtmosphereModel::Tropical => "tropical",
-        AtmosphereModel::MidLatitudeSummer => "mls",
-        AtmosphereModel::MidLatitudeWinter => "mlw",
-        AtmosphereModel::SubarcticSummer => "sas",
-        AtmosphereModel::SubarcticWinter => "saw",
-        AtmosphereModel::UsStandard1976 => "us1976",
-        AtmosphereModel::TableFile(_) => return None,
     })
 }
 
@@ -195,16 +195,18 @@ pub fn derive_static(
     let band = Band::new(&grid, &resp).context("sensor band")?;
     let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();
 
+    let source = atmosphere_source(&scene, |from, to| scene_weather(&scene, from, to))?;
     let same_atmosphere = prev.filter(|p| {
         p.scene.scene.atmosphere == scene.scene.atmosphere
+            && p.atmosphere_source.name == source.name
             && p.band.wavenumber_cm1 == band.wavenumber_cm1
     });
-    let atmosphere = match same_atmosphere {
+    let (atmosphere, atmosphere_full) = match same_atmosphere {
         Some(p) => {
             reused.atmosphere = true;
-            p.atmosphere.clone()
+            (p.atmosphere.clone(), p.atmosphere_full.clone())
         }
-        None => load_atmosphere(&scene, &band)?,
+        None => load_atmosphere(&scene, &source, &band)?,
     };
     Ok((
         Static {
@@ -217,35 +219,11 @@ pub fn derive_static(
             band,
             wavelength_um,
             atmosphere,
+            atmosphere_source: source,
+            atmosphere_full,
         },
         reused,
     ))
-}
-
-/// The scene's atmosphere table, resampled over the band's bins.
-fn load_atmosphere(scene: &LoadedScene, band: &Band) -> anyhow::Result<SpectralAtmosphere> {
-    let atm_spec = &scene.scene.atmosphere;
-    let atm = match atmosphere_name(&atm_spec.model) {
-        Some(name) => {
-            if (atm_spec.visibility_km - 23.0).abs() > 1e-9 {
-                bail!(
-                    "{}: [atmosphere] visibility_km = {}: the shipped tables are for 23 km (rural aerosol); \
-                     generate a table for another visibility with tools/lowtran and name it with table_file",
-                    scene.path.display(),
-                    atm_spec.visibility_km
-                );
-            }
-            Atmosphere::builtin(name)?
-        }
-        None => {
-            let AtmosphereModel::TableFile(p) = &atm_spec.model else {
-                unreachable!("standard models have names")
-            };
-            Atmosphere::load(&scene.resolve(p))?
-        }
-    };
-    atm.resample(&band.wavenumber_cm1)
-        .context("atmosphere table over the sensor band")
 }
 
 /// Hours of air temperature averaged into the deep-ground temperature.
@@ -312,6 +290,42 @@ pub fn ground_material(scene: &LoadedScene) -> Option<u32> {
         .map(|(i, _)| i as u32)
 }
 
+/// The scene's weather record: its file (whole), or its constant weather
+/// generated every 15 min from `from` to `to`.
+pub fn scene_weather(
+    scene: &LoadedScene,
+    from: DateTime<Utc>,
+    to: DateTime<Utc>,
+) -> anyhow::Result<WeatherHistory> {
+    let sc = &scene.scene;
+    Ok(match &sc.weather {
+        WeatherSpec::File { path, .. } => {
+            // The reader recognises TMY3/EPW/CSV from the file itself; the
+            // scene's `format` key is not cross-checked (yet).
+            let p = scene.resolve(path);
+            read_weather_file_with(&p, &ReadOptions::default())
+                .with_context(|| format!("weather file of {}", scene.path.display()))?
+                .history
+        }
+        WeatherSpec::Constant(c) => crate::therm::weather::constant_weather(
+            &crate::therm::weather::ConstantWeather {
+                wind_speed_m_s: c.wind_m_s,
+                air_temp_min_c: c.air_min_c,
+                air_temp_max_c: c.air_max_c,
+                dew_point_c: c.dew_point_c,
+                cloud_fraction: c.cloud_fraction,
+                pressure_hpa: c.pressure_pa / 100.0,
+                t_max_after_noon_h: 2.5,
+            },
+            sc.site.latitude_deg,
+            sc.site.longitude_deg,
+            from,
+            to,
+            900.0,
+        )?,
+    })
+}
+
 /// Builds the conditions of a frame at `image_time` (UTC) from the scene's
 /// weather, history length and sampling.
 pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
@@ -332,32 +346,11 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let n_steps = (history_s as f64 / step_s).ceil().max(1.0) as usize;
     let step_s = history_s as f64 / n_steps as f64;
 
-    let history = match &sc.weather {
-        WeatherSpec::File { path, .. } => {
-            // The reader recognises TMY3/EPW/CSV from the file itself; the
-            // scene's `format` key is not cross-checked (yet).
-            let p = st.scene.resolve(path);
-            read_weather_file_with(&p, &ReadOptions::default())
-                .with_context(|| format!("weather file of {}", st.scene.path.display()))?
-                .history
-        }
-        WeatherSpec::Constant(c) => crate::therm::weather::constant_weather(
-            &crate::therm::weather::ConstantWeather {
-                wind_speed_m_s: c.wind_m_s,
-                air_temp_min_c: c.air_min_c,
-                air_temp_max_c: c.air_max_c,
-                dew_point_c: c.dew_point_c,
-                cloud_fraction: c.cloud_fraction,
-                pressure_hpa: c.pressure_pa / 100.0,
-                t_max_after_noon_h: 2.5,
-            },
-            site.lat_deg,
-            site.lon_deg,
-            deep_ground_window_start(start, image_time) - chrono::Duration::hours(2),
-            image_time + chrono::Duration::hours(2),
-            900.0,
-        )?,
-    };
+    let history = scene_weather(
+        &st.scene,
+        deep_ground_window_start(start, image_time) - chrono::Duration::hours(2),
+        image_time + chrono::Duration::hours(2),
+    )?;
     let (mut forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
         .with_context(|| format!("weather for {}", st.scene.path.display()))?;
     let deep_ground_k = deep_ground_temp_k(&history, &site, start, image_time)
@@ -422,6 +415,14 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         .collect();
     let sun_now = solar_position(image_time, site.lat_deg, site.lon_deg, site.elevation_m);
     let air_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
+    let now = forcing.last().context("no forcing at the image time")?;
+    let (atmosphere, atmosphere_report) = frame_atmosphere(
+        &st.atmosphere_source,
+        &st.atmosphere,
+        st.atmosphere_full.as_deref(),
+        sc.atmosphere.follow_weather,
+        now,
+    )?;
     Ok(Conditions {
         image_time,
         start,
@@ -436,6 +437,8 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         ground_temp_k,
         air_temp_k,
         slabs,
+        atmosphere,
+        atmosphere_report,
     })
 }
 

@@ -39,6 +39,8 @@ pub struct PixelProbe {
     pub spectral_bins: usize,
     pub supersample: u32,
     pub sun: SunReport,
+    /// The frame's atmosphere table, why, and how it follows the weather.
+    pub atmosphere: super::atmosphere::AtmosphereReport,
     /// The pixel's n×n samples, row by row.
     pub samples: Vec<SampleReport>,
     /// What `irsig render` writes for this pixel.
@@ -427,6 +429,7 @@ pub fn probe(
             azimuth_deg: sun.azimuth_deg,
             dir_enu: sun.sun_dir_enu,
         },
+        atmosphere: cond.atmosphere_report.clone(),
         samples: reports,
         pixel_result,
     })

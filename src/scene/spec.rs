@@ -342,12 +342,18 @@ fn default_pressure_pa() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AtmosphereSpec {
-    /// A standard model atmosphere, or `{ table_file = "..." }`.
+    /// `"auto"` (the standard atmosphere that fits the weather), a standard
+    /// model atmosphere, or `{ table_file = "..." }`.
     #[serde(default)]
     pub model: AtmosphereModel,
     /// Meteorological range (surface visibility), km (> 0). Rural aerosol.
     #[serde(default = "default_visibility_km")]
     pub visibility_km: f64,
+    /// Adjust the table to the weather at the image time (temperature,
+    /// humidity, and a sky consistent with the thermal model's); see
+    /// `atmos::adjust`. false: the table as computed.
+    #[serde(default = "default_true")]
+    pub follow_weather: bool,
 }
 
 impl Default for AtmosphereSpec {
@@ -355,8 +361,13 @@ impl Default for AtmosphereSpec {
         Self {
             model: AtmosphereModel::default(),
             visibility_km: default_visibility_km(),
+            follow_weather: true,
         }
     }
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_visibility_km() -> f64 {
@@ -367,8 +378,11 @@ fn default_visibility_km() -> f64 {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum AtmosphereModel {
-    Tropical,
+    /// The standard atmosphere that best fits the weather of the 24 h
+    /// before the scene's time and the site's latitude (`atmos::standard`).
     #[default]
+    Auto,
+    Tropical,
     MidLatitudeSummer,
     MidLatitudeWinter,
     SubarcticSummer,
