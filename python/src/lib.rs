@@ -468,8 +468,7 @@ fn render<'py>(
 }
 
 /// Renders planned frames (`irsig::render::sequence::Frames`, the static
-/// part shared as the CLI shares it) with the GIL released; progress moves
-/// frame by frame.
+/// part shared as the CLI shares it) with the GIL released.
 fn render_frames<'py>(
     py: Python<'py>,
     plans: Vec<FramePlan>,
@@ -491,7 +490,9 @@ fn render_frames<'py>(
     let n = plans.len() as u64;
     let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
         let mut out = Vec::with_capacity(plans.len());
-        for f in Frames::new(plans, tracer) {
+        let mut frames = Frames::new(plans, tracer);
+        let report = |p: Progress| rep.report(p);
+        while let Some(f) = frames.next_with(Some(&report)) {
             let f = f?;
             rep.start_frame(f.index as u64 + 1);
             out.push(f);

@@ -60,17 +60,29 @@ def test_an_exception_in_the_callback_stops_the_render():
 
 @pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals go to the main thread")
 def test_ctrl_c_interrupts_a_render():
+    # SIGINT arrives from another thread once the render has reported
+    # progress (so it is surely under way); the full render takes several
+    # seconds on one thread, the cancelled one stops at the next block or
+    # chunk of samples.
     s = scene(512, 512)
-    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = threading.Event()
+
+    def progress(done, total):
+        if 0 < done < total:
+            started.set()
+
+    def interrupt():
+        if started.wait(30):
+            os.kill(os.getpid(), signal.SIGINT)
+
+    t = threading.Thread(target=interrupt)
+    t.start()
     t0 = time.perf_counter()
-    timer.start()
     with pytest.raises(KeyboardInterrupt):
-        irsig.render(s, threads=1)
+        irsig.render(s, threads=1, progress=progress)
     elapsed = time.perf_counter() - t0
-    timer.join()
-    # The full render takes several seconds on one thread; the cancelled
-    # one stops at the next block or chunk of samples.
-    assert elapsed < 2.0, elapsed
+    t.join()
+    assert elapsed < 3.0, elapsed
     # The package still works afterwards.
     assert irsig.render(scene(16, 12)).sizes == {"y": 12, "x": 16}
 
@@ -85,3 +97,11 @@ def test_a_tqdm_like_bar_is_driven():
     bar = Bar()
     irsig.sequence(scene(16, 12), times=["10:00", "11:00"], progress=bar)
     assert bar.total == 6000 and bar.n == bar.total
+
+
+def test_sequence_progress_moves_within_frames():
+    calls = []
+    irsig.sequence(scene(128, 96), times=["10:00", "11:00"], threads=1, progress=lambda d, t: calls.append(d))
+    # Reports inside each frame's stages, not only at frame ends.
+    assert any(0 < d < 3000 for d in calls) and any(3000 < d < 6000 for d in calls)
+    assert calls[-1] == 6000

@@ -21,7 +21,7 @@ use std::path::Path;
 use anyhow::{Context, bail};
 use chrono::NaiveDateTime;
 
-use super::{Rendered, Reused, Static, derive_static, render_at};
+use super::{ProgressFn, Rendered, Reused, Static, derive_static, render_at};
 use crate::scene::LoadedScene;
 use crate::scene::spec::TimeSpec;
 use crate::trace::Backend;
@@ -268,7 +268,20 @@ impl Frames {
         self.total
     }
 
-    fn render_next(&mut self, plan: FramePlan) -> anyhow::Result<SequenceFrame> {
+    /// The next frame, rendered with a progress callback (the iterator's
+    /// `next` is `next_with(None)`).
+    pub fn next_with(&mut self, progress: ProgressFn) -> Option<anyhow::Result<SequenceFrame>> {
+        let plan = self.plans.next()?;
+        let r = self.render_next(plan, progress);
+        self.next += 1;
+        Some(r)
+    }
+
+    fn render_next(
+        &mut self,
+        plan: FramePlan,
+        progress: ProgressFn,
+    ) -> anyhow::Result<SequenceFrame> {
         let i = self.next;
         let value = plan.value;
         let reused = match plan.scene {
@@ -289,7 +302,7 @@ impl Frames {
         let local = plan.local.unwrap_or(sc.time.local);
         let utc = TimeSpec { local }.utc(&sc.site);
         let image =
-            render_at(st, utc, None).with_context(|| format!("frame {} ({value})", i + 1))?;
+            render_at(st, utc, progress).with_context(|| format!("frame {} ({value})", i + 1))?;
         Ok(SequenceFrame {
             index: i,
             value,
@@ -305,10 +318,7 @@ impl Iterator for Frames {
     type Item = anyhow::Result<SequenceFrame>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        let plan = self.plans.next()?;
-        let r = self.render_next(plan);
-        self.next += 1;
-        Some(r)
+        self.next_with(None)
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
