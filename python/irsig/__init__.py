@@ -250,6 +250,10 @@ def _point_coords(points, meta: dict, frame_dims=()) -> dict:
 def _frame_attrs(meta: dict) -> dict:
     attrs = {k: meta[k] for k in _FLAT_ATTRS if k in meta}
     attrs["camera"] = _json.dumps(meta.get("camera"))
+    atm = meta.get("atmosphere") or {}
+    attrs["atmosphere"] = _json.dumps(atm)
+    if isinstance(atm.get("air_temp_k"), (int, float)):
+        attrs["air_temperature_k"] = atm["air_temp_k"]
     attrs["stats"] = _json.dumps(meta.get("stats"))
     attrs["irsig_version"] = __version__
     return attrs
@@ -317,6 +321,8 @@ def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
         _frame_attrs(m).get(k) == v for m in metas[1:])}
     attrs["stats"] = _json.dumps([m.get("stats") for m in metas])
     attrs["image_time_local"] = _json.dumps([m["image_time_local"] for m in metas])
+    attrs["atmosphere"] = _json.dumps([m.get("atmosphere") for m in metas])
+    attrs.pop("air_temperature_k", None)
     return _name_materials(_xr.Dataset(variables, coords=coords, attrs=attrs), metas[0])
 
 

@@ -392,6 +392,7 @@ fn image_to_py<'py>(
     meta["sun_azimuth_deg"] = image.sun_azimuth_deg.into();
     meta["band"] = image.band.into();
     meta["estimators"] = image.estimators.into();
+    meta["atmosphere"] = serde_json::to_value(&image.atmosphere).unwrap_or_default();
     meta["stats"] = serde_json::to_value(&frame.stats).unwrap_or_default();
     let d = PyDict::new(py);
     d.set_item("planes", planes)?;

@@ -39,6 +39,7 @@ def test_metadata_matches_cli_summary(ds, cli_small):
     assert ds.attrs["sun_azimuth_deg"] == summary["sun_azimuth_deg"]
     assert ds.attrs["band"] == summary["band"]
     assert ds.attrs["estimators"] == summary["estimators"]
+    assert json.loads(ds.attrs["atmosphere"]) == summary["atmosphere"]
     assert ds.sizes == {"y": 48, "x": 64}
     assert ds.time.values == np.datetime64("2001-08-08T16:00:00")
     assert 2.9 < ds.attrs["band_min_um"] < ds.attrs["band_max_um"] < 5.6
