@@ -24,24 +24,24 @@ use pyo3::types::{PyDict, PyList};
 use irsig::render::cancel::{self, Cancelled};
 use irsig::render::sequence::{FramePlan, Frames, plan_sequence, plan_sweep};
 use irsig::render::{Progress, Rendered, Stage, prepare_static, render_at};
-use irsig::scene::{LoadedScene, SceneError, TimeSpec};
+use irsig::scene::{LoadedScene, SceneError as LibSceneError, TimeSpec};
 use irsig::trace::Backend;
 
 create_exception!(
-    _irsig,
+    irsig,
     IrsigError,
     PyException,
     "An error of irsig; the message is the one the CLI prints."
 );
 create_exception!(
-    _irsig,
-    IrsigSceneError,
+    irsig,
+    SceneError,
     IrsigError,
     "A scene, material, mesh or data file is wrong; `file`, `line` and `column` say where (line and column 0: unknown)."
 );
 create_exception!(
-    _irsig,
-    IrsigWeatherError,
+    irsig,
+    WeatherError,
     IrsigError,
     "A weather file is wrong or does not cover the history; `file` and `line` say where."
 );
@@ -56,17 +56,17 @@ fn to_py(e: anyhow::Error) -> PyErr {
     let msg = format!("{e:#}");
     Python::with_gil(|py| {
         let located = e.chain().find_map(|c| {
-            if let Some(s) = c.downcast_ref::<SceneError>() {
+            if let Some(s) = c.downcast_ref::<LibSceneError>() {
                 let (file, line, col) = match s {
-                    SceneError::Io { path, .. } => (path.display().to_string(), 0, 0),
+                    LibSceneError::Io { path, .. } => (path.display().to_string(), 0, 0),
                     _ => s.location().map_or((String::new(), 0, 0), |l| {
                         (l.file.display().to_string(), l.line, l.col)
                     }),
                 };
-                Some((IrsigSceneError::new_err(msg.clone()), file, line, col))
+                Some((SceneError::new_err(msg.clone()), file, line, col))
             } else if let Some(w) = c.downcast_ref::<irsig::therm::weather::WeatherError>() {
                 let (file, line) = weather_location(w);
-                Some((IrsigWeatherError::new_err(msg.clone()), file, line, 0))
+                Some((WeatherError::new_err(msg.clone()), file, line, 0))
             } else {
                 None
             }
@@ -121,7 +121,7 @@ impl Scene {
         unset: Vec<String>,
     ) -> PyResult<Scene> {
         let read = || -> anyhow::Result<(LoadedScene, String)> {
-            let text = std::fs::read_to_string(&path).map_err(|error| SceneError::Io {
+            let text = std::fs::read_to_string(&path).map_err(|error| LibSceneError::Io {
                 path: path.clone(),
                 error,
             })?;
@@ -764,7 +764,7 @@ fn _irsig(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(therm, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add("IrsigError", py.get_type::<IrsigError>())?;
-    m.add("SceneError", py.get_type::<IrsigSceneError>())?;
-    m.add("WeatherError", py.get_type::<IrsigWeatherError>())?;
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add("WeatherError", py.get_type::<WeatherError>())?;
     Ok(())
 }

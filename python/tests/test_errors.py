@@ -72,12 +72,16 @@ def test_sweep_error_names_the_value(tmp_path):
     assert "sweep --key sensor.width_px = -1" in cli
 
 
-def test_weather_error_names_the_weather_file(tmp_path):
-    # A weather file that does not cover the scene's history.
+def test_weather_error_names_the_weather_file_and_line(tmp_path):
+    # A malformed record on line 11 of a copy of the airfield's TMY3 file.
+    lines = (AIRFIELD.parent / "weather" / "greensboro-nc-tmy3-2001-08-04_09.csv").read_text().splitlines()
+    lines[10] = lines[10].replace(",", ",x", 3)
     w = tmp_path / "w.csv"
-    w.write_text("time,air_temp_c\n")
-    with pytest.raises(irsig.IrsigError) as e:
-        s = irsig.Scene.load(AIRFIELD, overrides={**SMALL, "weather.file": str(w)})
-        irsig.render(s)
-    assert str(w) in str(e.value)
-    assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args({**SMALL, "weather.file": str(w)}))
+    w.write_text("\n".join(lines) + "\n")
+    over = {**SMALL, "weather.file.path": str(w)}
+    with pytest.raises(irsig.WeatherError) as e:
+        irsig.render(irsig.Scene.load(AIRFIELD, overrides=over))
+    assert isinstance(e.value, irsig.IrsigError)
+    assert (e.value.file, e.value.line) == (str(w), 11)
+    assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args(over))
+    assert type(e.value).__module__ == "irsig" and type(e.value).__name__ == "WeatherError"
