@@ -151,7 +151,7 @@ class Scene:
         """The same scene file loaded with more overrides."""
         merged = dict(self._inner.overrides)
         merged.update({str(k): _value_text(v) for k, v in overrides.items()})
-        return Scene(_irsig.Scene.load(_os.fspath(self.path), list(merged.items()), []))
+        return Scene(_irsig.Scene.load(_os.fspath(self.path), list(merged.items()), self._inner.unset))
 
     @property
     def path(self) -> str:

@@ -107,6 +107,7 @@ struct Scene {
     /// it further).
     text: String,
     overrides: Vec<(String, String)>,
+    unset: Vec<String>,
 }
 
 #[pymethods]
@@ -142,6 +143,7 @@ impl Scene {
             scene,
             text,
             overrides,
+            unset,
         })
     }
 
@@ -153,6 +155,11 @@ impl Scene {
     #[getter]
     fn overrides(&self) -> Vec<(String, String)> {
         self.overrides.clone()
+    }
+
+    #[getter]
+    fn unset(&self) -> Vec<String> {
+        self.unset.clone()
     }
 
     /// The scene file's text with the overrides applied.

@@ -110,3 +110,15 @@ def test_hit_point_coordinates(ds):
     assert np.allclose(d, ds.range.values[hit], rtol=1e-4)
     assert abs(ds.lat.values[hit].mean() - ds.attrs["latitude_deg"]) < 0.01
     assert ds.lon.units == "degrees_east"
+
+
+def test_dict_overrides_are_inline_tables():
+    pose = {"slant_range": {"slant_range_m": 10000.0, "view_zenith_deg": 75.0, "azimuth_deg": 180.0}}
+    a = irsig.Scene.load(AIRFIELD, overrides={"sensor.pose": pose})
+    b = irsig.Scene.load(
+        AIRFIELD,
+        overrides={"sensor.pose": "{slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}"},
+    )
+    assert a.check()["camera"] == b.check()["camera"] != irsig.Scene.load(AIRFIELD).check()["camera"]
+    c = a.with_overrides({"sensor.width_px": 32})
+    assert c.size == (32, a.size[1]) and c.check()["camera"]["forward"] == a.check()["camera"]["forward"]
