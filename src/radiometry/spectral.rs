@@ -66,8 +66,9 @@ impl SpectralGrid {
 }
 
 /// Sensor relative spectral response R(λ), piecewise linear between samples and
-/// zero outside them.
-#[derive(Clone, Debug, PartialEq)]
+/// zero outside them. The one spectral-response type: a scene's sensor band
+/// ([`crate::scene::LoadedScene::response`]) is one.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct SpectralResponse {
     /// Ascending wavelengths, µm.
     pub wavelength_um: Vec<f64>,

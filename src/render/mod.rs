@@ -136,10 +136,7 @@ pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
 /// The supersampled camera: n×n rays per output pixel.
 pub fn sample_camera(st: &Static) -> Camera {
     let n = st.scene.scene.render.supersample.max(1);
-    let mut cam = Camera::from_geometry(&st.scene.camera);
-    cam.width *= n;
-    cam.height *= n;
-    cam
+    st.scene.camera.supersampled(n)
 }
 
 /// Surface record of a hit.
@@ -457,7 +454,7 @@ pub fn trace_frame_with(
     progress: ProgressFn,
 ) -> anyhow::Result<(Vec<Sample>, u32, u32)> {
     let cam = sample_camera(st);
-    let (w, h) = (cam.width, cam.height);
+    let (w, h) = (cam.width_px, cam.height_px);
     let t0 = Instant::now();
     // Blocks of BLOCK×BLOCK pixels, each in 4x4 tile order.
     let mut blocks = Vec::new();
@@ -507,7 +504,7 @@ pub fn trace_samples(
     stats: &mut Stats,
 ) -> anyhow::Result<Vec<Sample>> {
     let cam = sample_camera(st);
-    let (w, h) = (cam.width, cam.height);
+    let (w, h) = (cam.width_px, cam.height_px);
     if let Some(&(x, y)) = pixels.iter().find(|&&(x, y)| x >= w || y >= h) {
         anyhow::bail!("sample pixel ({x}, {y}) is outside the {w}x{h} sample image");
     }

@@ -13,7 +13,7 @@ use super::atmosphere::{
     AtmosphereReport, AtmosphereSource, atmosphere_source, frame_atmosphere, load_atmosphere,
 };
 use crate::atmos::SpectralAtmosphere;
-use crate::radiometry::{Band, Emissivity, SpectralGrid, SpectralResponse};
+use crate::radiometry::{Band, Emissivity, SpectralGrid};
 use crate::scene::LoadedScene;
 use crate::scene::material::{Emissivity as SceneEmissivity, Material};
 use crate::scene::spec::{TracerKind, WeatherSpec};
@@ -181,18 +181,14 @@ pub fn derive_static(
 
     // Spectral grid: uniform in wavenumber at the scene's step over the
     // response's support; only bins with non-zero response are kept.
-    let resp = SpectralResponse {
-        wavelength_um: scene.response.wavelength_um.clone(),
-        response: scene.response.response.clone(),
-        label: format!("{:?}", scene.scene.sensor.band),
-    };
+    let resp = &scene.response;
     let (lo_um, hi_um) = resp.support_um();
     let step = scene.scene.render.spectral_step_cm1;
     let (v_lo, v_hi) = (1e4 / hi_um, 1e4 / lo_um);
     let first = (v_lo / step).floor() * step;
     let count = (((v_hi - first) / step).ceil() as usize + 1).max(2);
     let grid = SpectralGrid::uniform(first.max(step), step, count);
-    let band = Band::new(&grid, &resp).context("sensor band")?;
+    let band = Band::new(&grid, resp).context("sensor band")?;
     let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();
 
     let source = atmosphere_source(&scene, |from, to| scene_weather(&scene, from, to))?;

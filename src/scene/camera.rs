@@ -1,6 +1,10 @@
-//! Sensor geometry from a [`SensorSpec`]: a pinhole (perspective) camera
-//! with position, orthonormal basis and angular field of view. Pure
-//! functions, plain data, local ENU metres (x east, y north, z up).
+//! The camera: a pinhole (perspective) camera with position, orthonormal
+//! basis, angular field of view and pixel counts, built from a
+//! [`SensorSpec`] ([`camera_geometry`]) or aimed at a point
+//! ([`Camera::look_at`]). The one camera type of the program: the render,
+//! the cross-check and the scene summary use it (the primary rays are made
+//! by `crate::sensor::camera`). Plain data, local ENU metres (x east,
+//! y north, z up); positions are f64 (km-scale scenes).
 
 use glam::DVec3;
 use serde::Serialize;
@@ -8,9 +12,10 @@ use serde::Serialize;
 use super::spec::{SensorPose, SensorSpec};
 
 /// A pinhole camera. Pixel (0, 0) is the top-left corner of the image;
-/// pixel centres are at (i + 0.5, j + 0.5).
+/// pixel centres are at (i + 0.5, j + 0.5); image x grows along `right`,
+/// image y along `-up`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct CameraGeometry {
+pub struct Camera {
     /// Projection centre, metres.
     pub position_m: [f64; 3],
     /// Unit optical axis (look direction).
@@ -24,7 +29,13 @@ pub struct CameraGeometry {
     pub fov_v_deg: f64,
     pub width_px: u32,
     pub height_px: u32,
+    /// tan(fov_h / 2), tan(fov_v / 2) (what the projection uses).
+    #[serde(skip)]
+    pub tan_half_fov: (f64, f64),
 }
+
+/// The former name of [`Camera`] (the scene's sensor camera).
+pub type CameraGeometry = Camera;
 
 /// Unit vector with azimuth `az_deg` (clockwise from north) and zenith
 /// angle `zen_deg` (from +z): (sin z·sin a, sin z·cos a, cos z).
@@ -36,7 +47,7 @@ pub fn direction_from_angles(zenith_deg: f64, azimuth_deg: f64) -> [f64; 3] {
 /// The camera of a sensor spec. Errors (as text) for a degenerate pose:
 /// sensor at its target, an `up` parallel to the view, a sensor below
 /// its target with the altitude form.
-pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
+pub fn camera_geometry(s: &SensorSpec) -> Result<Camera, String> {
     let (pos, target, up_hint) = match &s.pose {
         SensorPose::LookAt {
             position_m,
@@ -105,7 +116,8 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
     }
     let right = right.normalize();
     let up = right.cross(forward).normalize();
-    Ok(CameraGeometry {
+    let t = |deg: f64| (deg.to_radians() / 2.0).tan();
+    Ok(Camera {
         position_m: pos.to_array(),
         forward: forward.to_array(),
         right: right.to_array(),
@@ -114,17 +126,72 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<CameraGeometry, String> {
         fov_v_deg: s.fov_v_deg(),
         width_px: s.width_px,
         height_px: s.height_px,
+        tan_half_fov: (t(s.fov_h_deg), t(s.fov_v_deg())),
     })
 }
 
-impl CameraGeometry {
+impl Camera {
+    /// Camera at `position` looking at `target`, horizontal field of view
+    /// `fov_x_deg`, square pixels. The up hint is +z; when the view is
+    /// (nearly) vertical, +y (north) is used so that north is up in the
+    /// image.
+    pub fn look_at(
+        position: DVec3,
+        target: DVec3,
+        fov_x_deg: f64,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        let forward = (target - position).normalize();
+        let up_hint = if forward.z.abs() > 0.999 {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let right = forward.cross(up_hint).normalize();
+        let up = right.cross(forward);
+        let tx = (fov_x_deg.to_radians() / 2.0).tan();
+        let ty = tx * height as f64 / width as f64;
+        Camera {
+            position_m: position.to_array(),
+            forward: forward.to_array(),
+            right: right.to_array(),
+            up: up.to_array(),
+            fov_h_deg: fov_x_deg,
+            fov_v_deg: 2.0 * ty.atan().to_degrees(),
+            width_px: width,
+            height_px: height,
+            tan_half_fov: (tx, ty),
+        }
+    }
+
+    /// The same camera with `n`×`n` pixels per pixel (supersampling).
+    pub fn supersampled(&self, n: u32) -> Camera {
+        Camera {
+            width_px: self.width_px * n,
+            height_px: self.height_px * n,
+            ..*self
+        }
+    }
+
+    /// Projection centre.
+    pub fn position(&self) -> DVec3 {
+        DVec3::from(self.position_m)
+    }
+
+    /// Unit direction through image point (x, y) in pixel units (pixel
+    /// centres at +0.5).
+    pub fn direction(&self, x: f64, y: f64) -> DVec3 {
+        let sx = (2.0 * x / self.width_px as f64 - 1.0) * self.tan_half_fov.0;
+        let sy = (1.0 - 2.0 * y / self.height_px as f64) * self.tan_half_fov.1;
+        (DVec3::from(self.forward) + DVec3::from(self.right) * sx + DVec3::from(self.up) * sy)
+            .normalize()
+    }
+
     /// Unit ray direction through image point (`col`, `row`) in pixel
     /// units (pixel centres at i + 0.5).
     pub fn ray_direction(&self, col: f64, row: f64) -> [f64; 3] {
-        // One projection formula for the whole program: the sensor's.
-        crate::sensor::camera::Camera::from_geometry(self)
-            .direction(col, row)
-            .to_array()
+        self.direction(col, row).to_array()
     }
 
     /// Where the ray through (`col`, `row`) meets the horizontal plane

@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-pub use camera::{CameraGeometry, camera_geometry};
+pub use crate::radiometry::SpectralResponse;
+pub use camera::{Camera, CameraGeometry, camera_geometry};
 pub use error::{Location, SceneError};
 pub use material::{
     BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec,
@@ -52,30 +53,6 @@ pub struct ObjectInfo {
     /// World-space axis-aligned bounds, metres.
     pub bounds_min_m: [f32; 3],
     pub bounds_max_m: [f32; 3],
-}
-
-/// A relative spectral response R(λ): piecewise linear between the
-/// samples, zero outside them. The ideal bands are two samples of 1.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SpectralResponse {
-    /// Strictly increasing wavelengths, µm.
-    pub wavelength_um: Vec<f64>,
-    /// Relative response (>= 0, maximum > 0).
-    pub response: Vec<f64>,
-}
-
-impl SpectralResponse {
-    /// Lowest and highest wavelength with non-zero response, µm.
-    pub fn support_um(&self) -> (f64, f64) {
-        let nz: Vec<usize> = (0..self.response.len())
-            .filter(|&i| self.response[i] > 0.0)
-            .collect();
-        let lo = nz.first().map_or(0, |&i| i.saturating_sub(1));
-        let hi = nz
-            .last()
-            .map_or(0, |&i| (i + 1).min(self.response.len() - 1));
-        (self.wavelength_um[lo], self.wavelength_um[hi])
-    }
 }
 
 /// A square convolution kernel (odd size), weights normalised to sum 1.
@@ -347,6 +324,11 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
             read_response(&file)?
         }
     };
+    // The band's label: the scene's band as written (e.g. `Lwir`).
+    let response = SpectralResponse {
+        label: format!("{:?}", scene.sensor.band),
+        ..response
+    };
     let psf_kernel = match &scene.sensor.psf {
         Psf::KernelFile(f) => {
             let file = must_exist(
@@ -542,6 +524,7 @@ fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
     SpectralResponse {
         wavelength_um: vec![lo, hi],
         response: vec![1.0, 1.0],
+        label: String::new(),
     }
 }
 
@@ -608,6 +591,7 @@ pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
     Ok(SpectralResponse {
         wavelength_um: wl,
         response: r,
+        label: file.display().to_string(),
     })
 }
 
