@@ -1,0 +1,143 @@
+//! EnergyPlus EPW weather files.
+
+use super::*;
+
+/// Reads an EnergyPlus EPW file from text (EnergyPlus Auxiliary Programs,
+/// "Weather Converter Program"): 8 header lines (LOCATION: city, state,
+/// country, source, WMO, latitude, longitude, UTC offset, elevation), then
+/// records `year,month,day,hour(1-24),minute,flags,dry bulb °C,dew point °C,
+/// RH %,pressure Pa,…` in local standard time, hour-ending. Fields used
+/// (0-based): 6 dry bulb, 7 dew point, 8 RH, 9 pressure, 12 horizontal
+/// infrared (→ sky temperature), 13 GHI, 14 DNI, 15 DHI, 21 wind speed,
+/// 22 total sky cover (tenths), 33/34 liquid precipitation depth/quantity.
+/// Missing codes (99.9, 999, 999999, 9999, 99) give an error for required
+/// fields and `None`/0 for optional ones.
+pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
+    let mut lines = text.lines();
+    let c1 = Ctx { file, line: 1 };
+    let loc = split_csv(lines.next().unwrap_or(""));
+    if loc.len() < 10 || loc[0].trim() != "LOCATION" {
+        return Err(c1.malformed(
+            "expected the EPW LOCATION line: LOCATION,city,state,country,source,WMO,latitude,longitude,time zone,elevation",
+        ));
+    }
+    let station = WeatherStation {
+        name: loc[1].trim().to_string(),
+        lat_deg: c1.range(
+            c1.num(&loc[6], "latitude")?,
+            "latitude",
+            -90.0,
+            90.0,
+            "degrees",
+        )?,
+        lon_deg: c1.range(
+            c1.num(&loc[7], "longitude")?,
+            "longitude",
+            -180.0,
+            180.0,
+            "degrees",
+        )?,
+        utc_offset_h: c1.num(&loc[8], "time zone")?,
+        elevation_m: c1.num(&loc[9], "elevation")?,
+    };
+    let tz = utc_offset_from_hours(&c1, station.utc_offset_h)?;
+    for k in 2..=8 {
+        if lines.next().is_none() {
+            return Err(Ctx { file, line: k }.malformed("file ends inside the 8 EPW header lines"));
+        }
+    }
+    let mut raws = Vec::new();
+    for (k, line) in lines.enumerate() {
+        let lineno = k + 9;
+        let c = Ctx { file, line: lineno };
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f = split_csv(line);
+        if f.len() < 35 {
+            return Err(c.malformed(format!("{} fields, expected 35 EPW data fields", f.len())));
+        }
+        let int = |i: usize, what: &str| -> Result<i64, WeatherError> {
+            f[i].trim()
+                .parse::<i64>()
+                .map_err(|_| c.malformed(format!("{what} '{}' is not an integer", f[i].trim())))
+        };
+        let year = opts
+            .coerce_year
+            .map(i64::from)
+            .map_or_else(|| int(0, "year"), Ok)?;
+        let (month, day, hour, minute) = (
+            int(1, "month")?,
+            int(2, "day")?,
+            int(3, "hour")?,
+            int(4, "minute")?,
+        );
+        let date = NaiveDate::from_ymd_opt(year as i32, month as u32, day as u32)
+            .ok_or_else(|| c.malformed(format!("date {year}-{month}-{day} does not exist")))?;
+        if !(1..=24).contains(&hour) || !(0..=60).contains(&minute) {
+            return Err(c.malformed(format!(
+                "hour {hour} minute {minute}: expected hour 1..24 (hour-ending) and minute 0..60"
+            )));
+        }
+        // Hour h, minute m covers ((h−1):00 + m − interval, (h−1):00 + m];
+        // hourly files write minute 60 (or 0, meaning the full hour).
+        let end_min = if minute == 0 { 60 } else { minute };
+        let local = date.and_hms_opt(0, 0, 0).unwrap()
+            + Duration::hours(hour - 1)
+            + Duration::minutes(end_min);
+        let time = tz
+            .from_local_datetime(&local)
+            .single()
+            .unwrap()
+            .with_timezone(&Utc);
+        let val = |i: usize, what: &str, missing: f64| -> Result<Option<f64>, WeatherError> {
+            let v = c.num(&f[i], what)?;
+            Ok((v < missing).then_some(v))
+        };
+        let req = |i: usize, what: &str, missing: f64| -> Result<f64, WeatherError> {
+            val(i, what, missing)?
+                .ok_or_else(|| c.malformed(format!("{what} is missing ({})", f[i].trim())))
+        };
+        let lw = val(12, "horizontal infrared radiation", 9999.0)?;
+        let sky_temp_c = lw
+            .filter(|&x| x > 0.0)
+            .map(|x| sky_temp_k_from_irradiance(x) - ZERO_C_K);
+        let precip = match (
+            val(33, "liquid precipitation depth", 999.0)?,
+            val(34, "liquid precipitation quantity", 99.0)?,
+        ) {
+            (Some(d), Some(q)) if q > 0.0 => d / q,
+            (Some(d), _) => d,
+            _ => 0.0,
+        };
+        let met = Met {
+            air_temp_c: req(6, "dry bulb temperature", 99.9)?,
+            dew_point_c: val(7, "dew point temperature", 99.9)?,
+            rh_percent: val(8, "relative humidity", 999.0)?,
+            wind_m_s: req(21, "wind speed", 999.0)?,
+            pressure_hpa: req(9, "atmospheric pressure", 999999.0)? / 100.0,
+            cloud_fraction: c.range(
+                req(22, "total sky cover", 99.0)?,
+                "total sky cover",
+                0.0,
+                10.0,
+                "tenths",
+            )? / 10.0,
+            ghi: val(13, "GHI", 9999.0)?,
+            dni: val(14, "DNI", 9999.0)?,
+            dhi: val(15, "DHI", 9999.0)?,
+            sky_temp_c,
+            precip_mm_h: precip,
+        };
+        raws.push(Raw {
+            line: lineno,
+            time,
+            sample: build_sample(&c, met)?,
+        });
+    }
+    Ok(WeatherFile {
+        history: assemble(raws, file, opts, true, TYPICAL_YEAR_HINT)?,
+        format: WeatherFormat::Epw,
+        station: Some(station),
+    })
+}

@@ -1,0 +1,760 @@
+//! Weather history: readers (one file per format: [`csv`], [`tmy3`],
+//! [`epw`], behind one entry, [`read_weather`]), time interpolation,
+//! coverage checks and a constant-weather source ([`constant`]). Owner: the
+//! sun/weather work (issue 4).
+//!
+//! A reader turns a file's text into [`WeatherFile`]: it parses records
+//! with the shared `Ctx` (file/line errors), `Met` and
+//! `build_sample`, and lays them on one time axis with `assemble`.
+//!
+//! # Time conventions
+//!
+//! All times are stored in UTC. Instantaneous quantities (air temperature,
+//! dew point, wind, pressure, cloud cover) belong to the record's time
+//! stamp. TMY3 and EPW records are *hour-ending*: their irradiances,
+//! infrared sky radiation and precipitation are averages over the interval
+//! that ends at the stamp, so the readers attach those to the interval's
+//! midpoint. To keep one time axis, a history read from such a file is laid
+//! on the merged grid stamp₀, mid₁, stamp₁, mid₂, stamp₂, …: at the
+//! midpoints the instantaneous fields are the linear interpolation of the
+//! neighbouring stamps, and at the stamps the period fields are the linear
+//! interpolation of the neighbouring midpoints (the last stamp holds the last
+//! period value). Linear interpolation on the merged grid is then *exactly*
+//! linear interpolation of each field on its own grid. The plain CSV format
+//! takes every value as instantaneous at its stamp.
+//!
+//! # Interpolation
+//!
+//! [`WeatherHistory::at`] interpolates linearly in time between the two
+//! samples around `t`; an optional field is `Some` only where both samples
+//! have it. Outside the record it holds the end values; call
+//! [`WeatherHistory::check_covers`] first (the forcing builder does).
+
+use std::path::Path;
+
+use chrono::{DateTime, Datelike, Duration, FixedOffset, NaiveDate, NaiveDateTime, TimeZone, Utc};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+pub mod constant;
+pub mod csv;
+pub mod epw;
+pub mod tmy3;
+
+pub use constant::{ConstantWeather, constant_weather, diurnal_air_temp_c};
+pub use csv::{PLAIN_CSV_COLUMNS, parse_plain_csv};
+pub use epw::parse_epw;
+pub use tmy3::parse_tmy3;
+
+/// 0 °C in kelvin.
+pub const ZERO_C_K: f64 = 273.15;
+/// Largest allowed spacing between consecutive records by default, seconds.
+pub const DEFAULT_MAX_GAP_S: f64 = 3.0 * 3600.0;
+
+/// One instant of weather. SI units; optional fields are `None` when the
+/// record does not carry them (estimators fill them in later).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WeatherSample {
+    pub air_temp_k: f64,
+    pub dew_point_k: f64,
+    pub wind_speed_m_s: f64,
+    pub pressure_pa: f64,
+    /// Total cloud cover, 0 (clear) to 1 (overcast).
+    pub cloud_fraction: f64,
+    /// Measured global horizontal irradiance, W/m².
+    pub ghi_w_m2: Option<f64>,
+    /// Measured direct normal irradiance, W/m².
+    pub dni_w_m2: Option<f64>,
+    /// Measured diffuse horizontal irradiance, W/m².
+    pub dhi_w_m2: Option<f64>,
+    /// Measured effective sky (downwelling longwave) temperature, K.
+    pub sky_temp_k: Option<f64>,
+    /// Precipitation rate, mm/h.
+    pub precip_mm_h: f64,
+}
+
+/// A time-ordered weather record.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WeatherHistory {
+    /// Strictly increasing sample times (UTC).
+    pub times: Vec<DateTime<Utc>>,
+    pub samples: Vec<WeatherSample>,
+    /// Where the record came from (file name, or "constant").
+    pub source: String,
+}
+
+/// Errors of the weather readers and of coverage checks. Every file error
+/// names the file and, where there is one, the 1-based line.
+#[derive(Debug, Error)]
+pub enum WeatherError {
+    #[error("{file}: cannot read the weather file: {err}")]
+    Io { file: String, err: std::io::Error },
+    #[error("{file}:{line}: {msg}")]
+    Malformed {
+        file: String,
+        line: usize,
+        msg: String,
+    },
+    #[error("{file}:{line}: {field} = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        file: String,
+        line: usize,
+        field: String,
+        value: f64,
+        expected: String,
+    },
+    #[error(
+        "{file}:{line}: time {} is earlier than {} on line {prev_line}: records must be sorted by time{hint}",
+        fmt_time(*.time),
+        fmt_time(*.prev)
+    )]
+    Unsorted {
+        file: String,
+        line: usize,
+        prev_line: usize,
+        time: DateTime<Utc>,
+        prev: DateTime<Utc>,
+        hint: &'static str,
+    },
+    #[error("{file}:{line}: time {} repeats line {prev_line}: duplicate record", fmt_time(*.time))]
+    Duplicate {
+        file: String,
+        line: usize,
+        prev_line: usize,
+        time: DateTime<Utc>,
+    },
+    #[error(
+        "{file}:{line}: gap of {:.2} h since line {prev_line} ({} to {}); the largest allowed gap is {:.2} h{hint}",
+        secs_between(*.prev, *.time) / 3600.0,
+        fmt_time(*.prev),
+        fmt_time(*.time),
+        .max_gap_s / 3600.0
+    )]
+    Gap {
+        file: String,
+        line: usize,
+        prev_line: usize,
+        prev: DateTime<Utc>,
+        time: DateTime<Utc>,
+        max_gap_s: f64,
+        hint: &'static str,
+    },
+    #[error("{file}: no weather records (expected {expected})")]
+    Empty { file: String, expected: String },
+    #[error(
+        "weather '{source_name}' (records {} to {}) does not cover the window {} to {}: missing {missing_desc}",
+        fmt_time(*.have_start),
+        fmt_time(*.have_end),
+        fmt_time(*.start),
+        fmt_time(*.end)
+    )]
+    NotCovered {
+        source_name: String,
+        have_start: DateTime<Utc>,
+        have_end: DateTime<Utc>,
+        start: DateTime<Utc>,
+        end: DateTime<Utc>,
+        missing_desc: String,
+        /// The missing intervals, UTC.
+        missing: Vec<(DateTime<Utc>, DateTime<Utc>)>,
+    },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Reader options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// UTC offset of plain-CSV times written without one (local standard
+    /// time). Ignored for TMY3/EPW, which carry their own offset.
+    pub utc_offset: Option<FixedOffset>,
+    /// Replace the year of every TMY3/EPW record (typical-year files mix
+    /// source years month by month). Records then wrap: see [`read_weather_file_with`].
+    pub coerce_year: Option<i32>,
+    /// Largest allowed spacing between consecutive records, seconds.
+    pub max_gap_s: f64,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self {
+            utc_offset: None,
+            coerce_year: None,
+            max_gap_s: DEFAULT_MAX_GAP_S,
+        }
+    }
+}
+
+/// Which reader read a file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum WeatherFormat {
+    PlainCsv,
+    Tmy3,
+    Epw,
+}
+
+/// Station metadata carried by TMY3 and EPW headers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WeatherStation {
+    pub name: String,
+    pub lat_deg: f64,
+    pub lon_deg: f64,
+    pub elevation_m: f64,
+    /// Offset of the file's local standard time from UTC, hours.
+    pub utc_offset_h: f64,
+}
+
+/// A weather file as read: the history, the format and any station metadata.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WeatherFile {
+    pub history: WeatherHistory,
+    pub format: WeatherFormat,
+    pub station: Option<WeatherStation>,
+}
+
+fn fmt_time(t: DateTime<Utc>) -> String {
+    if t.timestamp_subsec_nanos() == 0 && t.timestamp() % 60 == 0 {
+        t.format("%Y-%m-%dT%H:%MZ").to_string()
+    } else {
+        t.to_rfc3339_opts(chrono::SecondsFormat::AutoSi, true)
+    }
+}
+
+fn secs_between(a: DateTime<Utc>, b: DateTime<Utc>) -> f64 {
+    (b - a)
+        .num_nanoseconds()
+        .map(|n| n as f64 * 1e-9)
+        .unwrap_or_else(|| (b - a).num_seconds() as f64)
+}
+
+fn lerp(a: f64, b: f64, w: f64) -> f64 {
+    a + (b - a) * w
+}
+
+fn lerp_opt(a: Option<f64>, b: Option<f64>, w: f64) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(lerp(x, y, w)),
+        (Some(x), None) if w == 0.0 => Some(x),
+        (None, Some(y)) if w == 1.0 => Some(y),
+        _ => None,
+    }
+}
+
+impl WeatherSample {
+    /// Linear interpolation between two samples, weight `w` in [0, 1] on `b`.
+    pub fn lerp(a: &WeatherSample, b: &WeatherSample, w: f64) -> WeatherSample {
+        WeatherSample {
+            air_temp_k: lerp(a.air_temp_k, b.air_temp_k, w),
+            dew_point_k: lerp(a.dew_point_k, b.dew_point_k, w),
+            wind_speed_m_s: lerp(a.wind_speed_m_s, b.wind_speed_m_s, w),
+            pressure_pa: lerp(a.pressure_pa, b.pressure_pa, w),
+            cloud_fraction: lerp(a.cloud_fraction, b.cloud_fraction, w),
+            ghi_w_m2: lerp_opt(a.ghi_w_m2, b.ghi_w_m2, w),
+            dni_w_m2: lerp_opt(a.dni_w_m2, b.dni_w_m2, w),
+            dhi_w_m2: lerp_opt(a.dhi_w_m2, b.dhi_w_m2, w),
+            sky_temp_k: lerp_opt(a.sky_temp_k, b.sky_temp_k, w),
+            precip_mm_h: lerp(a.precip_mm_h, b.precip_mm_h, w),
+        }
+    }
+
+    /// This sample's instantaneous fields (temperatures, wind, pressure,
+    /// cloud) with `period`'s period-averaged fields (irradiances, sky
+    /// temperature, precipitation).
+    fn with_period_fields(&self, period: &WeatherSample) -> WeatherSample {
+        WeatherSample {
+            ghi_w_m2: period.ghi_w_m2,
+            dni_w_m2: period.dni_w_m2,
+            dhi_w_m2: period.dhi_w_m2,
+            sky_temp_k: period.sky_temp_k,
+            precip_mm_h: period.precip_mm_h,
+            ..*self
+        }
+    }
+}
+
+impl WeatherHistory {
+    /// A history from parallel vectors; times must be strictly increasing.
+    pub fn new(
+        times: Vec<DateTime<Utc>>,
+        samples: Vec<WeatherSample>,
+        source: impl Into<String>,
+    ) -> Result<Self, WeatherError> {
+        let source = source.into();
+        if times.len() != samples.len() {
+            return Err(WeatherError::Invalid(format!(
+                "weather '{source}': {} times but {} samples",
+                times.len(),
+                samples.len()
+            )));
+        }
+        if times.is_empty() {
+            return Err(WeatherError::Empty {
+                file: source,
+                expected: "at least one sample".into(),
+            });
+        }
+        if let Some(i) = times.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(WeatherError::Invalid(format!(
+                "weather '{source}': sample {} at {} is not after sample {} at {}",
+                i + 1,
+                fmt_time(times[i + 1]),
+                i,
+                fmt_time(times[i])
+            )));
+        }
+        Ok(Self {
+            times,
+            samples,
+            source,
+        })
+    }
+
+    /// First sample time.
+    pub fn start(&self) -> DateTime<Utc> {
+        self.times[0]
+    }
+
+    /// Last sample time.
+    pub fn end(&self) -> DateTime<Utc> {
+        *self.times.last().unwrap()
+    }
+
+    /// Weather at `t`, linearly interpolated between the neighbouring samples
+    /// (see the module docs). Outside the record the end sample is held;
+    /// use [`Self::check_covers`] to refuse that instead.
+    pub fn at(&self, t: DateTime<Utc>) -> WeatherSample {
+        let n = self.times.len();
+        let i = self.times.partition_point(|&x| x <= t);
+        if i == 0 {
+            return self.samples[0];
+        }
+        if i == n {
+            return self.samples[n - 1];
+        }
+        let (t0, t1) = (self.times[i - 1], self.times[i]);
+        let w = secs_between(t0, t) / secs_between(t0, t1);
+        WeatherSample::lerp(&self.samples[i - 1], &self.samples[i], w)
+    }
+
+    /// Checks that the history covers `[start, end]` with no spacing between
+    /// samples above [`DEFAULT_MAX_GAP_S`]; the error lists the missing
+    /// intervals (whole hours, UTC).
+    pub fn check_covers(
+        &self,
+        start: DateTime<Utc>,
+        end: DateTime<Utc>,
+    ) -> Result<(), WeatherError> {
+        self.check_covers_with(start, end, DEFAULT_MAX_GAP_S)
+    }
+
+    /// [`Self::check_covers`] with an explicit largest allowed gap.
+    pub fn check_covers_with(
+        &self,
+        start: DateTime<Utc>,
+        end: DateTime<Utc>,
+        max_gap_s: f64,
+    ) -> Result<(), WeatherError> {
+        let mut missing = Vec::new();
+        if self.start() > start {
+            missing.push((start, self.start().min(end)));
+        }
+        for w in self.times.windows(2) {
+            if secs_between(w[0], w[1]) > max_gap_s && w[1] > start && w[0] < end {
+                missing.push((w[0].max(start), w[1].min(end)));
+            }
+        }
+        if self.end() < end {
+            missing.push((self.end().max(start), end));
+        }
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let floor_h = |t: DateTime<Utc>| {
+            let s = t.timestamp();
+            Utc.timestamp_opt(s - s.rem_euclid(3600), 0).unwrap()
+        };
+        let ceil_h = |t: DateTime<Utc>| {
+            let f = floor_h(t);
+            if f == t { f } else { f + Duration::hours(1) }
+        };
+        let parts: Vec<String> = missing
+            .iter()
+            .map(|&(a, b)| {
+                let (ha, hb) = (floor_h(a), ceil_h(b));
+                let hours = (hb - ha).num_hours();
+                format!(
+                    "{} h from {} to {}",
+                    hours.max(1),
+                    ha.format("%Y-%m-%dT%H:00Z"),
+                    hb.format("%Y-%m-%dT%H:00Z")
+                )
+            })
+            .collect();
+        Err(WeatherError::NotCovered {
+            source_name: self.source.clone(),
+            have_start: self.start(),
+            have_end: self.end(),
+            start,
+            end,
+            missing_desc: parts.join("; "),
+            missing,
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Physical helpers
+// ---------------------------------------------------------------------------
+
+/// Dew point (°C) from air temperature (°C) and relative humidity (%), by
+/// inverting the Magnus formula e_s(T) = 6.1094·exp(17.625·T/(T + 243.04))
+/// hPa (Alduchov & Eskridge 1996, J. Appl. Meteor. 35, 601-609):
+/// γ = ln(RH/100) + 17.625·T/(243.04 + T), T_d = 243.04·γ/(17.625 − γ).
+/// RH below 0.1 % is taken as 0.1 % (the logarithm diverges at 0).
+pub fn dew_point_c_from_rh(air_temp_c: f64, rh_percent: f64) -> f64 {
+    let (a, b) = (17.625, 243.04);
+    let g = (rh_percent.max(0.1) / 100.0).ln() + a * air_temp_c / (b + air_temp_c);
+    b * g / (a - g)
+}
+
+/// Relative humidity (%) from air temperature and dew point (°C), with the
+/// same Magnus formula as [`dew_point_c_from_rh`].
+pub fn rh_percent_from_dew_point(air_temp_c: f64, dew_point_c: f64) -> f64 {
+    let es = |t: f64| (17.625 * t / (243.04 + t)).exp();
+    100.0 * es(dew_point_c) / es(air_temp_c)
+}
+
+/// Effective sky temperature (K) of a downwelling longwave irradiance
+/// (W/m²): T = (L/σ)^¼ (Stefan–Boltzmann), as EnergyPlus derives it from the
+/// EPW "horizontal infrared radiation intensity" field.
+pub fn sky_temp_k_from_irradiance(lw_down_w_m2: f64) -> f64 {
+    (lw_down_w_m2 / STEFAN_BOLTZMANN).powf(0.25)
+}
+
+/// Stefan–Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018, exact in SI).
+pub const STEFAN_BOLTZMANN: f64 = 5.670374419e-8;
+
+// ---------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------
+
+/// Reads a weather file with default [`ReadOptions`] (max gap 3 h) and the
+/// given UTC offset for plain-CSV times written without one. The format is
+/// detected: `.epw` → EnergyPlus EPW; a first line of 7 fields followed by a
+/// `Date (MM/DD/YYYY),Time (HH:MM),…` header → TMY3; otherwise the plain CSV
+/// of docs/weather-format.md.
+pub fn read_weather_file(
+    path: &Path,
+    utc_offset: Option<FixedOffset>,
+) -> Result<WeatherHistory, WeatherError> {
+    read_weather_file_with(
+        path,
+        &ReadOptions {
+            utc_offset,
+            ..ReadOptions::default()
+        },
+    )
+    .map(|f| f.history)
+}
+
+/// Reads a weather file (see [`read_weather_file`]) with explicit options,
+/// returning the station metadata too (the same as [`read_weather`]).
+pub fn read_weather_file_with(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<WeatherFile, WeatherError> {
+    read_weather(path, opts)
+}
+
+/// The one entry to the weather readers: reads a weather file with
+/// explicit options, detecting its format (`.epw` or a `LOCATION,` first
+/// line → [`epw`]; a 7-field first line followed by a `Date (MM/DD/YYYY)`
+/// header → [`tmy3`]; otherwise the plain [`csv`]), and returns the history
+/// with the station metadata.
+pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|err| WeatherError::Io {
+        file: file.clone(),
+        err,
+    })?;
+    // TMY3/EPW files are sometimes Latin-1: keep the bytes we can.
+    let text = String::from_utf8_lossy(&bytes);
+    let is_epw = path
+        .extension()
+        .map(|e| e.eq_ignore_ascii_case("epw"))
+        .unwrap_or(false)
+        || text.starts_with("LOCATION,");
+    if is_epw {
+        return parse_epw(&text, &file, opts);
+    }
+    let mut lines = text.lines();
+    let l1 = lines.next().unwrap_or("");
+    let l2 = lines.next().unwrap_or("");
+    if split_csv(l1).len() == 7 && l2.trim_start().starts_with("Date (MM/DD/YYYY)") {
+        return parse_tmy3(&text, &file, opts);
+    }
+    parse_plain_csv(&text, &file, opts)
+}
+
+/// Splits one CSV line; double-quoted fields may contain commas.
+fn split_csv(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    for c in line.trim_end_matches(['\r', '\n']).chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+/// One parsed record before the history is assembled.
+struct Raw {
+    line: usize,
+    time: DateTime<Utc>,
+    sample: WeatherSample,
+}
+
+struct Ctx<'a> {
+    file: &'a str,
+    line: usize,
+}
+
+impl Ctx<'_> {
+    fn malformed(&self, msg: impl Into<String>) -> WeatherError {
+        WeatherError::Malformed {
+            file: self.file.to_string(),
+            line: self.line,
+            msg: msg.into(),
+        }
+    }
+
+    fn num(&self, s: &str, field: &str) -> Result<f64, WeatherError> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| self.malformed(format!("{field}: '{}' is not a number", s.trim())))?;
+        if !v.is_finite() {
+            return Err(self.malformed(format!("{field}: '{}' is not a finite number", s.trim())));
+        }
+        Ok(v)
+    }
+
+    fn range(
+        &self,
+        v: f64,
+        field: &str,
+        lo: f64,
+        hi: f64,
+        unit: &str,
+    ) -> Result<f64, WeatherError> {
+        if v < lo || v > hi {
+            return Err(WeatherError::OutOfRange {
+                file: self.file.to_string(),
+                line: self.line,
+                field: field.to_string(),
+                value: v,
+                expected: format!("{lo} to {hi} {unit}"),
+            });
+        }
+        Ok(v)
+    }
+
+    /// An irradiance: values in [−10, 0) (sensor offsets at night) become 0.
+    fn irradiance(&self, v: f64, field: &str) -> Result<f64, WeatherError> {
+        Ok(self.range(v, field, -10.0, 1500.0, "W/m²")?.max(0.0))
+    }
+}
+
+/// The range checks shared by every reader, in the file's own units.
+struct Met {
+    air_temp_c: f64,
+    dew_point_c: Option<f64>,
+    rh_percent: Option<f64>,
+    wind_m_s: f64,
+    pressure_hpa: f64,
+    cloud_fraction: f64,
+    ghi: Option<f64>,
+    dni: Option<f64>,
+    dhi: Option<f64>,
+    sky_temp_c: Option<f64>,
+    precip_mm_h: f64,
+}
+
+fn build_sample(c: &Ctx, m: Met) -> Result<WeatherSample, WeatherError> {
+    let t = c.range(m.air_temp_c, "air temperature", -90.0, 60.0, "°C")?;
+    let td = match (m.dew_point_c, m.rh_percent) {
+        (Some(td), _) => {
+            let td = c.range(td, "dew point", -100.0, 60.0, "°C")?;
+            if td > t + 1.0 {
+                return Err(c.malformed(format!(
+                    "dew point {td} °C is above the air temperature {t} °C (expected dew point <= air temperature)"
+                )));
+            }
+            td.min(t)
+        }
+        (None, Some(rh)) => {
+            dew_point_c_from_rh(t, c.range(rh, "relative humidity", 0.0, 100.0, "%")?)
+        }
+        (None, None) => return Err(c.malformed("neither a dew point nor a relative humidity")),
+    };
+    let wind = c.range(m.wind_m_s, "wind speed", 0.0, 100.0, "m/s")?;
+    let p = c.range(m.pressure_hpa, "pressure", 300.0, 1100.0, "hPa")?;
+    let cf = c.range(
+        m.cloud_fraction,
+        "cloud fraction",
+        0.0,
+        1.0,
+        "(0 clear to 1 overcast)",
+    )?;
+    let irr = |v: Option<f64>, f: &str| v.map(|x| c.irradiance(x, f)).transpose();
+    let sky = m
+        .sky_temp_c
+        .map(|x| c.range(x, "sky temperature", -150.0, 60.0, "°C"))
+        .transpose()?;
+    Ok(WeatherSample {
+        air_temp_k: t + ZERO_C_K,
+        dew_point_k: td + ZERO_C_K,
+        wind_speed_m_s: wind,
+        pressure_pa: p * 100.0,
+        cloud_fraction: cf,
+        ghi_w_m2: irr(m.ghi, "GHI")?,
+        dni_w_m2: irr(m.dni, "DNI")?,
+        dhi_w_m2: irr(m.dhi, "DHI")?,
+        sky_temp_k: sky.map(|x| x + ZERO_C_K),
+        precip_mm_h: c.range(m.precip_mm_h, "precipitation", 0.0, 500.0, "mm/h")?,
+    })
+}
+
+/// Checks order, duplicates and gaps, then builds the history. With
+/// `period_fields` the irradiance/sky/precipitation fields are averages over
+/// the interval ending at each stamp (see the module docs).
+fn assemble(
+    raws: Vec<Raw>,
+    file: &str,
+    opts: &ReadOptions,
+    period_fields: bool,
+    hint: &'static str,
+) -> Result<WeatherHistory, WeatherError> {
+    if raws.is_empty() {
+        return Err(WeatherError::Empty {
+            file: file.to_string(),
+            expected: "data lines after the header".into(),
+        });
+    }
+    for w in raws.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        if b.time == a.time {
+            return Err(WeatherError::Duplicate {
+                file: file.into(),
+                line: b.line,
+                prev_line: a.line,
+                time: b.time,
+            });
+        }
+        if b.time < a.time {
+            return Err(WeatherError::Unsorted {
+                file: file.into(),
+                line: b.line,
+                prev_line: a.line,
+                time: b.time,
+                prev: a.time,
+                hint,
+            });
+        }
+        let gap = secs_between(a.time, b.time);
+        if gap > opts.max_gap_s {
+            return Err(WeatherError::Gap {
+                file: file.into(),
+                line: b.line,
+                prev_line: a.line,
+                prev: a.time,
+                time: b.time,
+                max_gap_s: opts.max_gap_s,
+                hint,
+            });
+        }
+    }
+    let mut times = Vec::with_capacity(2 * raws.len());
+    let mut samples = Vec::with_capacity(2 * raws.len());
+    if !period_fields || raws.len() == 1 {
+        for r in raws {
+            times.push(r.time);
+            samples.push(r.sample);
+        }
+    } else {
+        let n = raws.len();
+        for i in 0..n {
+            if i > 0 {
+                // Midpoint of the interval ending at stamp i: instantaneous
+                // fields interpolated, period fields as recorded at stamp i.
+                let (a, b) = (&raws[i - 1], &raws[i]);
+                let mid = a.time + (b.time - a.time) / 2;
+                times.push(mid);
+                samples.push(
+                    WeatherSample::lerp(&a.sample, &b.sample, 0.5).with_period_fields(&b.sample),
+                );
+            }
+            // Stamp i: period fields interpolated between midpoints i and i+1.
+            let r = &raws[i];
+            let period = if i + 1 < n {
+                let prev_len = if i > 0 {
+                    secs_between(raws[i - 1].time, r.time)
+                } else {
+                    secs_between(r.time, raws[1].time)
+                };
+                let next_len = secs_between(r.time, raws[i + 1].time);
+                // Midpoints at −prev_len/2 and +next_len/2 around the stamp.
+                let w = (prev_len / 2.0) / (prev_len / 2.0 + next_len / 2.0);
+                WeatherSample::lerp(&r.sample, &raws[i + 1].sample, w)
+            } else {
+                r.sample
+            };
+            times.push(r.time);
+            samples.push(r.sample.with_period_fields(&period));
+        }
+    }
+    WeatherHistory::new(times, samples, file)
+}
+
+fn utc_offset_from_hours(c: &Ctx, h: f64) -> Result<FixedOffset, WeatherError> {
+    let h = c.range(h, "time zone", -12.0, 14.0, "hours from UTC")?;
+    FixedOffset::east_opt((h * 3600.0).round() as i32)
+        .ok_or_else(|| c.malformed(format!("time zone {h} h is not a valid UTC offset")))
+}
+
+fn parse_offset(s: &str) -> Option<FixedOffset> {
+    let s = s.trim();
+    if s.eq_ignore_ascii_case("z") || s.eq_ignore_ascii_case("utc") {
+        return FixedOffset::east_opt(0);
+    }
+    let (sign, rest) = match s.as_bytes().first()? {
+        b'+' => (1, &s[1..]),
+        b'-' => (-1, &s[1..]),
+        _ => return None,
+    };
+    let (h, m) = match rest.split_once(':') {
+        Some((h, m)) => (h.parse::<i32>().ok()?, m.parse::<i32>().ok()?),
+        None => (rest.parse::<i32>().ok()?, 0),
+    };
+    if h > 14 || !(0..60).contains(&m) {
+        return None;
+    }
+    FixedOffset::east_opt(sign * (h * 3600 + m * 60))
+}
+
+/// Parses a UTC offset such as `-05:00`, `+0530`, `+2` or `Z` (for CLI flags).
+pub fn parse_utc_offset(s: &str) -> Result<FixedOffset, String> {
+    parse_offset(s)
+        .ok_or_else(|| format!("cannot read UTC offset '{s}': expected e.g. -05:00, +01:00 or Z"))
+}
+
+const TYPICAL_YEAR_HINT: &str =
+    " (typical-year files mix source years month by month: read them with a coerce_year)";
+
+#[cfg(test)]
+mod tests;
