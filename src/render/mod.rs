@@ -284,7 +284,7 @@ pub fn thermal_solution(
     let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
     let m = s.material as usize;
     cond.cache
-        .solve_at(
+        .solve_in_scene(
             s.material,
             &cond.slabs[m],
             o,
@@ -292,6 +292,7 @@ pub fn thermal_solution(
             0,
             &cond.forcing,
             s.point.z as f64 - cond.ground_z_m,
+            st.blocked_sky(s.prim, s.normal),
         )
         .map_err(|e| {
             anyhow::anyhow!(

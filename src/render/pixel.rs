@@ -338,7 +338,10 @@ impl<'a> RadiometryContext<'a> {
         // The hemisphere a diffuse facet reflects: sky F_sky = (1 + cos β)/2
         // (the sky dome), ground F_gnd = 1 − F_sky (a black body at the
         // ground material's temperature, as in the thermal balance).
-        let f_sky = ((1.0 + surf.normal.z as f64) / 2.0).clamp(0.0, 1.0);
+        let f_sky = crate::trace::sky_view::sky_view_factor(
+            surf.normal.z as f64,
+            self.st.blocked_sky(surf.prim, surf.normal),
+        );
         let t_gnd = self.cond.ground_temp_k;
         let diffuse = |i: usize| {
             let e = eps.at(0.0, wl[i]);

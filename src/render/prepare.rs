@@ -3,7 +3,7 @@
 //! sequence or sweep) and the conditions of one frame (time, weather
 //! forcing, sun samples, thermal cache).
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use anyhow::Context;
 use chrono::{DateTime, Utc};
@@ -22,6 +22,7 @@ use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
 use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
 use crate::therm::weather::{ReadOptions, WeatherHistory, read_weather_file_with};
+use crate::trace::sky_view::blocked_sky_fraction;
 use crate::trace::{self, Backend, Geometry, Tracer};
 
 /// The parts of a render that do not depend on time or weather.
@@ -44,6 +45,27 @@ pub struct Static {
     /// The table on its own full grid, for the per-frame sky fit (when the
     /// scene follows the weather with a standard profile).
     pub atmosphere_full: Option<Arc<SpectralAtmosphere>>,
+    /// Per triangle and side (0: the side its winding's normal points to),
+    /// the fraction of its sky the scene hides, computed on first use
+    /// ([`Static::blocked_sky`]).
+    pub sky_blocked: Arc<Vec<[OnceLock<f32>; 2]>>,
+}
+
+impl Static {
+    /// The fraction of the sky that the scene hides from triangle `prim`'s
+    /// side facing `normal` (`trace::sky_view`), traced once per triangle
+    /// side from its centroid. The thermal balance and the radiometry both
+    /// use it: F_sky = (1 + cos β)/2 − this.
+    pub fn blocked_sky(&self, prim: u32, normal: Vec3) -> f64 {
+        let v = self.geometry.vertices(prim);
+        let face = (v[1] - v[0]).cross(v[2] - v[0]);
+        let side = usize::from(face.dot(normal) < 0.0);
+        let cell = &self.sky_blocked[prim as usize][side];
+        *cell.get_or_init(|| {
+            let c = (v[0] + v[1] + v[2]) / 3.0;
+            blocked_sky_fraction(self.tracer.as_ref(), c, normal) as f32
+        }) as f64
+    }
 }
 
 /// One sample of the sun/shadow history.
@@ -156,10 +178,10 @@ pub fn derive_static(
             && p.scene.positions == scene.positions
             && p.scene.triangles == scene.triangles
     });
-    let (geometry, tracer) = match same_geometry {
+    let (geometry, tracer, sky_blocked) = match same_geometry {
         Some(p) => {
             reused.geometry = true;
-            (p.geometry.clone(), p.tracer.clone())
+            (p.geometry.clone(), p.tracer.clone(), p.sky_blocked.clone())
         }
         None => {
             let positions = scene.positions.iter().map(|p| Vec3::from(*p)).collect();
@@ -168,7 +190,9 @@ pub fn derive_static(
                     .with_context(|| format!("{}: bad geometry", scene.path.display()))?,
             );
             let tracer: Arc<dyn Tracer> = Arc::from(trace::build(backend_of(&scene), &geometry)?);
-            (geometry, tracer)
+            let n = geometry.triangles.len();
+            let sky_blocked = Arc::new((0..n).map(|_| Default::default()).collect());
+            (geometry, tracer, sky_blocked)
         }
     };
     let slabs: Vec<SlabMaterial> = scene.materials.iter().map(slab_of).collect();
@@ -217,6 +241,7 @@ pub fn derive_static(
             atmosphere,
             atmosphere_source: source,
             atmosphere_full,
+            sky_blocked,
         },
         reused,
     ))

@@ -40,7 +40,14 @@ pub struct ThermKey {
     pub weather_id: u64,
     /// Facet height above the ground, quantised by [`ThermCache::quantise_height`].
     pub height_q: i32,
+    /// Fraction of the hemisphere's sky hidden by the scene, in units of
+    /// [`SKY_QUANTUM`] (0: unobstructed).
+    pub blocked_q: i32,
 }
+
+/// Quantum of the blocked sky fraction in the cache key (and the solve):
+/// ±0.01 of the hemisphere, about ±1 W/m² of longwave, ≤ 0.1 K.
+pub const SKY_QUANTUM: f64 = 0.02;
 
 /// Hit/miss counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -174,6 +181,7 @@ impl ThermCache {
             shadow_bits: bits,
             weather_id,
             height_q: Self::quantise_height(height_m).0,
+            blocked_q: 0,
         }
     }
 
@@ -213,7 +221,40 @@ impl ThermCache {
         forcing: &[Forcing],
         height_m: f64,
     ) -> Result<Arc<ThermSolution>, ThermError> {
-        let key = self.key_at(material_id, orientation, shadow, weather_id, height_m);
+        self.solve_in_scene(
+            material_id,
+            material,
+            orientation,
+            shadow,
+            weather_id,
+            forcing,
+            height_m,
+            0.0,
+        )
+    }
+
+    /// [`ThermCache::solve_at`] for a facet whose sky is partly hidden by
+    /// the scene (`blocked_sky`, see `trace::sky_view`; the solve uses the
+    /// fraction quantised to [`SKY_QUANTUM`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_in_scene(
+        &self,
+        material_id: u32,
+        material: &SlabMaterial,
+        orientation: Orientation,
+        shadow: Option<&SunHistory>,
+        weather_id: u64,
+        forcing: &[Forcing],
+        height_m: f64,
+        blocked_sky: f64,
+    ) -> Result<Arc<ThermSolution>, ThermError> {
+        let mut key = self.key_at(material_id, orientation, shadow, weather_id, height_m);
+        key.blocked_q = if blocked_sky.is_finite() {
+            (blocked_sky.clamp(0.0, 1.0) / SKY_QUANTUM).round() as i32
+        } else {
+            0
+        };
+        let blocked_q = key.blocked_q;
         let mut hasher = DefaultHasher::new();
         key.hash(&mut hasher);
         let shard = &self.shards[(hasher.finish() as usize) % SHARDS];
@@ -237,7 +278,11 @@ impl ThermCache {
             let history = shadow.filter(|h| h.sunlit.iter().any(|b| !b));
             let (_, zq) = Self::quantise_height(height_m);
             SlabModel::new(material, oq, &self.settings)
-                .and_then(|m| m.with_height(zq).solve(forcing, history, self.with_series))
+                .and_then(|m| {
+                    m.with_height(zq)
+                        .with_blocked_sky(blocked_q as f64 * SKY_QUANTUM)
+                        .solve(forcing, history, self.with_series)
+                })
                 .map(Arc::new)
         })
         .clone()
@@ -454,5 +499,41 @@ mod tests {
             assert!((u(zq) / u(z) - 1.0).abs() < 0.01);
         }
         assert_eq!(ThermCache::quantise_height(f64::NAN), (0, 0.0));
+    }
+
+    /// A facet whose sky is 30 % hidden (by walls at the ground's
+    /// temperature, here the air's) loses less longwave to the 265-K sky
+    /// than an open one and ends warmer; a hidden fraction below half a
+    /// quantum shares the open facet's entry; the cached solve is the slab
+    /// model's with the quantised fraction.
+    #[test]
+    fn blocked_sky_is_keyed_and_warms_at_night() {
+        let f = forcing();
+        let m = mats()[0];
+        let cache = ThermCache::new(ThermSettings::default(), 5.0, false);
+        let o = Orientation::HORIZONTAL;
+        let open = cache
+            .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.0)
+            .unwrap();
+        let tiny = cache
+            .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.004)
+            .unwrap();
+        assert!(Arc::ptr_eq(&open, &tiny));
+        let walled = cache
+            .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.301)
+            .unwrap();
+        assert!(
+            walled.surface_temp_k > open.surface_temp_k + 0.5,
+            "{} vs {}",
+            walled.surface_temp_k,
+            open.surface_temp_k
+        );
+        let direct = SlabModel::new(&m, o, cache.settings())
+            .unwrap()
+            .with_blocked_sky(0.30)
+            .solve(&f, None, false)
+            .unwrap();
+        assert_eq!(walled.surface_temp_k, direct.surface_temp_k);
+        assert_eq!(cache.stats().misses, 2);
     }
 }

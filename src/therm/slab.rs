@@ -681,6 +681,16 @@ impl SlabModel {
         self.mesh.z_m.len()
     }
 
+    /// The same model with part `blocked` of its sky hidden by the scene
+    /// (`trace::sky_view`): sky view factor (1 + cos β)/2 − blocked, the
+    /// rest ground.
+    pub fn with_blocked_sky(mut self, blocked: f64) -> Self {
+        if blocked.is_finite() {
+            self.f_sky = (self.f_sky - blocked).clamp(0.0, 1.0);
+        }
+        self
+    }
+
     /// The same model for a facet `height_m` above the ground (wind at
     /// the facet; see [`aero::Exchange::new`]).
     pub fn with_height(mut self, height_m: f64) -> Self {

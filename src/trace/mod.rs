@@ -15,6 +15,7 @@ pub mod crosscheck_file;
 pub mod embree;
 pub mod meshgen;
 pub mod offset;
+pub mod sky_view;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
