@@ -1,14 +1,12 @@
 //! `irsig sun`: print the solar position (NREL SPA) for a site and an instant
 //! ([`crate::sun::report::sun_report`]).
 
-use crate::sun::report::sun_report;
-use crate::sun::{SolarPosition, SpaOptions};
 use anyhow::Context;
 use chrono::{DateTime, Utc};
 
-/// What `--time` accepts, repeated in error messages.
-pub const TIME_FORMAT_HELP: &str =
-    "an RFC 3339 time with a UTC offset, e.g. 2024-06-21T12:00:00Z or 2024-06-21T14:00:00+02:00";
+use crate::sun::report::sun_report;
+pub use crate::sun::report::{TIME_FORMAT_HELP, parse_time};
+use crate::sun::{SolarPosition, SpaOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -36,13 +34,6 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Parses `--time`; the error says what format is expected.
-pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
-    DateTime::parse_from_rfc3339(s.trim())
-        .map(|t| t.with_timezone(&Utc))
-        .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))
 }
 
 fn parse_deg(s: &str, what: &str, limit: f64, dir: &str) -> Result<f64, String> {

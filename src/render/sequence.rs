@@ -19,7 +19,7 @@
 use std::path::Path;
 
 use anyhow::{Context, bail};
-use chrono::NaiveDateTime;
+use chrono::{NaiveDate, NaiveDateTime, NaiveTime};
 
 use super::{ProgressFn, Rendered, Reused, Static, derive_static, render_at};
 use crate::scene::LoadedScene;
@@ -52,6 +52,70 @@ pub fn time_steps(
     Ok((0..n)
         .map(|k| from + chrono::Duration::seconds(k * step_s))
         .collect())
+}
+
+/// Parses a duration such as `1h`, `30min`, `1h30m`, `90s`, `0.5h` into
+/// whole seconds (> 0).
+pub fn parse_step_s(s: &str) -> anyhow::Result<i64> {
+    let err = || {
+        anyhow::anyhow!(
+            "--step {s:?}: expected a positive duration such as 1h, 30min, 1h30m or 90s"
+        )
+    };
+    let t = s.trim();
+    let mut total = 0.0;
+    let mut rest = t;
+    if rest.is_empty() {
+        return Err(err());
+    }
+    while !rest.is_empty() {
+        let num_end = rest
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .ok_or_else(err)?;
+        let value: f64 = rest[..num_end].parse().map_err(|_| err())?;
+        rest = &rest[num_end..];
+        let unit_end = rest
+            .find(|c: char| c.is_ascii_digit() || c == '.')
+            .unwrap_or(rest.len());
+        let scale = match rest[..unit_end].trim() {
+            "h" | "hr" | "hrs" | "hour" | "hours" => 3600.0,
+            "m" | "min" | "mins" | "minute" | "minutes" => 60.0,
+            "s" | "sec" | "secs" | "second" | "seconds" => 1.0,
+            _ => return Err(err()),
+        };
+        total += value * scale;
+        rest = &rest[unit_end..];
+    }
+    let secs = total.round();
+    if !(secs >= 1.0 && secs.is_finite()) {
+        return Err(err());
+    }
+    Ok(secs as i64)
+}
+
+/// Parses a local time: `HH:MM[:SS]` on `date`, or a full local date-time
+/// (`YYYY-MM-DDTHH:MM[:SS]`, a space instead of `T` accepted).
+pub fn parse_local_time(flag: &str, s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
+    let t = s.trim();
+    for f in ["%H:%M", "%H:%M:%S"] {
+        if let Ok(tm) = NaiveTime::parse_from_str(t, f) {
+            return Ok(date.and_time(tm));
+        }
+    }
+    for f in [
+        "%Y-%m-%dT%H:%M",
+        "%Y-%m-%dT%H:%M:%S",
+        "%Y-%m-%d %H:%M",
+        "%Y-%m-%d %H:%M:%S",
+    ] {
+        if let Ok(dt) = NaiveDateTime::parse_from_str(t, f) {
+            return Ok(dt);
+        }
+    }
+    bail!(
+        "{flag} {s:?}: expected a local clock time HH:MM[:SS] (on the scene's image date {date}) \
+         or a local date-time YYYY-MM-DDTHH:MM[:SS]"
+    )
 }
 
 /// One planned frame.

@@ -6,6 +6,18 @@ use serde::Serialize;
 
 use super::{SolarPosition, SpaOptions, solar_position_with, validate_site};
 
+/// What `--time` accepts, repeated in error messages.
+pub const TIME_FORMAT_HELP: &str =
+    "an RFC 3339 time with a UTC offset, e.g. 2024-06-21T12:00:00Z or 2024-06-21T14:00:00+02:00";
+
+/// Parses an RFC 3339 time with a UTC offset (`irsig sun --time`); the
+/// error says what format is expected.
+pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
+    DateTime::parse_from_rfc3339(s.trim())
+        .map(|t| t.with_timezone(&Utc))
+        .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))
+}
+
 /// The solar position and its inputs; serialises as `irsig sun --json`
 /// prints it.
 #[derive(Clone, Debug, Serialize)]
