@@ -74,7 +74,7 @@ fn to_py(e: anyhow::Error) -> PyErr {
         match located {
             Some((err, file, line, col)) => {
                 let v = err.value(py);
-                let _ = v.setattr("file", file);
+                let _ = v.setattr("file", (!file.is_empty()).then_some(file));
                 let _ = v.setattr("line", line);
                 let _ = v.setattr("column", col);
                 err
@@ -84,14 +84,18 @@ fn to_py(e: anyhow::Error) -> PyErr {
     })
 }
 
-/// File and line of a weather error, parsed from its `file:line: ...`
-/// message (line 0 when it names none).
+/// File and line of a weather error (line 0: none; file empty: the error
+/// names no file, e.g. weather that does not cover the history).
 fn weather_location(w: &irsig::therm::weather::WeatherError) -> (String, usize) {
-    let s = w.to_string();
-    let head = s.split(": ").next().unwrap_or_default();
-    match head.rsplit_once(':') {
-        Some((f, l)) if l.parse::<usize>().is_ok() => (f.to_string(), l.parse().unwrap_or(0)),
-        _ => (head.to_string(), 0),
+    use irsig::therm::weather::WeatherError as W;
+    match w {
+        W::Malformed { file, line, .. }
+        | W::OutOfRange { file, line, .. }
+        | W::Unsorted { file, line, .. }
+        | W::Duplicate { file, line, .. }
+        | W::Gap { file, line, .. } => (file.clone(), *line),
+        W::Io { file, .. } | W::Empty { file, .. } => (file.clone(), 0),
+        _ => (String::new(), 0),
     }
 }
 

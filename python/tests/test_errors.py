@@ -85,3 +85,12 @@ def test_weather_error_names_the_weather_file_and_line(tmp_path):
     assert (e.value.file, e.value.line) == (str(w), 11)
     assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args(over))
     assert type(e.value).__module__ == "irsig" and type(e.value).__name__ == "WeatherError"
+
+
+def test_weather_that_does_not_cover_the_history(tmp_path):
+    s = irsig.Scene.load(AIRFIELD, overrides=SMALL)
+    with pytest.raises(irsig.WeatherError, match="does not cover") as e:
+        irsig.render(s, time="2001-09-01T12:00")
+    assert e.value.file is None and e.value.line == 0
+    over = {**SMALL, "time.local": "2001-09-01T12:00:00"}
+    assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args(over))
