@@ -1,6 +1,6 @@
 //! `irsig bench accuracy <scene>`: run time against error, knob by knob.
-//! A converged reference is rendered (fine thermal step, 96 shadow samples
-//! per 24 h, fine spectral step, tight thermal tolerance, 4x4 supersampling,
+//! A converged reference is rendered (fine thermal step, 10-min shadow
+//! samples, fine spectral step, tight thermal tolerance, 4x4 supersampling,
 //! 72-h spin-up); then,
 //! for each knob alone (the others at their reference values), a ladder of
 //! cheaper settings, and irsig's default set (the code's defaults of
@@ -67,7 +67,11 @@ pub const KNOBS: &[(&str, f64, &[f64])] = &[
         0.0005,
         &[0.1, 0.05, 0.02, 0.005, 0.002],
     ),
-    ("render.shadow_interval_min", 15.0, &[120.0, 60.0, 30.0]),
+    (
+        "render.shadow_interval_min",
+        10.0,
+        &[120.0, 60.0, 30.0, 20.0, 15.0],
+    ),
     ("render.spectral_step_cm1", 2.0, &[40.0, 20.0, 10.0, 5.0]),
     ("render.supersample", 4.0, &[1.0, 2.0, 3.0]),
     ("render.history_hours", 72.0, &[12.0, 24.0, 36.0, 48.0]),
@@ -89,6 +93,9 @@ pub struct AccuracyRow {
     pub knob: String,
     pub value: f64,
     pub wall_s: f64,
+    /// CPU time of the process (all threads) during the render, s: the
+    /// cost measure that a shared machine disturbs least.
+    pub cpu_s: f64,
     pub rays: u64,
     pub thermal_solves: u64,
     pub surface_temp_rms_k: f64,
@@ -109,6 +116,29 @@ pub struct AccuracyRow {
     pub edge_apparent_temp_p99_k: f64,
     pub edge_apparent_temp_max_k: f64,
 }
+
+/// CPU time (user + system, all threads) this process has used so far, s,
+/// from /proc/self/stat (clock ticks of USER_HZ = 100); NaN where unknown.
+pub fn process_cpu_s() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return f64::NAN;
+    };
+    // Fields after the command name's closing parenthesis start at field 3
+    // (state); utime and stime are fields 14 and 15.
+    let after = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<&str> = after.split_whitespace().collect();
+    match (
+        f.get(11).and_then(|v| v.parse::<f64>().ok()),
+        f.get(12).and_then(|v| v.parse::<f64>().ok()),
+    ) {
+        (Some(u), Some(s)) => (u + s) / 100.0,
+        _ => f64::NAN,
+    }
+}
+
+/// One render of [`run`]: planes, (wall, CPU) s, rays, thermal solves,
+/// shadow-edge pixels.
+type Run = (Planes, (f64, f64), u64, u64, Vec<bool>);
 
 /// The `p`-th percentile (0 < p ≤ 100) of `v` by the nearest-rank rule:
 /// the smallest value of the list with at least `p` % of the values at or
@@ -254,29 +284,29 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
             }
         })
         .collect();
-    // One render: its planes, wall time, rays, thermal solves and (for the
-    // reference) its shadow-edge pixels, found after the clock stops.
-    let run_one =
-        |ov: Vec<(String, String)>| -> anyhow::Result<(Planes, f64, u64, u64, Vec<bool>)> {
-            pool.install(|| {
-                let t0 = Instant::now();
-                let scene = crate::scene::load_with_overrides(&a.scene, &ov)?;
-                let st = prepare_static(scene, None)?;
-                let cond = prepare_conditions(&st, st.scene.scene.time.utc(&st.scene.scene.site))?;
-                let f = render(&st, &cond)?;
-                let wall = t0.elapsed().as_secs_f64();
-                let s = &f.stats;
-                let (rays, solves) = (
-                    s.primary_rays + s.specular_rays + s.solar_rays,
-                    s.thermal_solves,
-                );
-                let edge = shadow_edge_pixels(&f, &cond.suns);
-                Ok((f.planes, wall, rays, solves, edge))
-            })
-        };
+    // One render: its planes, (wall, CPU) time, rays, thermal solves and
+    // (for the reference) its shadow-edge pixels, found after the clock
+    // stops.
+    let run_one = |ov: Vec<(String, String)>| -> anyhow::Result<Run> {
+        pool.install(|| {
+            let (t0, c0) = (Instant::now(), process_cpu_s());
+            let scene = crate::scene::load_with_overrides(&a.scene, &ov)?;
+            let st = prepare_static(scene, None)?;
+            let cond = prepare_conditions(&st, st.scene.scene.time.utc(&st.scene.scene.site))?;
+            let f = render(&st, &cond)?;
+            let wall = (t0.elapsed().as_secs_f64(), process_cpu_s() - c0);
+            let s = &f.stats;
+            let (rays, solves) = (
+                s.primary_rays + s.specular_rays + s.solar_rays,
+                s.thermal_solves,
+            );
+            let edge = shadow_edge_pixels(&f, &cond.suns);
+            Ok((f.planes, wall, rays, solves, edge))
+        })
+    };
     eprintln!("bench accuracy: reference");
     let (rp, rt, rr, rs, edge) = run_one(with(&reference))?;
-    let row = |knob: &str, value: f64, p: &Planes, wall: f64, rays: u64, solves: u64| {
+    let row = |knob: &str, value: f64, p: &Planes, wall: (f64, f64), rays: u64, solves: u64| {
         let ts = |m| {
             err(
                 plane(p, "surface_temperature"),
@@ -304,7 +334,8 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         AccuracyRow {
             knob: knob.into(),
             value,
-            wall_s: wall,
+            wall_s: wall.0,
+            cpu_s: wall.1,
             rays,
             thermal_solves: solves,
             surface_temp_rms_k: ts_all.rms,
@@ -351,7 +382,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     }
 
     let mut csv = String::from(
-        "knob,value,wall_s,rays,thermal_solves,\
+        "knob,value,wall_s,cpu_s,rays,thermal_solves,\
          surface_temp_rms_k,surface_temp_p99_k,surface_temp_max_k,\
          radiance_rms_pct,radiance_p99_pct,radiance_max_pct,\
          apparent_temp_rms_k,apparent_temp_p99_k,apparent_temp_max_k,edge_pixels,\
@@ -360,8 +391,8 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
     );
     for r in &rows {
         csv += &format!(
-            "{},{},{:.3},{},{}",
-            r.knob, r.value, r.wall_s, r.rays, r.thermal_solves
+            "{},{},{:.3},{:.2},{},{}",
+            r.knob, r.value, r.wall_s, r.cpu_s, r.rays, r.thermal_solves
         );
         for v in [
             r.surface_temp_rms_k,
@@ -528,6 +559,18 @@ mod tests {
         assert_eq!(percentile(&mut w, 99.0), 5.0);
         assert_eq!(percentile(&mut w, 40.0), 2.0);
         assert!(percentile(&mut [], 99.0).is_nan());
+    }
+
+    #[test]
+    fn process_cpu_time_grows() {
+        let c0 = process_cpu_s();
+        let mut x = 0u64;
+        let t = Instant::now();
+        while t.elapsed().as_secs_f64() < 0.05 {
+            x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+        }
+        let c1 = process_cpu_s();
+        assert!(c0.is_finite() && c1 >= c0, "{c0} {c1}");
     }
 
     #[test]
