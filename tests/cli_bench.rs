@@ -115,3 +115,20 @@ fn accuracy_rejects_an_unknown_knob() {
         "{err}"
     );
 }
+
+#[test]
+fn accuracy_ladder_needs_one_knob() {
+    let out = irsig()
+        .args([
+            "bench",
+            "accuracy",
+            airfield().to_str().unwrap(),
+            "--ladder",
+            "60,30",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--ladder needs exactly one --knob"), "{err}");
+}
