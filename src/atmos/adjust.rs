@@ -56,8 +56,7 @@ use crate::radiometry::{
     brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_um,
 };
 
-/// Stefan-Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018).
-const SIGMA_W_M2_K4: f64 = 5.670_374_419e-8;
+use crate::therm::balance::STEFAN_BOLTZMANN_W_M2K4 as SIGMA_W_M2_K4;
 
 /// Water-vapour scale height of the path weighting, km.
 pub const VAPOUR_SCALE_HEIGHT_KM: f64 = 2.0;
@@ -100,22 +99,27 @@ impl WeatherAdjustment {
 /// Shortest wavelength whose path optical depth follows the humidity, µm.
 pub const HUMIDITY_MIN_WAVELENGTH_UM: f64 = 3.0;
 
-/// L' = (1 − τ^s)·B(T_eff + ΔT), T_eff = B⁻¹(L/(1 − τ)), per bin. Bins with
-/// no emissivity or no radiance keep their value scaled by the emissivity
-/// ratio (nothing to shift).
-fn shift_spectrum(l: &mut [f64], tau: &[f64], wavelength_um: &[f64], delta_t_k: f64, s: f64) {
-    for ((v, &t), &lam) in l.iter_mut().zip(tau).zip(wavelength_um) {
-        let eps = 1.0 - t;
-        let eps_s = 1.0 - t.powf(s);
-        if !(eps > 1e-9) || !(*v > 0.0) {
-            continue;
+/// The source function of one emitting bin moved by ΔT: B(T_eff + ΔT) with
+/// T_eff = B⁻¹(L/ε), ε = 1 − τ; L/ε where no such temperature exists; None
+/// for a bin with no emissivity or no radiance (nothing to shift or scale).
+fn shifted_source(l: f64, tau: f64, wavelength_um: f64, delta_t_k: f64) -> Option<f64> {
+    let eps = 1.0 - tau;
+    if !(eps > 1e-9) || !(l > 0.0) {
+        return None;
+    }
+    Some(match brightness_temp_k(wavelength_um, l / eps) {
+        Some(t_eff) if t_eff + delta_t_k > 1.0 => {
+            planck_radiance_w_m2_sr_um(wavelength_um, t_eff + delta_t_k)
         }
-        match brightness_temp_k(lam, *v / eps) {
-            Some(t_eff) if t_eff + delta_t_k > 1.0 => {
-                *v = eps_s * planck_radiance_w_m2_sr_um(lam, t_eff + delta_t_k);
-            }
-            _ => *v *= eps_s / eps,
-        }
+        _ => l / eps,
+    })
+}
+
+/// L' = (1 − τ^s)·[`shifted_source`] for one bin; a bin with nothing to
+/// shift keeps its value.
+fn shift_bin(l: &mut f64, tau: f64, wavelength_um: f64, delta_t_k: f64, s: f64) {
+    if let Some(b) = shifted_source(*l, tau, wavelength_um, delta_t_k) {
+        *l = (1.0 - tau.powf(s)) * b;
     }
 }
 
@@ -147,7 +151,9 @@ impl SpectralAtmosphere {
                 let z = Self::node_coords(&self.l_de, k)[0];
                 self.tau_sun(z.min(89.999), &mut tau)?;
                 let mut l = self.l_de.data[k * nw..(k + 1) * nw].to_vec();
-                shift_spectrum(&mut l, &tau, &lam, adj.delta_t_k, adj.sky_scale);
+                for ((v, &t), &lam) in l.iter_mut().zip(&tau).zip(&lam) {
+                    shift_bin(v, t, lam, adj.delta_t_k, adj.sky_scale);
+                }
                 Ok(l)
             })
             .collect()
@@ -183,13 +189,7 @@ impl SpectralAtmosphere {
             let g = alt_axis.map(|i| path_shift_fraction(c[i])).unwrap_or(1.0);
             let l = &mut out.l_ue.data[k * nw..(k + 1) * nw];
             for i in 0..nw {
-                shift_spectrum(
-                    &mut l[i..i + 1],
-                    &tau[i..i + 1],
-                    &lam[i..i + 1],
-                    adj.delta_t_k * g,
-                    s_h[i],
-                );
+                shift_bin(&mut l[i], tau[i], lam[i], adj.delta_t_k * g, s_h[i]);
             }
         }
         // τ₂ is stored as ln τ: the optical-depth scale multiplies it.
@@ -281,7 +281,7 @@ pub fn fit_sky(
     let w = full.dome_node_weights()?;
     let lam = full.wavelengths_um();
     let nw = full.len();
-    // Per node: τ and B(T_eff + ΔT) (or the raw radiance where no T_eff).
+    // Per node: τ and the shifted source function (None: kept as is).
     let mut tau_nodes = Vec::with_capacity(w.len());
     let mut b_nodes = Vec::with_capacity(w.len());
     let mut tau = vec![0.0; nw];
@@ -289,19 +289,8 @@ pub fn fit_sky(
         let z = SpectralAtmosphere::node_coords(&full.l_de, k)[0];
         full.tau_sun(z.min(89.999), &mut tau)?;
         let l = &full.l_de.data[k * nw..(k + 1) * nw];
-        let b: Vec<f64> = (0..nw)
-            .map(|i| {
-                let eps = 1.0 - tau[i];
-                if !(eps > 1e-9) || !(l[i] > 0.0) {
-                    return f64::NAN; // nothing to shift or scale: kept as is
-                }
-                match brightness_temp_k(lam[i], l[i] / eps) {
-                    Some(t) if t + delta_t_k > 1.0 => {
-                        planck_radiance_w_m2_sr_um(lam[i], t + delta_t_k)
-                    }
-                    _ => l[i] / eps,
-                }
-            })
+        let b: Vec<Option<f64>> = (0..nw)
+            .map(|i| shifted_source(l[i], tau[i], lam[i], delta_t_k))
             .collect();
         tau_nodes.push(tau.clone());
         b_nodes.push(b);
@@ -311,11 +300,9 @@ pub fn fit_sky(
             .map(|i| {
                 (0..w.len())
                     .map(|k| {
-                        let b = b_nodes[k][i];
-                        if b.is_nan() {
-                            w[k] * full.l_de.data[k * nw + i]
-                        } else {
-                            w[k] * (1.0 - tau_nodes[k][i].powf(s)) * b
+                        w[k] * match b_nodes[k][i] {
+                            Some(b) => (1.0 - tau_nodes[k][i].powf(s)) * b,
+                            None => full.l_de.data[k * nw + i],
                         }
                     })
                     .sum()

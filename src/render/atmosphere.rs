@@ -7,6 +7,7 @@ use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 use serde::Serialize;
 
+use super::prepare::window_means;
 use crate::atmos::adjust::{SkyFit, WeatherAdjustment, fit_sky};
 use crate::atmos::standard::{self, Choice, StandardAtmosphere};
 use crate::atmos::{Atmosphere, SpectralAtmosphere};
@@ -14,7 +15,7 @@ use crate::radiometry::Band;
 use crate::scene::LoadedScene;
 use crate::scene::spec::AtmosphereModel;
 use crate::sun::Site;
-use crate::therm::forcing::{Forcing, build_forcing};
+use crate::therm::forcing::Forcing;
 use crate::therm::weather::WeatherHistory;
 
 /// Hours of weather before the scene's time that `model = "auto"` averages.
@@ -46,34 +47,6 @@ fn builtin_name(m: &AtmosphereModel) -> Option<&'static str> {
     })
 }
 
-/// Mean air temperature (K) and vapour pressure (Pa) of `history` over the
-/// [`AUTO_WINDOW_H`] hours before `image_time` (hourly, trapezoid rule).
-fn weather_means(
-    history: &WeatherHistory,
-    site: &Site,
-    image_time: DateTime<Utc>,
-) -> anyhow::Result<(f64, f64)> {
-    let mut from = image_time - chrono::Duration::hours(AUTO_WINDOW_H);
-    if let Some(&first) = history.times.first() {
-        from = from.max(first);
-    }
-    let n = ((image_time - from).num_minutes() as f64 / 60.0)
-        .ceil()
-        .max(1.0) as usize;
-    let step_s = (image_time - from).num_milliseconds() as f64 / 1e3 / n as f64;
-    let (f, _) = build_forcing(history, site, from, step_s.max(1.0), n)?;
-    let mean = |g: &dyn Fn(&Forcing) -> f64| {
-        f.windows(2)
-            .map(|w| 0.5 * (g(&w[0]) + g(&w[1])))
-            .sum::<f64>()
-            / (f.len() - 1).max(1) as f64
-    };
-    Ok((
-        mean(&|x: &Forcing| x.air_temp_k),
-        mean(&|x: &Forcing| x.vapour_pressure_pa()),
-    ))
-}
-
 /// Which table the scene uses: its `model`, or for `"auto"` the standard
 /// atmosphere the weather of the [`AUTO_WINDOW_H`] hours before the
 /// scene's time fits best.
@@ -101,8 +74,14 @@ pub fn atmosphere_source(
                 t - chrono::Duration::hours(AUTO_WINDOW_H + 2),
                 t + chrono::Duration::hours(1),
             )?;
-            let (t_k, e_pa) = weather_means(&history, &site, t)
-                .context("atmosphere model = \"auto\": the weather before the scene's time")?;
+            let [t_k, e_pa] = window_means(
+                &history,
+                &site,
+                t - chrono::Duration::hours(AUTO_WINDOW_H),
+                t,
+                [|f| f.air_temp_k, |f| f.vapour_pressure_pa()],
+            )
+            .context("atmosphere model = \"auto\": the weather before the scene's time")?;
             let choice = standard::choose(t_k, e_pa, site.lat_deg);
             AtmosphereSource {
                 name: choice.name.to_string(),

@@ -274,21 +274,34 @@ pub fn deep_ground_temp_k(
     history_start: DateTime<Utc>,
     image_time: DateTime<Utc>,
 ) -> anyhow::Result<f64> {
-    let mut from = deep_ground_window_start(history_start, image_time);
+    let from = deep_ground_window_start(history_start, image_time);
+    Ok(window_means(history, site, from, image_time, [|f| f.air_temp_k])?[0])
+}
+
+/// Means of each of `fs` over the weather's forcing from `from` (or the
+/// start of the record, if later) to `to`: samples at most an hour apart,
+/// trapezoid rule.
+pub fn window_means<const N: usize>(
+    history: &WeatherHistory,
+    site: &Site,
+    from: DateTime<Utc>,
+    to: DateTime<Utc>,
+    fs: [fn(&Forcing) -> f64; N],
+) -> anyhow::Result<[f64; N]> {
+    let mut from = from;
     if let Some(&first) = history.times.first() {
         from = from.max(first);
     }
-    let span_s = (image_time - from).num_milliseconds() as f64 / 1e3;
+    let span_s = (to - from).num_milliseconds() as f64 / 1e3;
     if span_s <= 0.0 {
         anyhow::bail!("the weather record starts after the image time");
     }
     let n = (span_s / 3600.0).ceil().max(1.0) as usize;
     let (f, _) = build_forcing(history, site, from, span_s / n as f64, n)?;
-    let sum: f64 = f
-        .windows(2)
-        .map(|w| 0.5 * (w[0].air_temp_k + w[1].air_temp_k))
-        .sum();
-    Ok(sum / n as f64)
+    Ok(fs.map(|g| {
+        let sum: f64 = f.windows(2).map(|w| 0.5 * (g(&w[0]) + g(&w[1]))).sum();
+        sum / n as f64
+    }))
 }
 
 /// The scene's ground material: the one with the largest area of
