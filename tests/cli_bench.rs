@@ -111,7 +111,7 @@ fn accuracy_rejects_an_unknown_knob() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("--knob supersampling") && err.contains("supersample"),
+        err.contains("knob supersampling: not a knob") && err.contains("supersample"),
         "{err}"
     );
 }

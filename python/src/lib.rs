@@ -349,7 +349,7 @@ fn image_time(
 }
 
 fn local_time(s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
-    irsig::cli::sequence::parse_local_time("time", s, date).map_err(|_| {
+    irsig::render::sequence::parse_local_time("time", s, date).map_err(|_| {
         anyhow::anyhow!(
             "time={s:?}: expected RFC 3339 with an offset (2001-08-08T16:00:00Z), a local date-time of the site's clock (2001-08-08T12:00) or a local clock time on the scene's date (12:00)"
         )
@@ -360,7 +360,7 @@ fn local_time(s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
 /// ...), as `irsig sequence --from --to --step`, as ISO text.
 #[pyfunction]
 fn sequence_times(scene: &Scene, start: &str, stop: &str, step: &str) -> PyResult<Vec<String>> {
-    use irsig::cli::sequence::{parse_local_time, parse_step_s};
+    use irsig::render::sequence::{parse_local_time, parse_step_s};
     let date = scene.scene.scene.time.local.date();
     let r = || -> anyhow::Result<Vec<String>> {
         let step_s = parse_step_s(step)?;
@@ -618,7 +618,7 @@ fn sun(
     temp_c: Option<f64>,
     delta_t_s: Option<f64>,
 ) -> PyResult<String> {
-    let t = irsig::cli::sun::parse_time(time).map_err(IrsigError::new_err)?;
+    let t = irsig::sun::report::parse_time(time).map_err(IrsigError::new_err)?;
     let d = irsig::sun::SpaOptions::default();
     let opts = irsig::sun::SpaOptions {
         pressure_hpa: pressure_hpa.unwrap_or(d.pressure_hpa),

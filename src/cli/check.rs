@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::scene;
 use crate::scene::summary::SceneSummary;
-pub use crate::scene::summary::summarize;
+use crate::scene::summary::summarize;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {

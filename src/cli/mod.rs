@@ -3,7 +3,6 @@
 
 use clap::{Parser, Subcommand};
 
-pub mod accuracy;
 pub mod atmos;
 pub mod bench;
 pub mod check;

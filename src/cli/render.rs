@@ -52,7 +52,7 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
         .collect()
 }
 
-pub use crate::render::thread_pool;
+use crate::render::thread_pool;
 
 /// A terminal progress bar over the render's stages (trace blocks, thermal
 /// solves, radiometry); reports may come from any worker thread and out of

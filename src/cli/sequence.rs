@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use super::render::parse_overrides;
 use crate::output::sequence::{SequenceOutput, write_sequence};
 use crate::render::sequence::{FramePlan, plan_sequence, plan_sweep, scene_text, time_steps};
-pub use crate::render::sequence::{parse_local_time, parse_step_s};
+use crate::render::sequence::{parse_local_time, parse_step_s};
 use crate::render::thread_pool;
 use crate::trace::Backend;
 
@@ -135,32 +135,4 @@ fn run_frames(
         c.output.join("index.json").display()
     );
     Ok(0)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use chrono::NaiveDate;
-
-    #[test]
-    fn steps_parse() {
-        assert_eq!(parse_step_s("1h").unwrap(), 3600);
-        assert_eq!(parse_step_s("30min").unwrap(), 1800);
-        assert_eq!(parse_step_s("1h30m").unwrap(), 5400);
-        assert_eq!(parse_step_s("90s").unwrap(), 90);
-        assert_eq!(parse_step_s("0.5h").unwrap(), 1800);
-        for bad in ["", "0h", "h", "1", "1x", "-1h", "1h-"] {
-            assert!(parse_step_s(bad).is_err(), "{bad}");
-        }
-    }
-
-    #[test]
-    fn times_parse() {
-        let d = NaiveDate::from_ymd_opt(2001, 8, 8).unwrap();
-        let a = parse_local_time("--from", "08:00", d).unwrap();
-        let b = parse_local_time("--to", "2001-08-08T15:00", d).unwrap();
-        assert_eq!(a.to_string(), "2001-08-08 08:00:00");
-        assert_eq!(time_steps(a, b, 3600).unwrap()[7], b);
-        assert!(parse_local_time("--from", "25:00", d).is_err());
-    }
 }

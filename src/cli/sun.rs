@@ -4,8 +4,8 @@
 use anyhow::Context;
 use chrono::{DateTime, Utc};
 
+use crate::sun::report::parse_time;
 use crate::sun::report::sun_report;
-pub use crate::sun::report::{TIME_FORMAT_HELP, parse_time};
 use crate::sun::{SolarPosition, SpaOptions};
 
 #[derive(clap::Args, Debug)]

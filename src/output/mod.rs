@@ -4,6 +4,7 @@
 //! destination, so an interrupted run never leaves a half-written file that
 //! looks complete.
 
+pub mod bench;
 pub mod envi;
 pub mod exr;
 pub mod frame;
@@ -13,96 +14,7 @@ pub mod sequence;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// One image plane (an "AOV"): name, unit, row-major f32 samples.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Plane {
-    pub name: String,
-    pub unit: String,
-    pub data: Vec<f32>,
-}
-
-/// A set of planes of the same size.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Planes {
-    pub width: u32,
-    pub height: u32,
-    pub planes: Vec<Plane>,
-}
-
-impl Planes {
-    pub fn new(width: u32, height: u32) -> Self {
-        Planes {
-            width,
-            height,
-            planes: Vec::new(),
-        }
-    }
-
-    /// Adds a plane; `data.len()` must equal `width·height`.
-    pub fn push(&mut self, name: &str, unit: &str, data: Vec<f32>) {
-        assert_eq!(
-            data.len(),
-            self.width as usize * self.height as usize,
-            "plane {name} has the wrong size"
-        );
-        self.planes.push(Plane {
-            name: name.into(),
-            unit: unit.into(),
-            data,
-        });
-    }
-
-    pub fn get(&self, name: &str) -> Option<&Plane> {
-        self.planes.iter().find(|p| p.name == name)
-    }
-}
-
-impl Plane {
-    /// Statistics of the plane's finite values.
-    pub fn stats(&self) -> PlaneStats {
-        plane_stats(&self.data)
-    }
-}
-
-/// Summary statistics of the finite values of a plane.
-#[derive(Clone, Copy, Debug, serde::Serialize, PartialEq)]
-pub struct PlaneStats {
-    pub mean: f64,
-    pub min: f64,
-    pub max: f64,
-    /// Population standard deviation.
-    pub std: f64,
-    /// Number of finite values.
-    pub count: usize,
-}
-
-/// Statistics of the finite values of `data` (NaN fields when none).
-pub fn plane_stats(data: &[f32]) -> PlaneStats {
-    let v: Vec<f64> = data
-        .iter()
-        .filter(|x| x.is_finite())
-        .map(|&x| x as f64)
-        .collect();
-    if v.is_empty() {
-        return PlaneStats {
-            mean: f64::NAN,
-            min: f64::NAN,
-            max: f64::NAN,
-            std: f64::NAN,
-            count: 0,
-        };
-    }
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
-    PlaneStats {
-        mean,
-        min: v.iter().copied().fold(f64::INFINITY, f64::min),
-        max: v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        std: var.sqrt(),
-        count: v.len(),
-    }
-}
+pub use crate::render::planes::{Plane, PlaneStats, Planes, plane_stats};
 
 /// Errors while writing outputs.
 #[derive(Debug, thiserror::Error)]

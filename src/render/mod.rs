@@ -16,9 +16,11 @@
 //! never on thread scheduling.
 
 pub mod atmosphere;
+pub mod bench;
 pub mod cancel;
 pub mod image;
 pub mod pixel;
+pub mod planes;
 pub mod prepare;
 pub mod probe;
 pub mod sequence;
@@ -31,13 +33,13 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::output::Planes;
 use crate::sensor::camera::Camera;
 use crate::therm::balance::Orientation;
 use crate::therm::slab::{SunHistory, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
 pub use image::{Rendered, render_at, render_conditions, render_scene};
+use planes::Planes;
 pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
 
 /// A surface point seen by a ray.

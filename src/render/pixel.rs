@@ -31,10 +31,10 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::planes::Planes;
 use super::prepare::{Conditions, Static};
 use super::{Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
 use crate::atmos::PathSpectra;
-use crate::output::Planes;
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
 use crate::radiometry::{
     Background, Emissivity, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination,

@@ -294,7 +294,7 @@ impl SequenceFrame {
     }
 
     /// Plane `name` (an error if the render gave none).
-    pub fn plane(&self, name: &str) -> anyhow::Result<&crate::output::Plane> {
+    pub fn plane(&self, name: &str) -> anyhow::Result<&crate::render::planes::Plane> {
         self.image
             .frame
             .planes
@@ -408,5 +408,27 @@ mod tests {
         assert!(time_steps(b, a, 3600).is_err());
         assert!(time_steps(a, b, 1).is_err()); // too many frames
         assert!(time_steps(a, b, 0).is_err());
+    }
+
+    #[test]
+    fn steps_parse() {
+        assert_eq!(parse_step_s("1h").unwrap(), 3600);
+        assert_eq!(parse_step_s("30min").unwrap(), 1800);
+        assert_eq!(parse_step_s("1h30m").unwrap(), 5400);
+        assert_eq!(parse_step_s("90s").unwrap(), 90);
+        assert_eq!(parse_step_s("0.5h").unwrap(), 1800);
+        for bad in ["", "0h", "h", "1", "1x", "-1h", "1h-"] {
+            assert!(parse_step_s(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn times_parse() {
+        let d = NaiveDate::from_ymd_opt(2001, 8, 8).unwrap();
+        let a = parse_local_time("--from", "08:00", d).unwrap();
+        let b = parse_local_time("--to", "2001-08-08T15:00", d).unwrap();
+        assert_eq!(a.to_string(), "2001-08-08 08:00:00");
+        assert_eq!(time_steps(a, b, 3600).unwrap()[7], b);
+        assert!(parse_local_time("--from", "25:00", d).is_err());
     }
 }

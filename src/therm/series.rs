@@ -81,11 +81,10 @@ pub fn parse_shadow_ranges(s: &str) -> anyhow::Result<Vec<ShadowRange>> {
     Ok(out)
 }
 
-/// Parses an RFC 3339 time into UTC.
+/// Parses an RFC 3339 time into UTC (one parser for every command:
+/// [`crate::sun::report::parse_time`]).
 pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
-    Ok(DateTime::parse_from_rfc3339(s.trim())
-        .with_context(|| format!("'{s}' is not an RFC 3339 time (e.g. 2021-05-05T12:00:00Z)"))?
-        .with_timezone(&Utc))
+    crate::sun::report::parse_time(s).map_err(anyhow::Error::msg)
 }
 
 /// The slab of material `name` in a material library (the scene format).

@@ -5,8 +5,8 @@
 //! offsets, and a local-clock file that repeats an hour.
 
 use chrono::{DateTime, Duration, TimeZone, Utc};
-use irsig::cli::sun::parse_time;
 use irsig::scene::parse_scene;
+use irsig::sun::report::parse_time;
 use irsig::sun::{solar_position, sun_events_near};
 use irsig::therm::weather::{ReadOptions, parse_plain_csv};
 use proptest::prelude::*;

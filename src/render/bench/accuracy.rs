@@ -1,4 +1,4 @@
-//! `irsig bench accuracy <scene>`: run time against error, knob by knob.
+//! Run time against error, knob by knob (`irsig bench accuracy`).
 //! A converged reference is rendered (fine thermal step, 10-min shadow
 //! samples, fine spectral step, tight thermal tolerance, 4x4 supersampling,
 //! 72-h spin-up); then,
@@ -16,51 +16,54 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::Context;
-use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::output::Planes;
+use super::process_cpu_s;
+use crate::render::planes::Planes;
 use crate::render::prepare::SunSample;
-use crate::render::{Frame, prepare_conditions, prepare_static, render};
+use crate::render::{Frame, prepare_conditions, prepare_static, render, thread_pool};
 
-#[derive(clap::Args, Debug)]
-pub struct AccuracyArgs {
+/// What [`accuracy`] runs: plain data, as the CLI's flags give it.
+#[derive(Debug, Clone)]
+pub struct AccuracyOptions {
     /// The scene file.
     pub scene: PathBuf,
     /// Output image size (square), pixels.
-    #[arg(long, default_value_t = 128)]
     pub size: u32,
-    /// Folder for accuracy.csv, accuracy.json and accuracy.svg.
-    #[arg(short, long, default_value = "out/bench-accuracy")]
-    pub output: PathBuf,
-    /// Override scene keys (as `irsig render --set`).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Scene-key overrides applied to every render (as `render --set`).
+    pub overrides: Vec<(String, String)>,
+    /// Worker threads (None: all cores).
     pub threads: Option<u32>,
-    /// Run only these knobs' ladders (repeatable; e.g. `history_hours`);
-    /// default: all of them.
-    #[arg(long = "knob", value_name = "NAME")]
+    /// Run only these knobs' ladders (with or without `render.`); empty:
+    /// all of them.
     pub knobs: Vec<String>,
-    /// Keep the knobs not named by `--knob` at irsig's defaults in the
-    /// reference and the ladders (a cheaper reference for one knob, e.g.
-    /// supersampling at full image size).
-    #[arg(long, requires = "knobs")]
+    /// Keep the knobs not named in `knobs` at irsig's defaults in the
+    /// reference and the ladders.
     pub others_at_default: bool,
-    /// Only the reference and the default set (checks a default set
-    /// against the converged reference without the ladders).
-    #[arg(long, conflicts_with_all = ["knobs", "others_at_default"])]
+    /// Only the reference and the default set.
     pub no_ladders: bool,
-    /// Replace the ladder of the one knob named by `--knob` with these
-    /// values (e.g. `--ladder 60,30,20` for a cheaper run at full size).
-    #[arg(long, value_delimiter = ',', value_name = "VALUES")]
+    /// Replaces the ladder of the one knob in `knobs`.
     pub ladder: Vec<f64>,
-    /// A candidate set: the defaults with these render keys changed (e.g.
-    /// `render.shadow_interval_min=60`, repeatable); adds a `candidate` row.
-    #[arg(long, value_name = "KEY=VALUE")]
-    pub candidate: Vec<String>,
+    /// A candidate set: the defaults with these render keys changed; adds
+    /// a `candidate` row when not empty.
+    pub candidate: Vec<(String, String)>,
+}
+
+impl AccuracyOptions {
+    /// The defaults of `irsig bench accuracy SCENE`: 128², every knob.
+    pub fn new(scene: impl Into<PathBuf>) -> AccuracyOptions {
+        AccuracyOptions {
+            scene: scene.into(),
+            size: 128,
+            overrides: Vec::new(),
+            threads: None,
+            knobs: Vec::new(),
+            others_at_default: false,
+            no_ladders: false,
+            ladder: Vec::new(),
+            candidate: Vec::new(),
+        }
+    }
 }
 
 /// A knob, its reference value and its ladder of cheaper settings.
@@ -121,26 +124,7 @@ pub struct AccuracyRow {
     pub edge_apparent_temp_max_k: f64,
 }
 
-/// CPU time (user + system, all threads) this process has used so far, s,
-/// from /proc/self/stat (clock ticks of USER_HZ = 100); NaN where unknown.
-pub fn process_cpu_s() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return f64::NAN;
-    };
-    // Fields after the command name's closing parenthesis start at field 3
-    // (state); utime and stime are fields 14 and 15.
-    let after = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<&str> = after.split_whitespace().collect();
-    match (
-        f.get(11).and_then(|v| v.parse::<f64>().ok()),
-        f.get(12).and_then(|v| v.parse::<f64>().ok()),
-    ) {
-        (Some(u), Some(s)) => (u + s) / 100.0,
-        _ => f64::NAN,
-    }
-}
-
-/// One render of [`run`]: planes, (wall, CPU) s, rays, thermal solves,
+/// One render of [`accuracy`]: planes, (wall, CPU) s, rays, thermal solves,
 /// shadow-edge pixels.
 type Run = (Planes, (f64, f64), u64, u64, Vec<bool>);
 
@@ -234,12 +218,20 @@ fn plane<'a>(p: &'a Planes, name: &str) -> &'a [f32] {
     &p.get(name).expect("render writes this plane").data
 }
 
-pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
-    let base = super::render::parse_overrides(&a.set)?;
+/// Renders the converged reference, each selected knob's ladder (the other
+/// knobs at their reference values), irsig's default set and the optional
+/// candidate set, and returns one row per render with its cost and its
+/// errors against the reference. `progress` hears the name of each render
+/// before it starts.
+pub fn accuracy(
+    a: &AccuracyOptions,
+    progress: &mut dyn FnMut(&str),
+) -> anyhow::Result<Vec<AccuracyRow>> {
+    let base = a.overrides.clone();
     for n in &a.knobs {
         if !KNOBS.iter().any(|(k, _, _)| knob_named(k, n)) {
             anyhow::bail!(
-                "--knob {n}: not a knob; expected one of {}",
+                "knob {n}: not a knob; expected one of {}",
                 KNOBS
                     .iter()
                     .map(|(k, _, _)| k.trim_start_matches("render."))
@@ -249,11 +241,9 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         }
     }
     if !a.ladder.is_empty() && a.knobs.len() != 1 {
-        anyhow::bail!("--ladder needs exactly one --knob");
+        anyhow::bail!("a ladder needs exactly one knob (got {})", a.knobs.len());
     }
-    let pool = super::render::thread_pool(a.threads)?;
-    std::fs::create_dir_all(&a.output)
-        .with_context(|| format!("cannot create {}", a.output.display()))?;
+    let pool = thread_pool(a.threads)?;
     let size = a.size.to_string();
     let with = |extra: &[(String, String)]| -> Vec<(String, String)> {
         let mut v = base.clone();
@@ -311,7 +301,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
             Ok((f.planes, wall, rays, solves, edge))
         })
     };
-    eprintln!("bench accuracy: reference");
+    progress("reference");
     let (rp, rt, rr, rs, edge) = run_one(with(&reference))?;
     let row = |knob: &str, value: f64, p: &Planes, wall: (f64, f64), rays: u64, solves: u64| {
         let ts = |m| {
@@ -374,7 +364,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
             &a.ladder
         };
         for &v in ladder {
-            eprintln!("bench accuracy: {knob} = {v}");
+            progress(&format!("{knob} = {v}"));
             let mut ov = reference.clone();
             ov.retain(|(k, _)| k != knob);
             ov.push((knob.to_string(), v.to_string()));
@@ -382,17 +372,23 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
             rows.push(row(knob, v, &p, t, r, s));
         }
     }
-    eprintln!("bench accuracy: irsig defaults");
+    progress("irsig defaults");
     let (p, t, r, s, _) = run_one(with(&defaults))?;
     rows.push(row("default", 0.0, &p, t, r, s));
     if !a.candidate.is_empty() {
         let mut cand = defaults.clone();
-        cand.extend(super::render::parse_overrides(&a.candidate)?);
-        eprintln!("bench accuracy: candidate set");
+        cand.extend(a.candidate.iter().cloned());
+        progress("candidate set");
         let (p, t, r, s, _) = run_one(with(&cand))?;
         rows.push(row("candidate", 0.0, &p, t, r, s));
     }
 
+    Ok(rows)
+}
+
+/// The rows as CSV (header line, then one line per row; times to 1 ms /
+/// 10 ms, errors to 1e-5).
+pub fn to_csv(rows: &[AccuracyRow]) -> String {
     let mut csv = String::from(
         "knob,value,wall_s,cpu_s,rays,thermal_solves,\
          surface_temp_rms_k,surface_temp_p99_k,surface_temp_max_k,\
@@ -401,7 +397,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
          edge_surface_temp_rms_k,edge_surface_temp_p99_k,edge_surface_temp_max_k,\
          edge_apparent_temp_rms_k,edge_apparent_temp_p99_k,edge_apparent_temp_max_k\n",
     );
-    for r in &rows {
+    for r in rows {
         csv += &format!(
             "{},{},{:.3},{:.2},{},{}",
             r.knob, r.value, r.wall_s, r.cpu_s, r.rays, r.thermal_solves
@@ -432,130 +428,7 @@ pub fn run(a: AccuracyArgs) -> anyhow::Result<i32> {
         }
         csv += "\n";
     }
-    let write = |name: &str, text: &str| {
-        crate::output::write_atomic(&a.output.join(name), |w| {
-            std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())
-        })
-    };
-    write("accuracy.csv", &csv)?;
-    write("accuracy.json", &serde_json::to_string_pretty(&rows)?)?;
-    plot(&a.output.join("accuracy.svg"), &rows)?;
-    print!("{csv}");
-    Ok(0)
-}
-
-/// Two panels, error against CPU time (s, all threads; wall time where
-/// that is unknown), log-log, one curve per knob
-/// and the default set as a separate point: left the apparent-temperature
-/// RMS over all pixels, right the surface-temperature max over the
-/// shadow-edge pixels (the spectral step, which does not change surface
-/// temperature, lies on the floor there).
-fn plot(path: &std::path::Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1400, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let (left, right) = root.split_horizontally(700);
-        panel(
-            &left,
-            rows,
-            "apparent-temperature RMS error vs CPU time",
-            "apparent temperature RMS error vs reference, K",
-            |r| r.apparent_temp_rms_k,
-        )?;
-        panel(
-            &right,
-            rows,
-            "max error over shadow-edge pixels vs CPU time",
-            "surface temperature max error (shadow-edge pixels), K",
-            |r| r.edge_surface_temp_max_k,
-        )?;
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    crate::output::write_atomic(path, |w| {
-        std::io::Write::write_all(w, svg.as_bytes()).map_err(|e| e.to_string())
-    })?;
-    Ok(())
-}
-
-/// One panel of [`plot`]: `metric` (K; values below 1e-4 K and NaN drawn
-/// at 1e-4) against CPU time.
-fn panel<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    rows: &[AccuracyRow],
-    caption: &str,
-    y_desc: &str,
-    metric: impl Fn(&AccuracyRow) -> f64,
-) -> anyhow::Result<()> {
-    let floor = 1e-4;
-    let pts: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| {
-            let m = metric(r);
-            let t = if r.cpu_s > 0.0 { r.cpu_s } else { r.wall_s };
-            (t, if m.is_nan() { floor } else { m.max(floor) })
-        })
-        .collect();
-    let (xmin, xmax) = pts
-        .iter()
-        .fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let ymax = pts.iter().fold(floor, |m, p| m.max(p.1));
-    let mut chart = ChartBuilder::on(area)
-        .caption(format!("irsig: {caption}"), ("sans-serif", 18))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            ((xmin * 0.8).max(1e-3)..xmax * 1.25).log_scale(),
-            (floor..ymax * 2.0).log_scale(),
-        )
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    chart
-        .configure_mesh()
-        .x_desc("CPU time (all threads), s")
-        .y_desc(y_desc)
-        .draw()
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let colours = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
-    for (i, (knob, _, _)) in KNOBS.iter().enumerate() {
-        let c = colours[i % colours.len()];
-        let series: Vec<(f64, f64)> = rows
-            .iter()
-            .zip(&pts)
-            .filter(|(r, _)| r.knob == *knob)
-            .map(|(_, p)| *p)
-            .collect();
-        chart
-            .draw_series(LineSeries::new(series.clone(), c.stroke_width(2)))
-            .map_err(|e| anyhow::anyhow!("{e}"))?
-            .label(knob.trim_start_matches("render."))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-        chart
-            .draw_series(series.into_iter().map(|p| Circle::new(p, 4, c.filled())))
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    let defaults: Vec<(f64, f64)> = rows
-        .iter()
-        .zip(&pts)
-        .filter(|(r, _)| r.knob == "default")
-        .map(|(_, p)| *p)
-        .collect();
-    chart
-        .draw_series(
-            defaults
-                .into_iter()
-                .map(|p| Cross::new(p, 8, BLACK.stroke_width(3))),
-        )
-        .map_err(|e| anyhow::anyhow!("{e}"))?
-        .label("irsig defaults")
-        .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    Ok(())
+    csv
 }
 
 #[cfg(test)]
@@ -575,18 +448,6 @@ mod tests {
         assert_eq!(percentile(&mut w, 99.0), 5.0);
         assert_eq!(percentile(&mut w, 40.0), 2.0);
         assert!(percentile(&mut [], 99.0).is_nan());
-    }
-
-    #[test]
-    fn process_cpu_time_grows() {
-        let c0 = process_cpu_s();
-        let mut x = 0u64;
-        let t = Instant::now();
-        while t.elapsed().as_secs_f64() < 0.05 {
-            x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
-        }
-        let c1 = process_cpu_s();
-        assert!(c0.is_finite() && c1 >= c0, "{c0} {c1}");
     }
 
     #[test]

@@ -1,0 +1,151 @@
+//! Ray throughput of the tracer backends (`irsig bench rays`) on the
+//! ~5,000-triangle benchmark scene ([`meshgen::bench_scene`]): primary and
+//! shadow rays, single rays against 16-wide packets, Embree against obvhs.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::{TASK, time_best};
+use crate::render::thread_pool;
+use crate::sensor::camera::Camera;
+use crate::trace::bvh::BvhTracer;
+use crate::trace::embree::EmbreeTracer;
+use crate::trace::offset::offset_origin;
+use crate::trace::{Geometry, Hit, QueryMode, Ray, Tracer, meshgen};
+
+/// What [`rays`] measures.
+#[derive(Debug, Clone, Copy)]
+pub struct RaysOptions {
+    /// Image width and height, pixels.
+    pub size: u32,
+    /// Worker threads (None: all cores).
+    pub threads: Option<u32>,
+    /// Timed repetitions per row (the best is reported).
+    pub repeat: u32,
+}
+
+impl Default for RaysOptions {
+    fn default() -> RaysOptions {
+        RaysOptions {
+            size: 512,
+            threads: None,
+            repeat: 5,
+        }
+    }
+}
+
+/// One row: a workload (primary or shadow rays) on one backend and mode.
+#[derive(Debug, Clone, Serialize)]
+pub struct RayRow {
+    pub workload: String,
+    pub backend: String,
+    pub mode: String,
+    pub rays: usize,
+    pub best_s: f64,
+    pub mrays_per_s: f64,
+}
+
+/// [`rays`]'s result: the rows and what they were measured on.
+#[derive(Debug, Clone, Serialize)]
+pub struct RaysReport {
+    pub triangles: usize,
+    pub size: u32,
+    pub threads: usize,
+    pub embree_version: String,
+    pub repeat: u32,
+    pub rows: Vec<RayRow>,
+}
+
+/// Times primary and shadow rays through Embree (single and packet) and
+/// obvhs (single), each the best of `repeat` runs.
+pub fn rays(a: &RaysOptions) -> anyhow::Result<RaysReport> {
+    anyhow::ensure!(
+        (16..=8192).contains(&a.size) && (1..=100).contains(&a.repeat),
+        "bench rays: size {} (expected 16..=8192 px) or repeat {} (expected 1..=100) out of range",
+        a.size,
+        a.repeat
+    );
+    let pool = thread_pool(a.threads)?;
+
+    let (p, t) = meshgen::bench_scene().finish();
+    let g = Arc::new(Geometry::new(p, t)?);
+    let packet = EmbreeTracer::new(g.clone(), QueryMode::Packet16)?;
+    let single = EmbreeTracer::new(g.clone(), QueryMode::Single)?;
+    let bvh = BvhTracer::new(g.clone());
+    let cam = Camera::look_at(
+        DVec3::new(0.0, -160.0, 230.0),
+        DVec3::ZERO,
+        60.0,
+        a.size,
+        a.size,
+    );
+    let primary: Vec<Ray> = cam
+        .tile_order()
+        .iter()
+        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
+        .collect();
+    let mut hits = vec![None; primary.len()];
+    pool.install(|| {
+        primary
+            .par_chunks(TASK)
+            .zip(hits.par_chunks_mut(TASK))
+            .for_each(|(r, h)| packet.intersect(r, h))
+    });
+    // Shadow rays: one sun direction for the whole image, from each hit,
+    // kept in tile order so packets stay coherent.
+    let sun = Vec3::new(0.35, -0.45, 0.82).normalize();
+    let shadow: Vec<Ray> = primary
+        .iter()
+        .zip(&hits)
+        .map(|(r, h): (&Ray, &Option<Hit>)| match h {
+            Some(h) => {
+                let n = g.normals[h.prim as usize];
+                let n = if n.dot(r.dir) > 0.0 { -n } else { n };
+                Ray::new(offset_origin(g.point(h.prim, h.u, h.v), n), sun)
+            }
+            // Misses still cast a (trivially unoccluded) ray, as a render would not.
+            None => Ray::new(r.org, sun),
+        })
+        .collect();
+    let tracers: [(&dyn Tracer, &str); 3] =
+        [(&single, "single"), (&packet, "packet16"), (&bvh, "single")];
+    let mut rows = Vec::new();
+    for (name, set) in [("primary", &primary), ("shadow", &shadow)] {
+        for (tracer, mode) in tracers {
+            let best = pool.install(|| {
+                time_best(a.repeat, || {
+                    if name == "primary" {
+                        let mut out = vec![None; set.len()];
+                        set.par_chunks(TASK)
+                            .zip(out.par_chunks_mut(TASK))
+                            .for_each(|(r, h)| tracer.intersect(r, h));
+                    } else {
+                        let mut out = vec![false; set.len()];
+                        set.par_chunks(TASK)
+                            .zip(out.par_chunks_mut(TASK))
+                            .for_each(|(r, o)| tracer.occluded(r, o));
+                    }
+                })
+            });
+            rows.push(RayRow {
+                workload: name.into(),
+                backend: tracer.backend().to_string(),
+                mode: mode.into(),
+                rays: set.len(),
+                best_s: best,
+                mrays_per_s: set.len() as f64 / best / 1e6,
+            });
+        }
+    }
+    Ok(RaysReport {
+        triangles: g.triangles.len(),
+        size: a.size,
+        threads: pool.current_num_threads(),
+        embree_version: EmbreeTracer::version_string().to_string(),
+        repeat: a.repeat,
+        rows,
+    })
+}

@@ -1,0 +1,222 @@
+//! Render stage times against the pure-Embree ray floor, peak memory, over
+//! image sizes and facet counts (`irsig bench speed`).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::{TASK, peak_rss_mib, reset_peak_rss, time_best};
+use crate::render::{prepare_conditions, prepare_static, render, thread_pool};
+use crate::sensor::camera::Camera;
+use crate::trace::embree::EmbreeTracer;
+use crate::trace::offset::offset_origin;
+use crate::trace::{Geometry, QueryMode, Ray, Tracer};
+
+/// What [`speed`] measures.
+#[derive(Debug, Clone)]
+pub struct SpeedOptions {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Image sizes (square), pixels.
+    pub sizes: Vec<u32>,
+    /// Facet multipliers: each triangle split into n² (1, 9 ≈ 10x, 100).
+    pub subdivide: Vec<u32>,
+    /// Image size of the facet-count rows.
+    pub facet_size: u32,
+    /// Scene-key overrides (as `render --set`).
+    pub overrides: Vec<(String, String)>,
+    /// Worker threads (None: all cores).
+    pub threads: Option<u32>,
+}
+
+impl SpeedOptions {
+    /// The defaults of `irsig bench speed SCENE`.
+    pub fn new(scene: impl Into<PathBuf>) -> SpeedOptions {
+        SpeedOptions {
+            scene: scene.into(),
+            sizes: vec![256, 512, 1024, 2048],
+            subdivide: vec![1, 3, 10],
+            facet_size: 512,
+            overrides: Vec::new(),
+            threads: None,
+        }
+    }
+}
+
+/// One row of `bench speed`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpeedRow {
+    pub size: u32,
+    pub triangles: usize,
+    pub load_bvh_s: f64,
+    pub conditions_s: f64,
+    pub trace_s: f64,
+    pub thermal_s: f64,
+    pub radiometry_s: f64,
+    pub sensor_s: f64,
+    pub total_s: f64,
+    pub rays: u64,
+    pub mrays_per_s: f64,
+    /// Time of the same numbers of primary and shadow rays at the
+    /// pure-Embree packet rate measured on this scene and camera.
+    pub embree_floor_s: f64,
+    pub ratio_to_floor: f64,
+    pub thermal_solves: u64,
+    pub peak_rss_mib: f64,
+}
+
+/// Splits every triangle into n² (midpoint grid), keeping its material,
+/// object and facet.
+fn subdivide(s: &mut crate::scene::LoadedScene, n: u32) {
+    if n <= 1 {
+        return;
+    }
+    let mut pos = Vec::new();
+    let mut tris = Vec::new();
+    let (mut mat, mut obj, mut fac) = (Vec::new(), Vec::new(), Vec::new());
+    let nf = n as f32;
+    for (t, tri) in s.triangles.iter().enumerate() {
+        let [a, b, c] = tri.map(|k| Vec3::from(s.positions[k as usize]));
+        // Vertices (i, j) with i + j <= n: a + (b−a)·i/n + (c−a)·j/n.
+        let mut id = vec![vec![0u32; (n + 1) as usize]; (n + 1) as usize];
+        for i in 0..=n {
+            for j in 0..=(n - i) {
+                id[i as usize][j as usize] = pos.len() as u32;
+                pos.push((a + (b - a) * (i as f32 / nf) + (c - a) * (j as f32 / nf)).to_array());
+            }
+        }
+        for i in 0..n as usize {
+            for j in 0..(n as usize - i) {
+                let mut push = |q: [u32; 3]| {
+                    tris.push(q);
+                    mat.push(s.tri_material[t]);
+                    obj.push(s.tri_object[t]);
+                    fac.push(s.tri_facet[t]);
+                };
+                push([id[i][j], id[i + 1][j], id[i][j + 1]]);
+                if j + 1 < n as usize - i {
+                    push([id[i + 1][j], id[i + 1][j + 1], id[i][j + 1]]);
+                }
+            }
+        }
+    }
+    s.positions = pos;
+    s.triangles = tris;
+    s.tri_material = mat;
+    s.tri_object = obj;
+    s.tri_facet = fac;
+}
+
+/// Pure-Embree packet throughput (primary, shadow) in rays/s for the
+/// scene's geometry and a camera, tile-ordered as the render traces.
+fn embree_rates(g: &Arc<Geometry>, cam: &Camera, sun: Vec3) -> anyhow::Result<(f64, f64)> {
+    let packet = EmbreeTracer::new(g.clone(), QueryMode::Packet16)?;
+    let primary: Vec<Ray> = cam
+        .tile_order()
+        .iter()
+        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
+        .collect();
+    let mut hits = vec![None; primary.len()];
+    primary
+        .par_chunks(TASK)
+        .zip(hits.par_chunks_mut(TASK))
+        .for_each(|(r, h)| packet.intersect(r, h));
+    let shadow: Vec<Ray> = primary
+        .iter()
+        .zip(&hits)
+        .filter_map(|(r, h)| {
+            h.map(|h| {
+                let n = g.normals[h.prim as usize];
+                let n = if n.dot(r.dir) > 0.0 { -n } else { n };
+                Ray::new(offset_origin(g.point(h.prim, h.u, h.v), n), sun)
+            })
+        })
+        .collect();
+    let tp = time_best(3, || {
+        let mut out = vec![None; primary.len()];
+        primary
+            .par_chunks(TASK)
+            .zip(out.par_chunks_mut(TASK))
+            .for_each(|(r, h)| packet.intersect(r, h));
+    });
+    let ts = time_best(3, || {
+        let mut out = vec![false; shadow.len()];
+        shadow
+            .par_chunks(TASK)
+            .zip(out.par_chunks_mut(TASK))
+            .for_each(|(r, o)| packet.occluded(r, o));
+    });
+    Ok((primary.len() as f64 / tp, shadow.len().max(1) as f64 / ts))
+}
+
+/// Renders the scene at each size (facets as they are) and at
+/// `facet_size` with each facet multiplier > 1, timing every stage against
+/// the pure-Embree ray floor of the same rays; `progress` hears each row
+/// when it is done.
+pub fn speed(
+    a: &SpeedOptions,
+    progress: &mut dyn FnMut(&SpeedRow),
+) -> anyhow::Result<Vec<SpeedRow>> {
+    let overrides = a.overrides.clone();
+    let pool = thread_pool(a.threads)?;
+    let mut jobs: Vec<(u32, u32)> = a.sizes.iter().map(|&s| (s, 1)).collect();
+    jobs.extend(
+        a.subdivide
+            .iter()
+            .filter(|&&n| n > 1)
+            .map(|&n| (a.facet_size, n)),
+    );
+    let mut rows = Vec::new();
+    for (size, n) in jobs {
+        let mut ov = overrides.clone();
+        ov.push(("sensor.width_px".into(), size.to_string()));
+        ov.push(("sensor.height_px".into(), size.to_string()));
+        // Each row reports its own peak.
+        reset_peak_rss();
+        let row = pool.install(|| -> anyhow::Result<SpeedRow> {
+            let t0 = Instant::now();
+            let mut scene = crate::scene::load_with_overrides(&a.scene, &ov)?;
+            subdivide(&mut scene, n);
+            let st = prepare_static(scene, None)?;
+            let load = t0.elapsed().as_secs_f64();
+            let t1 = Instant::now();
+            let t = st.scene.scene.time.utc(&st.scene.scene.site);
+            let cond = prepare_conditions(&st, t)?;
+            let conditions = t1.elapsed().as_secs_f64();
+            let frame = render(&st, &cond)?;
+            let s = &frame.stats;
+            let cam = Camera::from_geometry(&st.scene.camera);
+            let sun = glam::DVec3::from(cond.sun_now.sun_dir_enu).as_vec3();
+            let (rp, rs) = embree_rates(&st.geometry, &cam, sun)?;
+            let floor = s.primary_rays as f64 / rp + (s.solar_rays + s.specular_rays) as f64 / rs;
+            let stages =
+                s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor;
+            let total = load + conditions + stages;
+            let rays = s.primary_rays + s.solar_rays + s.specular_rays;
+            Ok(SpeedRow {
+                size,
+                triangles: st.geometry.triangles.len(),
+                load_bvh_s: load,
+                conditions_s: conditions,
+                trace_s: s.seconds.trace,
+                thermal_s: s.seconds.thermal,
+                radiometry_s: s.seconds.radiometry,
+                sensor_s: s.seconds.sensor,
+                total_s: total,
+                rays,
+                mrays_per_s: rays as f64 / s.seconds.trace / 1e6,
+                embree_floor_s: floor,
+                ratio_to_floor: stages / floor,
+                thermal_solves: s.thermal_solves,
+                peak_rss_mib: peak_rss_mib(),
+            })
+        })?;
+        progress(&row);
+        rows.push(row);
+    }
+    Ok(rows)
+}
