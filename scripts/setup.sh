@@ -21,7 +21,7 @@ if [ -n "$missing" ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q $missing
 fi
 
-# Rust toolchain (edition 2024 needs Rust >= 1.85; Debian 12's rustc is too old).
+# Rust toolchain (edition 2024 and std file locks need Rust >= 1.89; Debian 12's rustc is too old).
 if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
   export PATH="$HOME/.cargo/bin:$PATH"
 fi
@@ -31,8 +31,8 @@ if ! command -v cargo >/dev/null 2>&1; then
   export PATH="$HOME/.cargo/bin:$PATH"
 fi
 ver=$(rustc --version | awk '{print $2}')
-if [ "$(printf '%s\n1.85.0\n' "$ver" | sort -V | head -n1)" != "1.85.0" ]; then
-  echo "setup: rustc $ver is older than 1.85 (edition 2024): run 'rustup update stable'" >&2
+if [ "$(printf '%s\n1.89.0\n' "$ver" | sort -V | head -n1)" != "1.89.0" ]; then
+  echo "setup: rustc $ver is older than 1.89 (edition 2024, std file locks): run 'rustup update stable'" >&2
   exit 1
 fi
 

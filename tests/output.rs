@@ -3,7 +3,8 @@
 use irsig::output::envi::write_envi;
 use irsig::output::exr::{read_exr, write_exr};
 use irsig::output::quicklook::{Stretch, percentile_stretch, to_grey, write_png};
-use irsig::output::{Planes, write_atomic};
+use irsig::output::set::remove_stale_partials;
+use irsig::output::{OutputSet, Planes, write_atomic};
 
 fn planes() -> Planes {
     let mut p = Planes::new(7, 5);
@@ -25,7 +26,9 @@ fn exr_round_trips_every_plane_exactly() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("x.exr");
     let p = planes();
-    write_exr(&path, &p).unwrap();
+    let mut set = OutputSet::new(&path).unwrap();
+    write_exr(&mut set, &path, &p).unwrap();
+    set.commit().unwrap();
     let (w, h, chans) = read_exr(&path).unwrap();
     assert_eq!((w, h), (7, 5));
     for plane in &p.planes {
@@ -54,7 +57,9 @@ fn envi_writes_bsq_float32_and_header() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cube.img");
     let p = planes();
-    write_envi(&path, &p, Some(&[10.0, 11.0]), "test cube").unwrap();
+    let mut set = OutputSet::new(&path.with_extension("hdr")).unwrap();
+    write_envi(&mut set, &path, &p, Some(&[10.0, 11.0]), "test cube").unwrap();
+    set.commit().unwrap();
     let bytes = std::fs::read(&path).unwrap();
     assert_eq!(bytes.len(), 2 * 35 * 4);
     // Band 2, pixel (x=3, y=1) = index 35 + 10.
@@ -89,7 +94,10 @@ fn quicklook_stretch_is_the_2_98_percentile() {
     let g = to_grey(&[2.0, 99.0, 50.5, f32::NAN, -5.0, 500.0], s);
     assert_eq!(g, vec![0, 255, 128, 0, 0, 255]);
     let dir = tempfile::tempdir().unwrap();
-    write_png(&dir.path().join("q.png"), 101, 1, &data[..101], "test").unwrap();
+    let q = dir.path().join("q.png");
+    let mut set = OutputSet::new(&q).unwrap();
+    write_png(&mut set, &q, 101, 1, &data[..101], "test").unwrap();
+    set.commit().unwrap();
     assert!(std::fs::metadata(dir.path().join("q.png")).unwrap().len() > 50);
 }
 
@@ -103,4 +111,91 @@ fn failed_write_leaves_no_file() {
     });
     assert!(r.unwrap_err().to_string().contains("interrupted"));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+/// Names in `dir`, sorted.
+fn names(dir: &std::path::Path) -> Vec<String> {
+    let mut n: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    n.sort();
+    n
+}
+
+/// A set whose second file fails leaves the previous set exactly as it was
+/// and no temporary file; a committed set replaces every file, the marker
+/// last.
+#[test]
+fn a_failed_set_leaves_the_previous_set_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, m) = (dir.path().join("x.bin"), dir.path().join("x.json"));
+    let put = |path: &std::path::Path, text: &'static str, set: &mut OutputSet| {
+        set.stage(path, |w| {
+            std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())
+        })
+    };
+    let mut old = OutputSet::new(&m).unwrap();
+    put(&a, "old data", &mut old).unwrap();
+    put(&m, "old marker", &mut old).unwrap();
+    old.commit().unwrap();
+
+    let mut new = OutputSet::new(&m).unwrap();
+    put(&a, "new data", &mut new).unwrap();
+    let err = new
+        .stage(&m, |w| {
+            std::io::Write::write_all(w, b"half").unwrap();
+            Err("encoder gave up".into())
+        })
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        err,
+        format!("cannot encode {}: encoder gave up", m.display())
+    );
+    drop(new);
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "old data");
+    assert_eq!(std::fs::read_to_string(&m).unwrap(), "old marker");
+    assert_eq!(names(dir.path()), ["x.bin", "x.json"]);
+
+    // A set without its marker cannot be committed (and changes nothing).
+    let mut no_marker = OutputSet::new(&m).unwrap();
+    put(&a, "new data", &mut no_marker).unwrap();
+    assert!(no_marker.commit().is_err());
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "old data");
+    assert_eq!(names(dir.path()), ["x.bin", "x.json"]);
+
+    let mut new = OutputSet::new(&m).unwrap();
+    put(&m, "new marker", &mut new).unwrap(); // staged first, renamed last
+    put(&a, "new data", &mut new).unwrap();
+    new.commit().unwrap();
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "new data");
+    assert_eq!(std::fs::read_to_string(&m).unwrap(), "new marker");
+    assert_eq!(names(dir.path()), ["x.bin", "x.json"]);
+}
+
+/// Temporary files nobody holds (a killed run's) are removed by the next
+/// set in the folder; one held by a live writer is left alone.
+#[test]
+fn stale_partials_are_removed_and_live_ones_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let stale = dir.path().join(".irsig-partial-AbC123");
+    let live = dir.path().join(".irsig-partial-XyZ789");
+    std::fs::write(&stale, b"left by a killed run").unwrap();
+    std::fs::write(&live, b"being written").unwrap();
+    std::fs::write(dir.path().join("other.txt"), b"not ours").unwrap();
+    let holder = std::fs::OpenOptions::new().write(true).open(&live).unwrap();
+    holder.lock().unwrap();
+    let out = dir.path().join("x.json");
+    write_atomic(&out, |w| {
+        std::io::Write::write_all(w, b"{}").map_err(|e| e.to_string())
+    })
+    .unwrap();
+    assert_eq!(
+        names(dir.path()),
+        [".irsig-partial-XyZ789", "other.txt", "x.json"]
+    );
+    drop(holder);
+    assert_eq!(remove_stale_partials(dir.path()).unwrap(), 1);
+    assert_eq!(names(dir.path()), ["other.txt", "x.json"]);
 }

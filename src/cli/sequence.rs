@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 
 use super::render::parse_overrides;
-use crate::output::sequence::{SequenceOutput, write_sequence};
+use crate::output::sequence::{FrameDone, SequenceOutput, write_sequence};
 use crate::render::sequence::{FramePlan, plan_sequence, plan_sweep, scene_text, time_steps};
 use crate::render::sequence::{parse_local_time, parse_step_s};
 use crate::render::thread_pool;
@@ -34,6 +34,11 @@ pub struct Common {
     /// Also write an ENVI BSQ float32 cube of every plane per frame.
     #[arg(long)]
     pub envi: bool,
+    /// Render every frame, even those already complete in the output
+    /// folder from an earlier run of the same scene (by default such
+    /// frames, e.g. of a killed run, are kept and not rendered again).
+    #[arg(long)]
+    pub no_resume: bool,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,
@@ -114,19 +119,33 @@ fn run_frames(
     let pool = thread_pool(c.threads)?;
     let n = plans.len();
     let index = pool.install(|| {
-        write_sequence(plans, c.tracer, out, &mut |f, entry, exr| {
-            let p = &f.image.frame.planes;
-            println!(
-                "frame {}/{n} {}: wrote {} ({}x{}), {:.2} s; apparent temperature std {:.3} K",
-                f.index + 1,
-                entry.value,
-                exr.display(),
-                p.width,
-                p.height,
-                entry.seconds,
-                entry.apparent_temperature_k.std,
-            );
-        })
+        write_sequence(
+            plans,
+            c.tracer,
+            out,
+            !c.no_resume,
+            &mut |done, entry, exr| {
+                let what = match done {
+                    FrameDone::Rendered(f) => {
+                        let p = &f.image.frame.planes;
+                        format!(
+                            "wrote {} ({}x{}), {:.2} s",
+                            exr.display(),
+                            p.width,
+                            p.height,
+                            entry.seconds
+                        )
+                    }
+                    FrameDone::Skipped => format!("{} is complete, kept", exr.display()),
+                };
+                println!(
+                    "frame {}/{n} {}: {what}; apparent temperature std {:.3} K",
+                    entry.index + 1,
+                    entry.value,
+                    entry.apparent_temperature_k.std,
+                );
+            },
+        )
     })?;
     println!(
         "wrote {} frames, {} and {}",

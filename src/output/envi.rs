@@ -5,18 +5,20 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{OutputError, Planes, write_atomic};
+use super::{OutputError, OutputSet, Planes};
 
 /// Writes `planes` as an ENVI BSQ cube `path` (e.g. `x.img`) and its header
-/// `path` with extension `.hdr`. `wavelengths_um`, when given, must have one
-/// entry per plane.
+/// `path` with extension `.hdr`, both files of the output set `out` (the
+/// header staged last). `wavelengths_um`, when given, must have one entry
+/// per plane.
 pub fn write_envi(
+    out: &mut OutputSet,
     path: &Path,
     planes: &Planes,
     wavelengths_um: Option<&[f64]>,
     description: &str,
 ) -> Result<(), OutputError> {
-    write_atomic(path, |w| {
+    out.stage(path, |w| {
         for p in &planes.planes {
             for v in &p.data {
                 w.write_all(&v.to_le_bytes()).map_err(|e| e.to_string())?;
@@ -49,7 +51,7 @@ pub fn write_envi(
             list.join(", ")
         );
     }
-    write_atomic(&path.with_extension("hdr"), |w| {
+    out.stage(&path.with_extension("hdr"), |w| {
         w.write_all(hdr.as_bytes()).map_err(|e| e.to_string())
     })
 }

@@ -10,11 +10,11 @@ use exr::prelude::{
     read_first_flat_layer_from_file,
 };
 
-use super::{OutputError, Planes, write_atomic};
+use super::{OutputError, OutputSet, Planes};
 
 /// Writes all planes as float channels of a single-part EXR (ZIP
-/// compression, lossless).
-pub fn write_exr(path: &Path, planes: &Planes) -> Result<(), OutputError> {
+/// compression, lossless) at `path`, as a file of the output set `out`.
+pub fn write_exr(out: &mut OutputSet, path: &Path, planes: &Planes) -> Result<(), OutputError> {
     let size = (planes.width as usize, planes.height as usize);
     let channels: Vec<AnyChannel<FlatSamples>> = planes
         .planes
@@ -28,7 +28,7 @@ pub fn write_exr(path: &Path, planes: &Planes) -> Result<(), OutputError> {
         AnyChannels::sort(channels.into_iter().collect()),
     );
     let image = Image::from_layer(layer);
-    write_atomic(path, |w| {
+    out.stage(path, |w| {
         let mut cursor = std::io::Cursor::new(Vec::new());
         image
             .write()

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::{OutputError, write_atomic};
+use super::{OutputError, OutputSet};
 
 /// The stretch applied: values at `lo` map to 0, at `hi` to 255.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,8 +45,10 @@ pub fn to_grey(data: &[f32], s: Stretch) -> Vec<u8> {
 }
 
 /// Writes a grey PNG of `data` (`width × height`) with the percentile
-/// stretch; returns the stretch used.
+/// stretch at `path`, a file of the output set `out`; returns the stretch
+/// used.
 pub fn write_png(
+    out: &mut OutputSet,
     path: &Path,
     width: u32,
     height: u32,
@@ -55,6 +57,7 @@ pub fn write_png(
 ) -> Result<Stretch, OutputError> {
     let s = percentile_stretch(data);
     write_grey_png(
+        out,
         path,
         width,
         height,
@@ -67,15 +70,17 @@ pub fn write_png(
     Ok(s)
 }
 
-/// Writes 8-bit grey pixels as PNG with a `Description` text chunk.
+/// Writes 8-bit grey pixels as PNG with a `Description` text chunk at
+/// `path`, a file of the output set `out`.
 pub fn write_grey_png(
+    out: &mut OutputSet,
     path: &Path,
     width: u32,
     height: u32,
     grey: &[u8],
     description: &str,
 ) -> Result<(), OutputError> {
-    write_atomic(path, |w| {
+    out.stage(path, |w| {
         let mut enc = png::Encoder::new(w, width, height);
         enc.set_color(png::ColorType::Grayscale);
         enc.set_depth(png::BitDepth::Eight);

@@ -8,10 +8,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
+use super::exr::read_exr;
+use super::frame::{read_complete, write_rendered};
 use super::quicklook::{Stretch, percentile_stretch, to_grey, write_grey_png};
-use super::{PlaneStats, frame::write_rendered, write_atomic};
+use super::{OutputError, OutputSet, PlaneStats};
 use crate::render::Reused;
 use crate::render::sequence::{FramePlan, Frames, SequenceFrame};
 use crate::trace::Backend;
@@ -20,7 +22,7 @@ use crate::trace::Backend;
 pub const GAP_PX: u32 = 4;
 
 /// One frame of the index.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FrameEntry {
     pub index: usize,
     /// The swept value as given (sweep) or the local time (sequence).
@@ -34,6 +36,8 @@ pub struct FrameEntry {
     pub json: String,
     pub sun_zenith_deg: f64,
     pub sun_azimuth_deg: f64,
+    /// The frame's band.
+    pub band: String,
     pub band_radiance_w_m2_sr_um: PlaneStats,
     pub apparent_temperature_k: PlaneStats,
     /// What this frame shared with the frame before.
@@ -57,6 +61,7 @@ impl FrameEntry {
             json: format!("{}.json", f.stem),
             sun_zenith_deg: r.sun_zenith_deg,
             sun_azimuth_deg: r.sun_azimuth_deg,
+            band: r.band.clone(),
             band_radiance_w_m2_sr_um: f.plane("band_radiance")?.stats(),
             apparent_temperature_k: f.plane("apparent_temperature")?.stats(),
             reused: f.reused,
@@ -166,143 +171,223 @@ pub struct SequenceOutput {
     pub envi: bool,
 }
 
-/// Writes frames as they come, then the contact sheet and `index.json`.
-pub struct SequenceWriter {
-    out: SequenceOutput,
-    entries: Vec<FrameEntry>,
-    quicklooks: Vec<(u32, u32, Vec<f32>)>,
-    band: String,
-}
+impl SequenceOutput {
+    /// The path of a frame's EXR (its PNG, JSON and ENVI cube beside it).
+    pub fn exr_path(&self, plan: &FramePlan) -> PathBuf {
+        self.dir.join(format!("{}.exr", plan.stem))
+    }
 
-impl SequenceWriter {
-    /// Checks and creates the output folder.
-    pub fn new(out: SequenceOutput) -> anyhow::Result<SequenceWriter> {
-        let dir = &out.dir;
-        if dir.extension().is_some_and(|e| e == "exr" || e == "png") {
-            bail!(
-                "-o {}: expected an output folder, not a file",
-                dir.display()
-            );
-        }
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        Ok(SequenceWriter {
-            out,
-            entries: Vec::new(),
-            quicklooks: Vec::new(),
-            band: String::new(),
+    /// The path of `index.json`, the marker of the whole sequence.
+    pub fn index_path(&self) -> PathBuf {
+        self.dir.join("index.json")
+    }
+
+    /// What a finished frame of `plan` records as its job: the plan's job
+    /// (scene, value, time), the command, key, ENVI option and irsig
+    /// version.
+    pub fn job(&self, plan: &FramePlan) -> serde_json::Value {
+        serde_json::json!({
+            "irsig": env!("CARGO_PKG_VERSION"),
+            "command": self.command,
+            "key": self.key,
+            "envi": self.envi,
+            "plan": plan.job,
         })
     }
+}
 
-    /// The path of a frame's EXR.
-    pub fn exr_path(&self, f: &SequenceFrame) -> PathBuf {
-        self.out.dir.join(format!("{}.exr", f.stem))
-    }
-
-    /// Writes one frame's files; returns its index entry.
-    pub fn write(&mut self, f: &SequenceFrame) -> anyhow::Result<&FrameEntry> {
-        let o = &self.out;
-        let frame_info = serde_json::json!({
-            "command": o.command,
-            "index": f.index,
-            "key": o.key,
-            "value": f.value,
-            "local_time": f.local.format("%Y-%m-%dT%H:%M:%S").to_string(),
-        });
-        write_rendered(&self.exr_path(f), &f.image, o.envi, Some(frame_info))?;
-        let entry = FrameEntry::of(f)?;
-        let p = &f.image.frame.planes;
-        let ql = f.plane("sensor_radiance")?.data.clone();
-        self.quicklooks.push((p.width, p.height, ql));
-        self.band = f.image.band.clone();
-        self.entries.push(entry);
-        Ok(self.entries.last().expect("just pushed"))
-    }
-
-    /// Writes the contact sheet and `index.json`; returns the index.
-    pub fn finish(self) -> anyhow::Result<Index> {
-        let o = &self.out;
-        let n = self.entries.len();
-        let views: Vec<(u32, u32, &[f32])> = self
-            .quicklooks
-            .iter()
-            .map(|(w, h, d)| (*w, *h, d.as_slice()))
-            .collect();
-        let sheet = contact_sheet(&views);
-        let stretch_text = format!(
-            "linear, 2-98 percentile of all frames together: {} .. {} W m-2 sr-1 um-1 -> 0 .. 255",
-            sheet.stretch.lo, sheet.stretch.hi
+/// Checks the output folder, creates it, removes stale temporary files of
+/// killed runs and the previous `index.json` (the folder is an unfinished
+/// sequence until [`write_index`] writes it again). Frames already there
+/// are kept: [`frame_complete`] tells which need no rendering.
+pub fn begin_sequence(out: &SequenceOutput) -> anyhow::Result<()> {
+    let dir = &out.dir;
+    if dir.extension().is_some_and(|e| e == "exr" || e == "png") {
+        bail!(
+            "-o {}: expected an output folder, not a file",
+            dir.display()
         );
-        let labels: Vec<&str> = self.entries.iter().map(|e| e.value.as_str()).collect();
-        let what = match &o.key {
-            Some(k) => format!("sweep of {k} over {}", labels.join(", ")),
-            None => format!("sequence at local times {}", labels.join(", ")),
-        };
-        let ContactSheet {
-            width,
-            height,
-            columns: cols,
-            rows,
-            cell_width: cw,
-            cell_height: ch,
-            ..
-        } = sheet;
-        write_grey_png(
-            &o.dir.join("contact_sheet.png"),
-            width,
-            height,
-            &sheet.grey,
-            &format!(
-                "irsig {what}; plane sensor_radiance; {n} frames row-major in {cols} columns x {rows} rows \
-                 of {cw}x{ch} px with {GAP_PX} px gaps; common stretch for all frames: {stretch_text}"
-            ),
-        )?;
-        let index = Index {
-            command: o.command.clone(),
-            scene: o.scene.clone(),
-            key: o.key.clone(),
-            band: self.band,
-            contact_sheet: SheetInfo {
-                file: "contact_sheet.png".into(),
-                plane: "sensor_radiance".into(),
-                unit: "W m-2 sr-1 um-1".into(),
-                stretch: stretch_text,
-                stretch_lo: sheet.stretch.lo,
-                stretch_hi: sheet.stretch.hi,
-                columns: cols,
-                rows,
-                cell_width_px: cw,
-                cell_height_px: ch,
-                gap_px: GAP_PX,
-                order: "row-major, frames in index order".into(),
-            },
-            frames: self.entries,
-        };
-        let json = serde_json::to_string_pretty(&index)?;
-        write_atomic(&o.dir.join("index.json"), |w| {
-            std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
-        })?;
-        Ok(index)
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    super::set::remove_stale_partials(dir)
+        .with_context(|| format!("cannot clean {}", dir.display()))?;
+    let index = out.index_path();
+    match std::fs::remove_file(&index) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(OutputError::Io {
+            path: index,
+            reason: e,
+        })?,
+        _ => Ok(()),
     }
 }
 
-/// Renders the planned frames (in the current rayon pool) and writes them,
-/// the contact sheet and `index.json` into `out.dir`, as `irsig sequence`
-/// and `irsig sweep` do; `on_frame(frame, entry, exr path)` is called after
-/// each frame is written (progress). Returns the index.
+/// The index entry of the frame of `plan` when its files in `out.dir` are
+/// a complete output set of the same job ([`SequenceOutput::job`]);
+/// `None` when the frame must be rendered (missing, interrupted, or made
+/// from another scene, value or option).
+pub fn frame_complete(out: &SequenceOutput, plan: &FramePlan) -> Option<FrameEntry> {
+    let v = read_complete(&out.exr_path(plan).with_extension("json"))?;
+    let frame = v.get("frame")?;
+    // The recorded job went through JSON text: compare it with the
+    // expected job after the same trip.
+    let want: serde_json::Value =
+        serde_json::from_str(&serde_json::to_string(&out.job(plan)).ok()?).ok()?;
+    if frame.get("job")? != &want {
+        return None;
+    }
+    serde_json::from_value(frame.get("entry")?.clone()).ok()
+}
+
+/// Writes the frame `f` of `plan` into `out.dir` as one output set (EXR,
+/// PNG, ENVI with `out.envi`, and the JSON last, which records the frame's
+/// job and index entry); returns the entry.
+pub fn write_frame(
+    out: &SequenceOutput,
+    plan_job: serde_json::Value,
+    f: &SequenceFrame,
+) -> anyhow::Result<FrameEntry> {
+    let entry = FrameEntry::of(f)?;
+    let frame_info = serde_json::json!({
+        "command": out.command,
+        "index": f.index,
+        "key": out.key,
+        "value": f.value,
+        "local_time": f.local.format("%Y-%m-%dT%H:%M:%S").to_string(),
+        "job": plan_job,
+        "entry": entry,
+    });
+    let exr = out.dir.join(format!("{}.exr", f.stem));
+    write_rendered(&exr, &f.image, out.envi, Some(frame_info))?;
+    Ok(entry)
+}
+
+/// The `sensor_radiance` plane of an EXR written by a frame: (width,
+/// height, values).
+fn quicklook_of(exr: &Path) -> anyhow::Result<(u32, u32, Vec<f32>)> {
+    let (w, h, chans) = read_exr(exr).map_err(|e| anyhow::anyhow!("cannot read frame {e}"))?;
+    let data = chans
+        .into_iter()
+        .find(|(n, _)| n == "sensor_radiance")
+        .map(|c| c.1)
+        .with_context(|| format!("{}: no sensor_radiance plane", exr.display()))?;
+    Ok((w, h, data))
+}
+
+/// Writes the contact sheet and `index.json` (its marker, last) of the
+/// finished frames `entries` (in index order) from their files in
+/// `out.dir`, as one output set; returns the index.
+pub fn write_index(out: &SequenceOutput, entries: Vec<FrameEntry>) -> anyhow::Result<Index> {
+    let o = out;
+    let n = entries.len();
+    let quicklooks = entries
+        .iter()
+        .map(|e| quicklook_of(&o.dir.join(&e.exr)))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let views: Vec<(u32, u32, &[f32])> = quicklooks
+        .iter()
+        .map(|(w, h, d)| (*w, *h, d.as_slice()))
+        .collect();
+    let sheet = contact_sheet(&views);
+    let stretch_text = format!(
+        "linear, 2-98 percentile of all frames together: {} .. {} W m-2 sr-1 um-1 -> 0 .. 255",
+        sheet.stretch.lo, sheet.stretch.hi
+    );
+    let labels: Vec<&str> = entries.iter().map(|e| e.value.as_str()).collect();
+    let what = match &o.key {
+        Some(k) => format!("sweep of {k} over {}", labels.join(", ")),
+        None => format!("sequence at local times {}", labels.join(", ")),
+    };
+    let ContactSheet {
+        width,
+        height,
+        columns: cols,
+        rows,
+        cell_width: cw,
+        cell_height: ch,
+        ..
+    } = sheet;
+    let index_path = o.index_path();
+    let mut set = OutputSet::new(&index_path)?;
+    write_grey_png(
+        &mut set,
+        &o.dir.join("contact_sheet.png"),
+        width,
+        height,
+        &sheet.grey,
+        &format!(
+            "irsig {what}; plane sensor_radiance; {n} frames row-major in {cols} columns x {rows} rows \
+             of {cw}x{ch} px with {GAP_PX} px gaps; common stretch for all frames: {stretch_text}"
+        ),
+    )?;
+    let index = Index {
+        command: o.command.clone(),
+        scene: o.scene.clone(),
+        key: o.key.clone(),
+        band: entries.first().map(|e| e.band.clone()).unwrap_or_default(),
+        contact_sheet: SheetInfo {
+            file: "contact_sheet.png".into(),
+            plane: "sensor_radiance".into(),
+            unit: "W m-2 sr-1 um-1".into(),
+            stretch: stretch_text,
+            stretch_lo: sheet.stretch.lo,
+            stretch_hi: sheet.stretch.hi,
+            columns: cols,
+            rows,
+            cell_width_px: cw,
+            cell_height_px: ch,
+            gap_px: GAP_PX,
+            order: "row-major, frames in index order".into(),
+        },
+        frames: entries,
+    };
+    let json = serde_json::to_string_pretty(&index)?;
+    set.stage(&index_path, |w| {
+        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
+    })?;
+    set.commit()?;
+    Ok(index)
+}
+
+/// What happened to one frame of [`write_sequence`].
+pub enum FrameDone<'a> {
+    /// Rendered and written now.
+    Rendered(&'a SequenceFrame),
+    /// Found complete on disk (same job) and not rendered again.
+    Skipped,
+}
+
+/// Renders the planned frames (in the current rayon pool) that are not
+/// already complete in `out.dir` ([`frame_complete`], unless `resume` is
+/// false) and writes each as one output set, then the contact sheet and
+/// `index.json`, as `irsig sequence` and `irsig sweep` do; so a killed run
+/// started again goes on from its finished frames. `on_frame(what, entry,
+/// exr path)` is called after each frame (progress). Returns the index.
 pub fn write_sequence(
     plans: Vec<FramePlan>,
     tracer: Option<Backend>,
     out: SequenceOutput,
-    on_frame: &mut dyn FnMut(&SequenceFrame, &FrameEntry, &Path),
+    resume: bool,
+    on_frame: &mut dyn FnMut(FrameDone, &FrameEntry, &Path),
 ) -> anyhow::Result<Index> {
-    let mut w = SequenceWriter::new(out)?;
-    for f in Frames::new(plans, tracer) {
+    begin_sequence(&out)?;
+    let mut entries = Vec::with_capacity(plans.len());
+    let mut frames = Frames::new(plans, tracer);
+    while let Some(plan) = frames.peek() {
+        let exr = out.exr_path(plan);
+        if let Some(entry) = frame_complete(&out, plan).filter(|_| resume) {
+            frames.skip_next();
+            on_frame(FrameDone::Skipped, &entry, &exr);
+            entries.push(entry);
+            continue;
+        }
+        let job = out.job(plan);
+        let Some(f) = frames.next() else { break };
         let f = f?;
-        let exr = w.exr_path(&f);
-        let entry = w.write(&f)?;
-        on_frame(&f, entry, &exr);
+        let entry = write_frame(&out, job, &f)?;
+        on_frame(FrameDone::Rendered(&f), &entry, &exr);
+        entries.push(entry);
     }
-    w.finish()
+    write_index(&out, entries)
 }
 
 #[cfg(test)]

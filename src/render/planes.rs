@@ -53,16 +53,26 @@ impl Plane {
     }
 }
 
-/// Summary statistics of the finite values of a plane.
-#[derive(Clone, Copy, Debug, serde::Serialize, PartialEq)]
+/// Summary statistics of the finite values of a plane (NaN, written as
+/// JSON `null`, when there are none).
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize, PartialEq)]
 pub struct PlaneStats {
+    #[serde(deserialize_with = "nan_if_null")]
     pub mean: f64,
+    #[serde(deserialize_with = "nan_if_null")]
     pub min: f64,
+    #[serde(deserialize_with = "nan_if_null")]
     pub max: f64,
     /// Population standard deviation.
+    #[serde(deserialize_with = "nan_if_null")]
     pub std: f64,
     /// Number of finite values.
     pub count: usize,
+}
+
+/// A number, or NaN for JSON `null` (how serde_json writes NaN).
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// Statistics of the finite values of `data` (NaN fields when none).

@@ -146,7 +146,7 @@ pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::R
 }
 
 /// What [`derive_static`] shared with the previous [`Static`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Reused {
     /// Geometry and tracer (BVH) shared: same vertices, triangles, backend.
     pub geometry: bool,

@@ -129,6 +129,20 @@ pub struct FramePlan {
     pub scene: Option<LoadedScene>,
     /// Local image time; `None`: the scene's `[time]`.
     pub local: Option<NaiveDateTime>,
+    /// What identifies the frame's result: the frame's scene as loaded
+    /// (every key, as JSON), its value and local time. A finished frame on
+    /// disk that records the same job need not be rendered again (files
+    /// the scene names, e.g. OBJ meshes or weather, are not part of it).
+    pub job: serde_json::Value,
+}
+
+/// The job of a frame of `scene` with `value` at `local`.
+fn job_of(scene: &LoadedScene, value: &str, local: NaiveDateTime) -> serde_json::Value {
+    serde_json::json!({
+        "scene": serde_json::to_value(&scene.scene).unwrap_or_default(),
+        "value": value,
+        "local_time": local.format("%Y-%m-%dT%H:%M:%S").to_string(),
+    })
 }
 
 /// One frame per local time of `scene` (the static part prepared once).
@@ -137,10 +151,15 @@ pub struct FramePlan {
 pub fn plan_sequence(scene: LoadedScene, times: &[NaiveDateTime]) -> Vec<FramePlan> {
     let one_day = times.iter().all(|t| t.date() == times[0].date());
     let whole_minutes = times.iter().all(|t| chrono::Timelike::second(t) == 0);
+    let jobs: Vec<serde_json::Value> = times
+        .iter()
+        .map(|t| job_of(&scene, &t.format("%Y-%m-%dT%H:%M:%S").to_string(), *t))
+        .collect();
     let mut scene = Some(scene);
     times
         .iter()
-        .map(|t| FramePlan {
+        .zip(jobs)
+        .map(|(t, job)| FramePlan {
             value: t.format("%Y-%m-%dT%H:%M:%S").to_string(),
             stem: if one_day && whole_minutes {
                 t.format("frame_%H%M").to_string()
@@ -149,6 +168,7 @@ pub fn plan_sequence(scene: LoadedScene, times: &[NaiveDateTime]) -> Vec<FramePl
             },
             scene: scene.take(),
             local: Some(*t),
+            job,
         })
         .collect()
 }
@@ -198,6 +218,7 @@ pub fn plan_sweep(
             Ok(FramePlan {
                 value: v.to_string(),
                 stem: format!("{i:02}_{}_{}", sanitise(last), sanitise(v)),
+                job: job_of(&scene, v, scene.scene.time.local),
                 scene: Some(scene),
                 local: None,
             })
@@ -310,6 +331,8 @@ pub struct Frames {
     plans: std::vec::IntoIter<FramePlan>,
     tracer: Option<Backend>,
     st: Option<Static>,
+    /// The scene of a skipped plan, for the frames after it.
+    pending: Option<LoadedScene>,
     next: usize,
     total: usize,
 }
@@ -323,8 +346,28 @@ impl Frames {
             plans: plans.into_iter(),
             tracer,
             st: None,
+            pending: None,
             next: 0,
         }
+    }
+
+    /// The plan of the next frame.
+    pub fn peek(&self) -> Option<&FramePlan> {
+        self.plans.as_slice().first()
+    }
+
+    /// Passes over the next frame without rendering it (e.g. because it is
+    /// finished on disk); its scene serves the frames after it. Returns
+    /// whether there was one.
+    pub fn skip_next(&mut self) -> bool {
+        let Some(plan) = self.plans.next() else {
+            return false;
+        };
+        if plan.scene.is_some() {
+            self.pending = plan.scene;
+        }
+        self.next += 1;
+        true
     }
 
     /// Number of frames planned.
@@ -348,7 +391,10 @@ impl Frames {
     ) -> anyhow::Result<SequenceFrame> {
         let i = self.next;
         let value = plan.value;
-        let reused = match plan.scene {
+        if plan.scene.is_some() {
+            self.pending = None;
+        }
+        let reused = match plan.scene.or_else(|| self.pending.take()) {
             Some(scene) => {
                 let (s, r) = derive_static(self.st.as_ref(), scene, self.tracer)?;
                 self.st = Some(s);
