@@ -370,7 +370,7 @@ fn out_of_range_material_value_names_the_library_line() {
     );
     assert_eq!(
         f.err(),
-        "D/mats.toml:5:15: `thickness_m` = 0 is out of range: expected a finite number > 0 m"
+        "D/mats.toml:5:15: `thickness_m` = 0 is out of range: expected 1e-5 <= thickness_m <= 10 m"
     );
     let f = Fixture::new(
         SCENE,
@@ -379,7 +379,7 @@ fn out_of_range_material_value_names_the_library_line() {
     );
     assert_eq!(
         f.err(),
-        "D/mats.toml:11:17: `density_kg_m3` = -1 is out of range: expected a finite number > 0 kg/m³"
+        "D/mats.toml:11:17: `density_kg_m3` = -1 is out of range: expected 1 <= density_kg_m3 <= 25000 kg/m³"
     );
 }
 
@@ -539,7 +539,7 @@ fn emissivity_table_is_read_and_validated() {
     .unwrap();
     assert_eq!(
         f.err(),
-        "D/eps.csv:3: emissivity 1.2 is out of range: expected 0 <= ε <= 1"
+        "D/eps.csv:3: `emissivity` = 1.2 is out of range: expected 0 <= emissivity <= 1"
     );
 }
 

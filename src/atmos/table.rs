@@ -4,6 +4,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use super::AtmosError;
+use crate::bounds;
 
 /// Current (and only) table format version.
 pub const FORMAT_VERSION: u32 = 1;
@@ -201,10 +202,33 @@ impl AtmosTable {
             }
         }
         // binary payload
-        let expected: usize = quantities
-            .iter()
-            .map(|(_, q)| q.n_spectra() * nwn * 4)
-            .sum();
+        // checked: a header can describe more than usize holds (a fuzzed
+        // axis of 10^6 values × 10^6 wavenumbers overflowed and panicked)
+        let mut expected: usize = 0;
+        for (ln, q) in &quantities {
+            let bytes = nwn
+                .checked_mul(4)
+                .and_then(|n0| {
+                    q.axes
+                        .iter()
+                        .try_fold(n0, |n, a| n.checked_mul(a.values.len()))
+                })
+                .and_then(|b| expected.checked_add(b))
+                .filter(|&b| b as u64 <= bounds::atmos_table::MAX_BYTES);
+            expected = bytes.ok_or_else(|| {
+                let dims: Vec<String> = q.axes.iter().map(|a| a.values.len().to_string()).collect();
+                fmt(
+                    *ln,
+                    format!(
+                        "quantity '{}': {} spectra of {nwn} wavenumbers need more than the {} GiB \
+                         a table may hold",
+                        q.name,
+                        dims.join(" × "),
+                        bounds::atmos_table::MAX_BYTES >> 30
+                    ),
+                )
+            })?;
+        }
         let payload = &raw[pos..];
         if payload.len() < expected {
             return Err(AtmosError::Truncated {
@@ -285,13 +309,25 @@ fn truncate(s: &str) -> String {
 fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
     if bytes.len() >= 2 && bytes[0] == 0x1f && bytes[1] == 0x8b {
         let mut out = Vec::new();
+        let max = bounds::atmos_table::MAX_BYTES;
         flate2::read::GzDecoder::new(bytes)
+            .take(max + 1)
             .read_to_end(&mut out)
             .map_err(|e| AtmosError::Format {
                 file: file.into(),
                 line: 0,
                 msg: format!("gzip stream is corrupt or truncated: {e}"),
             })?;
+        if out.len() as u64 > max {
+            return Err(AtmosError::Format {
+                file: file.into(),
+                line: 0,
+                msg: format!(
+                    "decompresses to more than the {} GiB a table may hold",
+                    max >> 30
+                ),
+            });
+        }
         Ok(out)
     } else {
         Ok(bytes.to_vec())
@@ -355,18 +391,27 @@ fn parse_wavenumbers(rest: &str) -> Result<Vec<f64>, String> {
         let start: f64 = f[0].parse().map_err(|_| format!("bad start '{}'", f[0]))?;
         let step: f64 = f[1].parse().map_err(|_| format!("bad step '{}'", f[1]))?;
         let count: usize = f[2].parse().map_err(|_| format!("bad count '{}'", f[2]))?;
-        if !(step > 0.0) || count == 0 || count > 10_000_000 {
+        let max = bounds::atmos_table::WAVENUMBER_COUNT.hi;
+        if !(step > 0.0) || count == 0 || count as f64 > max {
             return Err(format!(
-                "wavenumber grid needs step > 0 and 0 < count, got step {step}, count {count}"
+                "wavenumber grid needs step > 0 and 0 < count <= {max}, got step {step}, count {count}"
             ));
         }
         (0..count).map(|i| start + step * i as f64).collect()
     };
-    if v.is_empty()
-        || v.iter().any(|x| !(x.is_finite() && *x > 0.0))
-        || v.windows(2).any(|w| !(w[1] > w[0]))
-    {
-        return Err("wavenumbers must be positive, finite and strictly ascending".into());
+    let b = bounds::atmos_table::WAVENUMBER;
+    if let Some(x) = v.iter().find(|x| !b.contains(**x)) {
+        return Err(b.check(*x).unwrap_err());
+    }
+    if v.is_empty() || v.len() as f64 > bounds::atmos_table::WAVENUMBER_COUNT.hi {
+        return Err(format!(
+            "{} wavenumbers: expected 1 to {}",
+            v.len(),
+            bounds::atmos_table::WAVENUMBER_COUNT.hi
+        ));
+    }
+    if v.windows(2).any(|w| !(w[1] > w[0])) {
+        return Err("wavenumbers must be strictly ascending".into());
     }
     Ok(v)
 }

@@ -81,9 +81,11 @@ pub struct SpectralResponse {
 impl SpectralResponse {
     /// Ideal rectangular band: R = 1 on [lo, hi] µm, 0 elsewhere.
     pub fn ideal(lo_um: f64, hi_um: f64) -> Result<Self, RadiometryError> {
-        if !(lo_um > 0.0 && hi_um > lo_um && hi_um.is_finite()) {
+        let wl = crate::bounds::data::WAVELENGTH_UM;
+        if !(wl.contains(lo_um) && wl.contains(hi_um) && hi_um > lo_um) {
             return Err(RadiometryError::Grid(format!(
-                "ideal band needs 0 < lo < hi, got {lo_um}-{hi_um} um"
+                "ideal band needs {} <= lo < hi <= {} um, got {lo_um}-{hi_um} um",
+                wl.lo, wl.hi
             )));
         }
         // a tiny ramp (1e-9 µm) keeps the piecewise-linear form exact for a box
@@ -171,14 +173,12 @@ impl SpectralResponse {
                 }
             };
             seen_data = true;
-            if !(a.is_finite() && a > 0.0) {
-                return Err(bad(&format!(
-                    "wavelength must be a positive number of um, got {a}"
-                )));
-            }
-            if !(b.is_finite() && b >= 0.0) {
-                return Err(bad(&format!("response must be finite and >= 0, got {b}")));
-            }
+            crate::bounds::data::WAVELENGTH_UM
+                .check(a)
+                .map_err(|m| bad(&m))?;
+            crate::bounds::data::RESPONSE
+                .check(b)
+                .map_err(|m| bad(&m))?;
             if let Some(&prev) = wl.last()
                 && a <= prev
             {

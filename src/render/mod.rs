@@ -589,6 +589,7 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
     stats.seconds.radiometry = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
     let planes = pixel::assemble(st, &samples, &results, w, h, n, cond)?;
+    pixel::check_finite(&planes)?;
     stats.seconds.sensor = t3.elapsed().as_secs_f64();
     Ok(Frame {
         planes,

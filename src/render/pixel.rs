@@ -501,6 +501,39 @@ impl ApparentTempLut {
     }
 }
 
+/// Planes that are NaN by design where no sample of a pixel hit a surface.
+pub const SURFACE_PLANES: [&str; 5] = [
+    "surface_temperature",
+    "sun_now",
+    "hours_sunlit",
+    "range",
+    "view_angle",
+];
+
+/// Checks that every output plane is finite wherever the input was accepted:
+/// all of them everywhere, except the [`SURFACE_PLANES`] where the pixel's
+/// centre sample saw no surface (`material` = −1). A non-finite value is an
+/// error naming the plane and the pixel (issue 17: accepted input must not
+/// yield NaN or ∞ silently).
+pub fn check_finite(p: &Planes) -> anyhow::Result<()> {
+    let material = p.get("material").map(|m| &m.data);
+    for plane in &p.planes {
+        let may_be_nan = SURFACE_PLANES.contains(&plane.name.as_str());
+        for (i, v) in plane.data.iter().enumerate() {
+            if v.is_finite() || (may_be_nan && material.is_none_or(|m| m[i] < 0.0)) {
+                continue;
+            }
+            let (x, y) = (i as u32 % p.width, i as u32 / p.width);
+            anyhow::bail!(
+                "the render produced {v} in the {} plane at pixel ({x}, {y}) from accepted \
+                 input: every output plane must be finite (a bug: please report it with the scene)",
+                plane.name
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Averages the n×n samples of each output pixel and applies the sensor
 /// model; returns every output plane.
 pub fn assemble(

@@ -210,7 +210,18 @@ pub fn derive_static(
     let step = scene.scene.render.spectral_step_cm1;
     let (v_lo, v_hi) = (1e4 / hi_um, 1e4 / lo_um);
     let first = (v_lo / step).floor() * step;
-    let count = (((v_hi - first) / step).ceil() as usize + 1).max(2);
+    let count = ((v_hi - first) / step).ceil() + 1.0;
+    let max_bins = crate::bounds::sizes::MAX_SPECTRAL_BINS;
+    if count.is_nan() || count > max_bins as f64 {
+        anyhow::bail!(
+            "{}: the band {lo_um}-{hi_um} um at render.spectral_step_cm1 = {step} needs {count} \
+             spectral bins ({:.0} MiB per spectrum of every atmosphere quantity); at most {max_bins}: \
+             raise render.spectral_step_cm1 or narrow the band",
+            scene.path.display(),
+            count * 8.0 / (1024.0 * 1024.0)
+        );
+    }
+    let count = (count as usize).max(2);
     let grid = SpectralGrid::uniform(first.max(step), step, count);
     let band = Band::new(&grid, resp).context("sensor band")?;
     let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();

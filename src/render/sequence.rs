@@ -109,6 +109,10 @@ pub fn parse_local_time(flag: &str, s: &str, date: NaiveDate) -> anyhow::Result<
         "%Y-%m-%d %H:%M:%S",
     ] {
         if let Ok(dt) = NaiveDateTime::parse_from_str(t, f) {
+            use chrono::Datelike;
+            crate::bounds::time::YEAR
+                .check(dt.year().into())
+                .map_err(|m| anyhow::anyhow!("{flag} {s:?}: {m}"))?;
             return Ok(dt);
         }
     }

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{Location, SceneError};
 use super::tomlsrc::{Seg, TomlSource};
+use crate::bounds::{Bound, material as M};
 use crate::therm::aero::Canopy;
 use crate::therm::slab::{BackBoundary as SlabBack, SlabMaterial};
 use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
@@ -251,6 +252,10 @@ impl Check<'_> {
             format!("`{name}` = {v} is out of range: expected {lo} <= {name} <= {hi}{unit}"),
         ))
     }
+    /// Requires `v` inside its [`Bound`] (crate::bounds).
+    pub fn bound(&self, path: &[Seg], b: &Bound, v: f64) -> Result<(), SceneError> {
+        b.check(v).map(drop).map_err(|m| self.src.invalid(path, m))
+    }
     /// Requires `v > 0` (and finite).
     pub fn positive(&self, path: &[Seg], name: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v > 0.0 {
@@ -286,66 +291,30 @@ pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
                 Seg::Key(k.into()),
             ]
         };
-        c.positive(
-            &p("density_kg_m3"),
-            "density_kg_m3",
-            m.density_kg_m3,
-            " kg/m³",
-        )?;
-        c.positive(
-            &p("specific_heat_j_kgk"),
-            "specific_heat_j_kgk",
-            m.specific_heat_j_kgk,
-            " J/(kg·K)",
-        )?;
-        c.positive(
-            &p("conductivity_w_mk"),
-            "conductivity_w_mk",
-            m.conductivity_w_mk,
-            " W/(m·K)",
-        )?;
-        c.positive(&p("thickness_m"), "thickness_m", m.thickness_m, " m")?;
-        c.range(
-            &p("solar_absorptivity"),
-            "solar_absorptivity",
-            m.solar_absorptivity,
-            0.0,
-            1.0,
-            "",
-        )?;
-        c.range(
-            &p("thermal_emissivity"),
-            "thermal_emissivity",
-            m.thermal_emissivity,
-            0.0,
-            1.0,
-            "",
-        )?;
-        c.finite(
-            &p("internal_power_w_m2"),
-            "internal_power_w_m2",
-            m.internal_power_w_m2,
-        )?;
-        c.range(
-            &p("specularity"),
-            "specularity",
-            m.specularity,
-            0.0,
-            1.0,
-            "",
-        )?;
+        for (b, v) in [
+            (M::DENSITY, m.density_kg_m3),
+            (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
+            (M::CONDUCTIVITY, m.conductivity_w_mk),
+            (M::THICKNESS, m.thickness_m),
+            (M::SOLAR_ABSORPTIVITY, m.solar_absorptivity),
+            (M::THERMAL_EMISSIVITY, m.thermal_emissivity),
+            (M::INTERNAL_POWER, m.internal_power_w_m2),
+            (M::SPECULARITY, m.specularity),
+        ] {
+            c.bound(&p(b.key), &b, v)?;
+        }
         match &m.back {
             BackBoundary::Insulated => {}
             BackBoundary::Air { exposed_area } => {
                 let mut bp = p("back").to_vec();
                 bp.extend([Seg::Key("air".into()), Seg::Key("exposed_area".into())]);
-                c.range(&bp, "exposed_area", *exposed_area, 1e-6, 10.0, "")?;
+                c.bound(&bp, &M::EXPOSED_AREA, *exposed_area)?;
             }
             BackBoundary::DeepGround { temp_c } => {
                 if let Some(t) = temp_c {
                     let mut bp = p("back").to_vec();
                     bp.extend([Seg::Key("deep_ground".into()), Seg::Key("temp_c".into())]);
-                    c.range(&bp, "temp_c", *t, -90.0, 100.0, " °C")?;
+                    c.bound(&bp, &M::DEEP_GROUND_TEMP, *t)?;
                 }
             }
         }
@@ -356,10 +325,10 @@ pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
                 bp.push(Seg::Key("fresnel".into()));
                 let mut np = bp.clone();
                 np.push(Seg::Key("n".into()));
-                c.range(&np, "n", *n, 1e-6, 1e4, "")?;
+                c.bound(&np, &M::FRESNEL_N, *n)?;
                 let mut kp = bp;
                 kp.push(Seg::Key("k".into()));
-                c.range(&kp, "k", *k, 0.0, 1e4, "")?;
+                c.bound(&kp, &M::FRESNEL_K, *k)?;
                 Emissivity::Fresnel { n: *n, k: *k }
             }
             EmissivitySpec::TableFile(f) => {
@@ -501,14 +470,15 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
             )
         })
     };
-    let range =
-        |key: &str, v: f64, lo: f64, hi: f64, unit: &str| c.range(&p(key), key, v, lo, hi, unit);
+    let range = |b: Bound, v: f64| c.bound(&p(b.key), &b, v);
+    // a range whose lower end is another key of the same material
+    let above = |b: Bound, v: f64, lo: f64| c.bound(&p(b.key), &Bound { lo, ..b }, v);
     Ok(match m.kind {
         KindSpec::Solid => {
             let cap = m.water_capacity_mm.unwrap_or(0.0);
-            range("water_capacity_mm", cap, 0.0, 50.0, " mm")?;
+            range(M::WATER_CAPACITY, cap)?;
             let z0 = m.roughness_m.unwrap_or(DEFAULT_SOLID_ROUGHNESS_M);
-            range("roughness_m", z0, 1e-5, 0.5, " m")?;
+            range(M::SOLID_ROUGHNESS, z0)?;
             SurfaceKind::Solid {
                 water_capacity_mm: cap,
                 roughness_m: z0,
@@ -516,23 +486,23 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
         }
         KindSpec::Vegetation => {
             let height_m = need("canopy_height_m", m.canopy_height_m)?;
-            range("canopy_height_m", height_m, 0.01, 30.0, " m")?;
+            range(M::CANOPY_HEIGHT, height_m)?;
             let lai = need("lai", m.lai)?;
-            range("lai", lai, 0.1, 10.0, " m²/m²")?;
+            range(M::LAI, lai)?;
             let soil_moisture = need("soil_moisture", m.soil_moisture)?;
-            range("soil_moisture", soil_moisture, 0.0, 1.0, "")?;
+            range(M::SOIL_MOISTURE, soil_moisture)?;
             let rmin = m
                 .min_stomatal_resistance_s_m
                 .unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
-            range("min_stomatal_resistance_s_m", rmin, 10.0, 1000.0, " s/m")?;
+            range(M::MIN_STOMATAL_RESISTANCE, rmin)?;
             let rmax = m
                 .max_stomatal_resistance_s_m
                 .unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
-            range("max_stomatal_resistance_s_m", rmax, rmin, 1e5, " s/m")?;
+            above(M::MAX_STOMATAL_RESISTANCE, rmax, rmin)?;
             let rgl = m.radiation_limit_w_m2.unwrap_or(d::RADIATION_LIMIT_W_M2);
-            range("radiation_limit_w_m2", rgl, 1.0, 1000.0, " W/m²")?;
+            range(M::RADIATION_LIMIT, rgl)?;
             let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
-            range("vpd_coeff", hs, 0.0, 200.0, " (kg/kg)⁻¹")?;
+            range(M::VPD_COEFF, hs)?;
             SurfaceKind::Vegetation(Canopy {
                 height_m,
                 lai,
@@ -545,19 +515,19 @@ fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, 
         }
         KindSpec::Water => {
             let eta = need("extinction_per_m", m.extinction_per_m)?;
-            range("extinction_per_m", eta, 0.01, 100.0, " 1/m")?;
+            range(M::EXTINCTION, eta)?;
             let beta = m
                 .shortwave_surface_fraction
                 .unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
-            range("shortwave_surface_fraction", beta, 0.0, 1.0, "")?;
+            range(M::SHORTWAVE_SURFACE_FRACTION, beta)?;
             let ke = m.eddy_diffusivity_m2_s.unwrap_or(d::EDDY_DIFFUSIVITY_M2_S);
-            range("eddy_diffusivity_m2_s", ke, 0.0, 1.0, " m²/s")?;
+            range(M::EDDY_DIFFUSIVITY, ke)?;
             let kc = m
                 .convective_diffusivity_m2_s
                 .unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
-            range("convective_diffusivity_m2_s", kc, ke, 10.0, " m²/s")?;
+            above(M::CONVECTIVE_DIFFUSIVITY, kc, ke)?;
             let z0 = m.roughness_m.unwrap_or(d::WATER_ROUGHNESS_M);
-            range("roughness_m", z0, 1e-6, 0.1, " m")?;
+            range(M::WATER_ROUGHNESS, z0)?;
             SurfaceKind::Water(WaterBody {
                 surface_fraction: beta,
                 extinction_per_m: eta,
@@ -623,10 +593,12 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
                         format!("column {}: `{f}` is not an angle in degrees", c + 1),
                     )
                 })?;
-                if a.is_empty()
-                    || a.iter().any(|x| !(0.0..=90.0).contains(x))
-                    || a.windows(2).any(|w| w[1] <= w[0])
-                {
+                for x in &a {
+                    crate::bounds::data::EMISSIVITY_ANGLE
+                        .check(*x)
+                        .map_err(|m| data_err(ln, m))?;
+                }
+                if a.is_empty() || a.windows(2).any(|w| w[1] <= w[0]) {
                     return Err(data_err(
                         ln,
                         "angles must be strictly increasing degrees in [0, 90]".to_string(),
@@ -649,20 +621,22 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
                         ),
                     ));
                 }
-                if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
+                crate::bounds::data::WAVELENGTH_UM
+                    .check(row[0])
+                    .map_err(|m| data_err(ln, m))?;
+                if wl.last().is_some_and(|&l| row[0] <= l) {
                     return Err(data_err(
                         ln,
                         format!(
-                            "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                            "wavelength {} µm: wavelengths must be strictly increasing",
                             row[0]
                         ),
                     ));
                 }
-                if let Some(e) = row[1..].iter().find(|e| !(0.0..=1.0).contains(*e)) {
-                    return Err(data_err(
-                        ln,
-                        format!("emissivity {e} is out of range: expected 0 <= ε <= 1"),
-                    ));
+                for e in &row[1..] {
+                    crate::bounds::data::EMISSIVITY
+                        .check(*e)
+                        .map_err(|m| data_err(ln, m))?;
                 }
                 wl.push(row[0]);
                 values.extend_from_slice(&row[1..]);

@@ -564,21 +564,21 @@ pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
                 ),
             ));
         }
-        if row[0] <= 0.0 || wl.last().is_some_and(|&l| row[0] <= l) {
+        crate::bounds::data::WAVELENGTH_UM
+            .check(row[0])
+            .map_err(|m| err(ln, m))?;
+        if wl.last().is_some_and(|&l| row[0] <= l) {
             return Err(err(
                 ln,
                 format!(
-                    "wavelength {} µm: wavelengths must be > 0 and strictly increasing",
+                    "wavelength {} µm: wavelengths must be strictly increasing",
                     row[0]
                 ),
             ));
         }
-        if row[1] < 0.0 {
-            return Err(err(
-                ln,
-                format!("response {} is negative: expected >= 0", row[1]),
-            ));
-        }
+        crate::bounds::data::RESPONSE
+            .check(row[1])
+            .map_err(|m| err(ln, m))?;
         wl.push(row[0]);
         r.push(row[1]);
     }
@@ -625,7 +625,15 @@ pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
                 ),
             ));
         }
+        for w in &row {
+            crate::bounds::data::KERNEL_WEIGHT
+                .check(*w)
+                .map_err(|m| err(i + 1, m))?;
+        }
         rows.push(row);
+        crate::bounds::data::KERNEL_SIZE
+            .check(rows.len().max(rows[0].len()) as f64)
+            .map_err(|m| err(i + 1, m))?;
     }
     let n = rows.len();
     if n == 0 || n.is_multiple_of(2) || rows[0].len() != n {

@@ -102,7 +102,13 @@ fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Erro
             "%Y-%m-%d %H:%M",
         ] {
             if let Ok(t) = NaiveDateTime::parse_from_str(s, fmt) {
-                return Ok(t);
+                // the sun and weather support 1900-2200; far outside,
+                // chrono's arithmetic overflowed (year 262142)
+                use chrono::Datelike;
+                return crate::bounds::time::YEAR
+                    .check(t.year().into())
+                    .map(|_| t)
+                    .map_err(|m| E::custom(format!("date-time `{s}`: {m}")));
             }
         }
         Err(E::custom(format!(

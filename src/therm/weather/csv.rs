@@ -136,6 +136,7 @@ pub fn parse_plain_csv(
         };
         let opt = |j: usize| get(j).map(|s| c.num(s, PLAIN_CSV_COLUMNS[j])).transpose();
         let time = parse_plain_time(&c, req(0)?, tz)?;
+        c.bound(time.year().into(), &bounds::time::YEAR)?;
         let cloud_fraction = match (opt(6)?, opt(7)?) {
             (Some(f), _) => f,
             (None, Some(tenths)) => c.range(tenths, "cloud_tenths", 0.0, 10.0, "tenths")? / 10.0,

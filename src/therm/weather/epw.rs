@@ -23,22 +23,10 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
     }
     let station = WeatherStation {
         name: loc[1].trim().to_string(),
-        lat_deg: c1.range(
-            c1.num(&loc[6], "latitude")?,
-            "latitude",
-            -90.0,
-            90.0,
-            "degrees",
-        )?,
-        lon_deg: c1.range(
-            c1.num(&loc[7], "longitude")?,
-            "longitude",
-            -180.0,
-            180.0,
-            "degrees",
-        )?,
+        lat_deg: c1.bound(c1.num(&loc[6], "latitude")?, &bounds::weather::LATITUDE)?,
+        lon_deg: c1.bound(c1.num(&loc[7], "longitude")?, &bounds::weather::LONGITUDE)?,
         utc_offset_h: c1.num(&loc[8], "time zone")?,
-        elevation_m: c1.num(&loc[9], "elevation")?,
+        elevation_m: c1.bound(c1.num(&loc[9], "elevation")?, &bounds::weather::ELEVATION)?,
     };
     let tz = utc_offset_from_hours(&c1, station.utc_offset_h)?;
     for k in 2..=8 {
@@ -72,8 +60,7 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
             int(3, "hour")?,
             int(4, "minute")?,
         );
-        let date = NaiveDate::from_ymd_opt(year as i32, month as u32, day as u32)
-            .ok_or_else(|| c.malformed(format!("date {year}-{month}-{day} does not exist")))?;
+        let date = c.date(year, month, day)?;
         if !(1..=24).contains(&hour) || !(0..=60).contains(&minute) {
             return Err(c.malformed(format!(
                 "hour {hour} minute {minute}: expected hour 1..24 (hour-ending) and minute 0..60"
@@ -85,11 +72,7 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
         let local = date.and_hms_opt(0, 0, 0).unwrap()
             + Duration::hours(hour - 1)
             + Duration::minutes(end_min);
-        let time = tz
-            .from_local_datetime(&local)
-            .single()
-            .unwrap()
-            .with_timezone(&Utc);
+        let time = c.local_to_utc(tz, local)?;
         let val = |i: usize, what: &str, missing: f64| -> Result<Option<f64>, WeatherError> {
             let v = c.num(&f[i], what)?;
             Ok((v < missing).then_some(v))

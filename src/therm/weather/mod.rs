@@ -34,6 +34,8 @@ use std::path::Path;
 
 use chrono::{DateTime, Datelike, Duration, FixedOffset, NaiveDate, NaiveDateTime, TimeZone, Utc};
 use serde::{Deserialize, Serialize};
+
+use crate::bounds::{self, Bound};
 use thiserror::Error;
 
 pub mod constant;
@@ -552,7 +554,7 @@ impl Ctx<'_> {
         hi: f64,
         unit: &str,
     ) -> Result<f64, WeatherError> {
-        if v < lo || v > hi {
+        if !(v >= lo && v <= hi) {
             return Err(WeatherError::OutOfRange {
                 file: self.file.to_string(),
                 line: self.line,
@@ -564,9 +566,43 @@ impl Ctx<'_> {
         Ok(v)
     }
 
+    /// Checks `v` against its [`Bound`] (crate::bounds::weather).
+    fn bound(&self, v: f64, b: &Bound) -> Result<f64, WeatherError> {
+        self.range(v, b.key, b.lo, b.hi, b.unit)
+    }
+
+    /// A calendar date of a record, with its year inside
+    /// [`crate::bounds::time::YEAR`] (chrono's arithmetic on years near its
+    /// limit of ±262 143 overflowed).
+    fn date(&self, year: i64, month: i64, day: i64) -> Result<NaiveDate, WeatherError> {
+        self.bound(year as f64, &bounds::time::YEAR)?;
+        let (Ok(month), Ok(day)) = (u32::try_from(month), u32::try_from(day)) else {
+            return Err(self.malformed(format!("date {year}-{month}-{day} does not exist")));
+        };
+        NaiveDate::from_ymd_opt(year as i32, month, day)
+            .ok_or_else(|| self.malformed(format!("date {year}-{month}-{day} does not exist")))
+    }
+
+    /// A record's local time in `tz`, as UTC (the year is already bounded,
+    /// so this cannot overflow).
+    fn local_to_utc(
+        &self,
+        tz: FixedOffset,
+        local: NaiveDateTime,
+    ) -> Result<DateTime<Utc>, WeatherError> {
+        tz.from_local_datetime(&local)
+            .single()
+            .map(|t| t.with_timezone(&Utc))
+            .ok_or_else(|| {
+                self.malformed(format!("time {local} does not exist in UTC offset {tz}"))
+            })
+    }
+
     /// An irradiance: values in [−10, 0) (sensor offsets at night) become 0.
     fn irradiance(&self, v: f64, field: &str) -> Result<f64, WeatherError> {
-        Ok(self.range(v, field, -10.0, 1500.0, "W/m²")?.max(0.0))
+        Ok(self
+            .range(v, field, -10.0, bounds::weather::IRRADIANCE.hi, "W/m²")?
+            .max(0.0))
     }
 }
 
@@ -586,10 +622,10 @@ struct Met {
 }
 
 fn build_sample(c: &Ctx, m: Met) -> Result<WeatherSample, WeatherError> {
-    let t = c.range(m.air_temp_c, "air temperature", -90.0, 60.0, "°C")?;
+    let t = c.bound(m.air_temp_c, &bounds::weather::AIR_TEMP)?;
     let td = match (m.dew_point_c, m.rh_percent) {
         (Some(td), _) => {
-            let td = c.range(td, "dew point", -100.0, 60.0, "°C")?;
+            let td = c.bound(td, &bounds::weather::DEW_POINT)?;
             if td > t + 1.0 {
                 return Err(c.malformed(format!(
                     "dew point {td} °C is above the air temperature {t} °C (expected dew point <= air temperature)"
@@ -598,23 +634,17 @@ fn build_sample(c: &Ctx, m: Met) -> Result<WeatherSample, WeatherError> {
             td.min(t)
         }
         (None, Some(rh)) => {
-            dew_point_c_from_rh(t, c.range(rh, "relative humidity", 0.0, 100.0, "%")?)
+            dew_point_c_from_rh(t, c.bound(rh, &bounds::weather::RELATIVE_HUMIDITY)?)
         }
         (None, None) => return Err(c.malformed("neither a dew point nor a relative humidity")),
     };
-    let wind = c.range(m.wind_m_s, "wind speed", 0.0, 100.0, "m/s")?;
-    let p = c.range(m.pressure_hpa, "pressure", 300.0, 1100.0, "hPa")?;
-    let cf = c.range(
-        m.cloud_fraction,
-        "cloud fraction",
-        0.0,
-        1.0,
-        "(0 clear to 1 overcast)",
-    )?;
+    let wind = c.bound(m.wind_m_s, &bounds::weather::WIND)?;
+    let p = c.bound(m.pressure_hpa, &bounds::weather::PRESSURE)?;
+    let cf = c.bound(m.cloud_fraction, &bounds::weather::CLOUD)?;
     let irr = |v: Option<f64>, f: &str| v.map(|x| c.irradiance(x, f)).transpose();
     let sky = m
         .sky_temp_c
-        .map(|x| c.range(x, "sky temperature", -150.0, 60.0, "°C"))
+        .map(|x| c.bound(x, &bounds::weather::SKY_TEMP))
         .transpose()?;
     Ok(WeatherSample {
         air_temp_k: t + ZERO_C_K,
@@ -626,7 +656,7 @@ fn build_sample(c: &Ctx, m: Met) -> Result<WeatherSample, WeatherError> {
         dni_w_m2: irr(m.dni, "DNI")?,
         dhi_w_m2: irr(m.dhi, "DHI")?,
         sky_temp_k: sky.map(|x| x + ZERO_C_K),
-        precip_mm_h: c.range(m.precip_mm_h, "precipitation", 0.0, 500.0, "mm/h")?,
+        precip_mm_h: c.bound(m.precip_mm_h, &bounds::weather::PRECIPITATION)?,
     })
 }
 
@@ -722,7 +752,7 @@ fn assemble(
 }
 
 fn utc_offset_from_hours(c: &Ctx, h: f64) -> Result<FixedOffset, WeatherError> {
-    let h = c.range(h, "time zone", -12.0, 14.0, "hours from UTC")?;
+    let h = c.bound(h, &bounds::weather::TIME_ZONE)?;
     FixedOffset::east_opt((h * 3600.0).round() as i32)
         .ok_or_else(|| c.malformed(format!("time zone {h} h is not a valid UTC offset")))
 }

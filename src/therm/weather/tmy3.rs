@@ -21,21 +21,9 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
     let station = WeatherStation {
         name: meta[1].trim().to_string(),
         utc_offset_h: c1.num(&meta[3], "time zone")?,
-        lat_deg: c1.range(
-            c1.num(&meta[4], "latitude")?,
-            "latitude",
-            -90.0,
-            90.0,
-            "degrees",
-        )?,
-        lon_deg: c1.range(
-            c1.num(&meta[5], "longitude")?,
-            "longitude",
-            -180.0,
-            180.0,
-            "degrees",
-        )?,
-        elevation_m: c1.num(&meta[6], "elevation")?,
+        lat_deg: c1.bound(c1.num(&meta[4], "latitude")?, &bounds::weather::LATITUDE)?,
+        lon_deg: c1.bound(c1.num(&meta[5], "longitude")?, &bounds::weather::LONGITUDE)?,
+        elevation_m: c1.bound(c1.num(&meta[6], "elevation")?, &bounds::weather::ELEVATION)?,
     };
     let tz = utc_offset_from_hours(&c1, station.utc_offset_h)?;
     let c2 = Ctx { file, line: 2 };
@@ -88,6 +76,7 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
             })?,
             None => date,
         };
+        c.date(date.year().into(), date.month().into(), date.day().into())?;
         let (hh, mm) = f[1]
             .trim()
             .split_once(':')
@@ -101,11 +90,7 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
             })?;
         let local =
             date.and_hms_opt(0, 0, 0).unwrap() + Duration::hours(hh) + Duration::minutes(mm);
-        let time = tz
-            .from_local_datetime(&local)
-            .single()
-            .unwrap()
-            .with_timezone(&Utc);
+        let time = c.local_to_utc(tz, local)?;
         let req = |i: usize, what: &str| -> Result<f64, WeatherError> {
             let v = c.num(&f[i], what)?;
             if v == -9900.0 {
