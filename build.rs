@@ -37,8 +37,48 @@ fn find_embree() -> (PathBuf, u32) {
     )
 }
 
+/// The git commit of the source tree (12 hex digits), or "unknown" outside
+/// a git checkout (e.g. a crates.io source), for `irsig --version`; tells
+/// cargo to rerun when HEAD or the branch it points to moves.
+fn git_commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    for r in ["HEAD", "packed-refs"] {
+        if let Some(p) = git(&["rev-parse", "--git-path", r]) {
+            println!("cargo:rerun-if-changed={p}");
+        }
+    }
+    if let Some(p) = git(&["symbolic-ref", "-q", "HEAD"])
+        .and_then(|branch| git(&["rev-parse", "--git-path", &branch]))
+    {
+        println!("cargo:rerun-if-changed={p}");
+    }
+    git(&["rev-parse", "--short=12", "HEAD"]).unwrap_or_else(|| "unknown".into())
+}
+
+/// `RTC_VERSION_STRING` of the Embree headers (e.g. "3.13.5").
+fn embree_version(inc: &Path, major: u32) -> String {
+    let cfg = inc.join(format!("embree{major}/rtcore_config.h"));
+    std::fs::read_to_string(&cfg)
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .filter_map(|l| l.trim().strip_prefix("#define RTC_VERSION_STRING"))
+                .map(|v| v.trim().trim_matches('"').to_string())
+                .next()
+        })
+        .unwrap_or_else(|| format!("{major}.x"))
+}
+
 fn main() {
     let shim_dir = Path::new("vendor-shims");
+    println!("cargo:rustc-env=IRSIG_GIT_COMMIT={}", git_commit());
     println!("cargo:rerun-if-changed=vendor-shims/irsig_embree.h");
     println!("cargo:rerun-if-changed=vendor-shims/irsig_embree.c");
     println!("cargo:rerun-if-changed=vendor-shims/bindings.rs");
@@ -73,6 +113,10 @@ fn main() {
         }
     }
     println!("cargo:rustc-link-lib=dylib={lib}");
+    println!(
+        "cargo:rustc-env=IRSIG_EMBREE_VERSION={}",
+        embree_version(&inc, major)
+    );
     println!("cargo:rustc-cfg=embree_major=\"{major}\"");
     println!("cargo:rustc-check-cfg=cfg(embree_major, values(\"3\", \"4\"))");
 

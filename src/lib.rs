@@ -16,3 +16,4 @@ pub mod sensor;
 pub mod sun;
 pub mod therm;
 pub mod trace;
+pub mod version;

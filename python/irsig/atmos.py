@@ -30,8 +30,9 @@ _TERMS = {
 
 def list() -> "builtins.list[dict]":  # noqa: A001 (mirrors `irsig atmos list`)
     """The shipped atmosphere tables, as ``irsig atmos list``: dicts with
-    ``name``, ``path`` and ``description``."""
-    return [{"name": n, "path": str(p), "description": d} for n, p, d in _irsig.atmos_list()]
+    ``name``, ``source`` (a file, or "embedded in the irsig binary") and
+    ``description``."""
+    return [{"name": n, "source": s, "description": d} for n, s, d in _irsig.atmos_list()]
 
 
 def show(

@@ -630,10 +630,15 @@ fn sun(
     anyhow_py(serde_json::to_string(&r))
 }
 
-/// The shipped atmosphere tables: (name, path, description).
+/// The shipped atmosphere tables: (name, source, description); the source
+/// is a file path or "embedded in the irsig binary".
 #[pyfunction]
-fn atmos_list() -> PyResult<Vec<(String, PathBuf, String)>> {
-    anyhow_py(irsig::atmos::list_builtin())
+fn atmos_list() -> PyResult<Vec<(String, String, String)>> {
+    anyhow_py(irsig::atmos::list_builtin().map(|l| {
+        l.into_iter()
+            .map(|(n, s, d)| (n, s.to_string(), d))
+            .collect()
+    }))
 }
 
 /// What atmosphere `name` contributes for one geometry over `band`, as

@@ -110,23 +110,62 @@ pub enum AtmosError {
     Unknown { name: String, available: String },
 }
 
-/// Directory of the shipped tables: `$IRSIG_ATMOS_DIR` if set, else the
-/// crate's `data/atmos`.
-pub fn atmos_dir() -> PathBuf {
-    std::env::var_os("IRSIG_ATMOS_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("data")
-                .join("atmos")
-        })
+/// The shipped tables (`data/atmos/*.atm.gz`), embedded in the binary as
+/// they are shipped (gzip), so that a copied or `cargo install`ed `irsig`
+/// needs no data files: (name, gzip bytes).
+const EMBEDDED: &[(&str, &[u8])] = &[
+    ("mls", include_bytes!("../../data/atmos/mls.atm.gz")),
+    (
+        "mls_clear",
+        include_bytes!("../../data/atmos/mls_clear.atm.gz"),
+    ),
+    ("mlw", include_bytes!("../../data/atmos/mlw.atm.gz")),
+    ("sas", include_bytes!("../../data/atmos/sas.atm.gz")),
+    ("saw", include_bytes!("../../data/atmos/saw.atm.gz")),
+    (
+        "tropical",
+        include_bytes!("../../data/atmos/tropical.atm.gz"),
+    ),
+    ("us1976", include_bytes!("../../data/atmos/us1976.atm.gz")),
+];
+
+/// The environment variable naming a data folder that replaces the
+/// embedded data: its `atmos/` folder holds the atmosphere tables.
+pub const DATA_ENV: &str = "IRSIG_DATA";
+
+/// The folder of atmosphere tables that add to (and, name for name,
+/// replace) the embedded ones: `$IRSIG_DATA/atmos` when `IRSIG_DATA` is
+/// set, else `None`.
+pub fn atmos_dir() -> Option<PathBuf> {
+    std::env::var_os(DATA_ENV).map(|d| PathBuf::from(d).join("atmos"))
 }
 
-/// Shipped tables: (name, path, description), sorted by name.
-pub fn list_builtin() -> Result<Vec<(String, PathBuf, String)>, AtmosError> {
-    let dir = atmos_dir();
+/// Where a shipped table comes from.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum TableSource {
+    /// Embedded in the binary.
+    Embedded,
+    /// A file of the `$IRSIG_DATA/atmos` folder.
+    File(PathBuf),
+}
+
+impl std::fmt::Display for TableSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            TableSource::Embedded => f.write_str("embedded in the irsig binary"),
+            TableSource::File(p) => write!(f, "{}", p.display()),
+        }
+    }
+}
+
+/// The tables of `$IRSIG_DATA/atmos` (name, path), sorted by name; empty
+/// when `IRSIG_DATA` is not set, an error when that folder cannot be read.
+fn data_dir_tables() -> Result<Vec<(String, PathBuf)>, AtmosError> {
+    let Some(dir) = atmos_dir() else {
+        return Ok(Vec::new());
+    };
     let rd = std::fs::read_dir(&dir).map_err(|e| AtmosError::Io {
-        path: dir.display().to_string(),
+        path: format!("{} (${DATA_ENV}/atmos)", dir.display()),
         source: e,
     })?;
     let mut out = Vec::new();
@@ -135,18 +174,40 @@ pub fn list_builtin() -> Result<Vec<(String, PathBuf, String)>, AtmosError> {
         let Some(fname) = p.file_name().and_then(|f| f.to_str()) else {
             continue;
         };
-        let Some(name) = fname
+        if let Some(name) = fname
             .strip_suffix(".atm.gz")
             .or_else(|| fname.strip_suffix(".atm"))
-        else {
-            continue;
-        };
-        let desc = table::read_header(&p)?
+        {
+            out.push((name.to_string(), p));
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// The shipped tables: (name, source, description), sorted by name: those
+/// embedded in the binary, plus those of `$IRSIG_DATA/atmos` when
+/// `IRSIG_DATA` is set (a file there replaces the embedded table of the
+/// same name).
+pub fn list_builtin() -> Result<Vec<(String, TableSource, String)>, AtmosError> {
+    let description = |header: Vec<(String, String)>| {
+        header
             .into_iter()
             .find(|(k, _)| k == "description")
             .map(|(_, v)| v)
-            .unwrap_or_default();
-        out.push((name.to_string(), p, desc));
+            .unwrap_or_default()
+    };
+    let files = data_dir_tables()?;
+    let mut out = Vec::new();
+    for (name, bytes) in EMBEDDED {
+        if !files.iter().any(|(n, _)| n == name) {
+            let header = table::read_header_from(*bytes, &format!("embedded table {name}"))?;
+            out.push((name.to_string(), TableSource::Embedded, description(header)));
+        }
+    }
+    for (name, p) in files {
+        let desc = description(table::read_header(&p)?);
+        out.push((name, TableSource::File(p), desc));
     }
     out.sort();
     Ok(out)
@@ -166,14 +227,21 @@ impl Atmosphere {
         })
     }
 
-    /// Loads a shipped table by name (`mls`, `tropical`, ...).
+    /// Loads a shipped table by name (`mls`, `tropical`, ...): the file of
+    /// `$IRSIG_DATA/atmos` when there is one, else the embedded table.
     pub fn builtin(name: &str) -> Result<Self, AtmosError> {
-        let list = list_builtin()?;
-        match list.iter().find(|(n, _, _)| n == name) {
-            Some((_, p, _)) => Self::load(p),
+        if let Some((_, p)) = data_dir_tables()?.iter().find(|(n, _)| n == name) {
+            return Self::load(p);
+        }
+        match EMBEDDED.iter().find(|(n, _)| *n == name) {
+            Some((n, bytes)) => {
+                let mut table = AtmosTable::from_bytes(bytes, &format!("embedded table {n}"))?;
+                table.source = PathBuf::from(format!("embedded:{n}.atm.gz"));
+                Ok(Self { table })
+            }
             None => Err(AtmosError::Unknown {
                 name: name.into(),
-                available: list
+                available: list_builtin()?
                     .iter()
                     .map(|(n, _, _)| n.as_str())
                     .collect::<Vec<_>>()

@@ -334,17 +334,22 @@ fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
     }
 }
 
-/// Reads only the header lines of a table (for listings).
+/// Reads only the header lines of a table file (for listings).
 pub fn read_header(path: &Path) -> Result<Vec<(String, String)>, AtmosError> {
     let f = std::fs::File::open(path).map_err(|e| AtmosError::Io {
         path: path.display().to_string(),
         source: e,
     })?;
+    read_header_from(std::io::BufReader::new(f), &path.display().to_string())
+}
+
+/// Reads only the header lines of a table (gzip-compressed or plain) from
+/// `f`; `file` names it in errors.
+pub fn read_header_from(mut f: impl Read, file: &str) -> Result<Vec<(String, String)>, AtmosError> {
     let mut buf = Vec::new();
     let mut magic = [0u8; 2];
-    let mut f = std::io::BufReader::new(f);
     f.read_exact(&mut magic).map_err(|e| AtmosError::Io {
-        path: path.display().to_string(),
+        path: file.to_string(),
         source: e,
     })?;
     let rd: Box<dyn Read> = if magic == [0x1f, 0x8b] {
@@ -365,7 +370,7 @@ pub fn read_header(path: &Path) -> Result<Vec<(String, String)>, AtmosError> {
         }
     }
     Err(AtmosError::Format {
-        file: path.display().to_string(),
+        file: file.to_string(),
         line: 0,
         msg: "no 'data' line in the header".into(),
     })

@@ -53,11 +53,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     match a.cmd {
         AtmosCmd::List => {
             let list = list_builtin().context("listing atmosphere tables")?;
-            if list.is_empty() {
-                println!("no tables in {}", crate::atmos::atmos_dir().display());
-            }
-            for (name, path, desc) in list {
-                println!("{name:<10} {desc}\n{:<10} {}", "", path.display());
+            for (name, source, desc) in list {
+                println!("{name:<10} {desc}\n{:<10} {source}", "");
             }
             Ok(0)
         }

@@ -7,6 +7,7 @@ pub mod atmos;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
+pub mod log;
 pub mod probe;
 pub mod render;
 pub mod sequence;
@@ -15,8 +16,14 @@ pub mod therm;
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
-#[command(name = "irsig", version, about)]
+#[command(name = "irsig", version = crate::version::LONG_VERSION, about)]
 pub struct Cli {
+    /// No notes or progress on stderr (errors only).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+    /// More detail on stderr.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    pub verbose: u8,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -53,10 +60,20 @@ pub enum Command {
     Therm(therm::Args),
     /// Atmosphere tables: list them, show what a geometry uses.
     Atmos(atmos::Args),
+    /// Print a shell completion script (e.g. `irsig completions bash >
+    /// ~/.local/share/bash-completion/completions/irsig`).
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff), e.g. `irsig man > irsig.1; man ./irsig.1`.
+    Man,
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
+    log::set_level(cli.quiet, cli.verbose);
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
         Command::Bench(c) => bench::run(c),
@@ -68,5 +85,15 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
         Command::Atmos(a) => atmos::run(a),
+        Command::Completions { shell } => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            clap_complete::generate(shell, &mut cmd, "irsig", &mut std::io::stdout());
+            Ok(0)
+        }
+        Command::Man => {
+            let cmd = <Cli as clap::CommandFactory>::command();
+            clap_mangen::Man::new(cmd).render(&mut std::io::stdout())?;
+            Ok(0)
+        }
     }
 }

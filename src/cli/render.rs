@@ -2,13 +2,13 @@
 //! EXR (every plane), a PNG quicklook and a JSON summary beside it, and an
 //! ENVI cube with `--envi`.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use anyhow::bail;
 
+use super::log::{ProgressReporter, note};
 use crate::output::frame::write_rendered;
-use crate::render::{Progress, Stage, prepare_conditions, prepare_static, render_conditions};
+use crate::render::{Progress, prepare_conditions, prepare_static, render_conditions};
 use crate::trace::Backend;
 
 #[derive(clap::Args, Debug)]
@@ -35,7 +35,8 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
     /// Print the rays cast and skipped, thermal solves and cache hits, and
-    /// the time per stage.
+    /// the time per stage, as JSON alone on stdout (the "wrote" line goes
+    /// to stderr).
     #[arg(long)]
     pub stats: bool,
 }
@@ -54,77 +55,14 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
 
 use crate::render::thread_pool;
 
-/// A terminal progress bar over the render's stages (trace blocks, thermal
-/// solves, radiometry); reports may come from any worker thread and out of
-/// order, so the position only grows within a stage.
-pub struct ProgressBar {
-    bar: indicatif::ProgressBar,
-    state: std::sync::Mutex<Option<(Stage, u64)>>,
-}
-
-impl ProgressBar {
-    pub fn new() -> ProgressBar {
-        let bar = indicatif::ProgressBar::new(0);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "irsig: {msg:<22} [{bar:32}] {pos}/{len} {elapsed_precise} (eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        ProgressBar {
-            bar,
-            state: std::sync::Mutex::new(None),
-        }
-    }
-
-    pub fn report(&self, p: Progress) {
-        let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
-        match *st {
-            Some((stage, done)) if stage == p.stage => {
-                if p.done > done {
-                    *st = Some((stage, p.done));
-                    self.bar.set_position(p.done);
-                }
-            }
-            _ => {
-                *st = Some((p.stage, p.done));
-                self.bar.reset();
-                self.bar.set_message(match p.stage {
-                    Stage::Trace => "tracing (blocks)",
-                    Stage::Thermal => "temperatures (samples)",
-                    Stage::Radiometry => "radiometry (samples)",
-                });
-                self.bar.set_length(p.total);
-                self.bar.set_position(p.done);
-            }
-        }
-    }
-
-    pub fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
-}
-
-impl Default for ProgressBar {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
     if a.output.extension().and_then(|e| e.to_str()) != Some("exr") {
         bail!("-o {}: the output must be an .exr path", a.output.display());
     }
+    crate::output::check_output_file(&a.output)?;
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;
-    let tty = std::io::stderr().is_terminal();
-    let note = |m: &str| {
-        if tty {
-            eprintln!("irsig: {m}");
-        }
-    };
     note("loading scene");
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
     let image = pool.install(|| -> anyhow::Result<_> {
@@ -133,7 +71,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         note("weather, sun and thermal forcing");
         let cond = prepare_conditions(&st, t)?;
         note("rendering");
-        let bar = tty.then(ProgressBar::new);
+        let bar = ProgressReporter::new();
         let report = bar.as_ref().map(|b| move |p: Progress| b.report(p));
         let image = render_conditions(
             &st,
@@ -147,7 +85,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     })?;
     write_rendered(&a.output, &image, a.envi, None)?;
     let s = &image.frame.stats;
-    println!(
+    let wrote = format!(
         "wrote {} ({}x{}), {:.2} s",
         a.output.display(),
         image.frame.planes.width,
@@ -155,7 +93,11 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor
     );
     if a.stats {
+        // The statistics are the result: JSON alone on stdout.
+        note(&wrote);
         println!("{}", serde_json::to_string_pretty(s)?);
+    } else {
+        println!("{wrote}");
     }
     Ok(0)
 }

@@ -31,4 +31,50 @@ pub enum OutputError {
     },
     #[error("cannot encode {}: {msg}", path.display())]
     Encode { path: PathBuf, msg: String },
+    #[error("{path}: {msg}")]
+    Unusable { path: PathBuf, msg: String },
+}
+
+/// Checks, before any work is done, that files can be written in `dir`:
+/// it is created if missing (with its parents), must be a folder, and must
+/// accept a new file (a probe file is created there and removed).
+pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let unusable = |msg: String| OutputError::Unusable {
+        path: dir.to_path_buf(),
+        msg,
+    };
+    // The folder, or the first of its parents that exists, must be a folder.
+    if let Some(existing) = dir.ancestors().find(|a| a.exists())
+        && !existing.is_dir()
+    {
+        return Err(OutputError::Unusable {
+            path: existing.to_path_buf(),
+            msg: "is not a folder (an output folder was expected)".into(),
+        });
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| unusable(format!("cannot create the output folder: {e}")))?;
+    tempfile::Builder::new()
+        .prefix(".irsig-probe-")
+        .tempfile_in(dir)
+        .map_err(|e| unusable(format!("cannot write in the output folder: {e}")))?;
+    Ok(())
+}
+
+/// Checks, before any work is done, that an output file can be written at
+/// `path`: it is not a folder, and its folder exists or can be created and
+/// is writable (see [`check_output_dir`]).
+pub fn check_output_file(path: &Path) -> Result<(), OutputError> {
+    if path.is_dir() {
+        return Err(OutputError::Unusable {
+            path: path.to_path_buf(),
+            msg: "is a folder (an output file path was expected, e.g. out/x.exr)".into(),
+        });
+    }
+    check_output_dir(path.parent().unwrap_or(Path::new(".")))
 }

@@ -208,7 +208,7 @@ pub fn begin_sequence(out: &SequenceOutput) -> anyhow::Result<()> {
             dir.display()
         );
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    super::check_output_dir(dir)?;
     super::set::remove_stale_partials(dir)
         .with_context(|| format!("cannot clean {}", dir.display()))?;
     let index = out.index_path();
