@@ -31,16 +31,16 @@ pub enum OutputError {
     },
     #[error("cannot encode {}: {msg}", path.display())]
     Encode { path: PathBuf, msg: String },
-    #[error("{path}: {msg}")]
+    #[error("{}: {msg}", path.display())]
     Unusable { path: PathBuf, msg: String },
 }
 
 /// Checks, before any work is done, that files can be written in `dir`:
 /// it is created if missing (with its parents), must be a folder, and must
 /// accept a new file (a probe file is created there and removed).
-pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
+pub fn check_output_dir(dir: &std::path::Path) -> Result<(), OutputError> {
     let dir = if dir.as_os_str().is_empty() {
-        Path::new(".")
+        std::path::Path::new(".")
     } else {
         dir
     };
@@ -69,12 +69,12 @@ pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
 /// Checks, before any work is done, that an output file can be written at
 /// `path`: it is not a folder, and its folder exists or can be created and
 /// is writable (see [`check_output_dir`]).
-pub fn check_output_file(path: &Path) -> Result<(), OutputError> {
+pub fn check_output_file(path: &std::path::Path) -> Result<(), OutputError> {
     if path.is_dir() {
         return Err(OutputError::Unusable {
             path: path.to_path_buf(),
             msg: "is a folder (an output file path was expected, e.g. out/x.exr)".into(),
         });
     }
-    check_output_dir(path.parent().unwrap_or(Path::new(".")))
+    check_output_dir(path.parent().unwrap_or(std::path::Path::new(".")))
 }
