@@ -9,8 +9,10 @@ if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi
 
 # Debian packages: Embree (3 on Debian 12, 4 on Debian 13 / Ubuntu 24.04),
 # libclang for bindgen, a C compiler for the shim; python3-venv for the
-# Python package's virtual environment.
-PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv"
+# Python package's virtual environment; libnetcdf for the merged batch stack
+# (`irsig batch merge`); Slurm and munge for the batch runner's job arrays
+# (scripts/slurm-test.sh starts a throw-away one-node cluster).
+PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv libnetcdf-dev slurm-wlm munge"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

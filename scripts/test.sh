@@ -13,3 +13,5 @@ cargo test --release --locked
 # network), then its tests, which compare against the CLI built above.
 bash scripts/python-install.sh
 .venv/bin/python -m pytest -q python/tests
+# The batch runner on a real (throw-away, one-node) Slurm cluster.
+bash scripts/slurm-test.sh

@@ -6,6 +6,7 @@
 //! radiometry, the sensor, the render loop and the outputs.
 
 pub mod atmos;
+pub mod batch;
 pub mod bounds;
 pub mod cli;
 pub mod output;

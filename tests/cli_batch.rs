@@ -1,283 +1,417 @@
-//! `irsig` as a batch job and an installed program sees it: a binary
-//! copied away from the source tree renders (the atmosphere tables are
-//! embedded; `IRSIG_DATA` adds tables), the output path is checked before
-//! any work, progress goes to stderr as plain lines off a terminal (none
-//! with `-q`), `--stats` puts JSON alone on stdout, a closed pipe ends the
-//! program quietly, `--version` names the commit and Embree, and the shell
-//! completions and man page are generated.
+//! `irsig batch` end to end on tiny frames: a spec expands into the
+//! expected manifest; bad specs fail at `plan` with file, line and key; a
+//! run killed with SIGKILL half-way resumes to the same frames, bit for
+//! bit, as an uninterrupted run; shards partition the frames; status and
+//! merge report what they should; the merged NetCDF stack holds every
+//! frame's planes exactly.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
+use std::time::{Duration, Instant};
 
-fn irsig() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_irsig"));
-    c.env_remove("IRSIG_DATA");
-    c
+use irsig::output::exr::read_exr;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn plate() -> PathBuf {
-    root().join("scenes/plate/scene.toml")
-}
-
-const SMALL: [&str; 4] = [
-    "--set",
-    "sensor.width_px=16",
-    "--set",
-    "sensor.height_px=16",
-];
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let t = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy_dir(&e.path(), &t);
-        } else {
-            std::fs::copy(e.path(), t).unwrap();
-        }
-    }
-}
-
-/// The binary copied into an empty folder (no source tree beside it)
-/// renders a scene there: the atmosphere tables come from the binary.
-#[test]
-fn a_copied_binary_renders_from_any_folder() {
-    let dir = tempfile::tempdir().unwrap();
-    let bin = dir.path().join("irsig");
-    std::fs::copy(env!("CARGO_BIN_EXE_irsig"), &bin).unwrap();
-    copy_dir(&root().join("scenes"), &dir.path().join("scenes"));
-    let out = Command::new(&bin)
-        .current_dir(dir.path())
-        .env_remove("IRSIG_DATA")
-        .args(["render", "scenes/plate/scene.toml", "-o", "out/p.exr"])
-        .args(SMALL)
-        .args(["--set", "atmosphere.model=\"mid-latitude-summer\""])
+fn irsig(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_irsig"))
+        .args(args)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+/// A spec of 3 times × 2 wind speeds on the airfield at 24x24 px.
+fn spec(dir: &Path) -> PathBuf {
+    let scene = root().join("scenes/airfield/scene-constant.toml");
+    let text = format!(
+        r#"name = "t"
+shards = 3
+
+[[scene]]
+path = "{}"
+id = "af"
+set = {{ "sensor.width_px" = 24, "sensor.height_px" = 24, "render.history_hours" = 6 }}
+
+[time]
+at = ["09:00", "12:00", "15:00"]
+
+[[sweep]]
+key = "weather.constant.wind_m_s"
+values = [0.0, 6.0]
+"#,
+        scene.display()
     );
-    assert!(dir.path().join("out/p.exr").is_file());
-    let list = Command::new(&bin)
-        .current_dir(dir.path())
-        .env_remove("IRSIG_DATA")
-        .args(["atmos", "list"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&list.stdout);
-    for name in ["mls", "mlw", "sas", "saw", "tropical", "us1976"] {
-        assert!(text.contains(name), "{name} missing: {text}");
-    }
-    assert!(text.contains("embedded in the irsig binary"), "{text}");
+    let p = dir.join("spec.toml");
+    std::fs::write(&p, text).unwrap();
+    p
 }
 
-/// `IRSIG_DATA/atmos` adds tables to the embedded ones; a folder that
-/// cannot be read is an error naming it and the variable.
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
 #[test]
-fn irsig_data_adds_atmosphere_tables() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir_all(dir.path().join("atmos")).unwrap();
-    std::fs::copy(
-        root().join("data/atmos/mlw.atm.gz"),
-        dir.path().join("atmos/mywinter.atm.gz"),
+fn plan_expands_the_product_in_scene_major_order() {
+    let t = tempfile::tempdir().unwrap();
+    let sp = spec(t.path());
+    let b = t.path().join("b");
+    let (rc, out, err) = irsig(&["batch", "plan", s(&sp), "-o", s(&b)]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(out.contains("6 frames"), "{out}");
+    let batch = irsig::batch::Batch::open(&b).unwrap();
+    let ids: Vec<&str> = batch.frames.iter().map(|f| f.id.as_str()).collect();
+    assert_eq!(
+        ids,
+        [
+            "af_wind_m_s-0.0_0900",
+            "af_wind_m_s-0.0_1200",
+            "af_wind_m_s-0.0_1500",
+            "af_wind_m_s-6.0_0900",
+            "af_wind_m_s-6.0_1200",
+            "af_wind_m_s-6.0_1500"
+        ]
+    );
+    assert_eq!(
+        batch.info.dimensions,
+        ["scene", "time", "weather.constant.wind_m_s"]
+    );
+    let f = &batch.frames[4];
+    assert_eq!(f.local_time.as_deref(), Some("2001-08-08T12:00:00"));
+    assert!(
+        f.overrides
+            .contains(&("weather.constant.wind_m_s".into(), "6.0".into()))
+    );
+    // Planning again into the same folder is a no-op; another spec is refused.
+    assert_eq!(irsig(&["batch", "plan", s(&sp), "-o", s(&b)]).0, 0);
+    let other = t.path().join("other.toml");
+    std::fs::write(
+        &other,
+        std::fs::read_to_string(&sp)
+            .unwrap()
+            .replace("[0.0, 6.0]", "[1.0]"),
     )
     .unwrap();
-    let out = irsig()
-        .env("IRSIG_DATA", dir.path())
-        .args(["atmos", "list"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success() && text.contains("mywinter"), "{text}");
-    assert!(text.contains("mywinter.atm.gz") && text.contains("us1976"));
-    let show = |data: &Path, name: &str| {
-        irsig()
-            .env("IRSIG_DATA", data)
-            .args(["atmos", "show", name, "--altitude", "1", "--zenith", "0"])
-            .output()
-            .unwrap()
-    };
-    let a = show(dir.path(), "mywinter");
-    let b = show(dir.path(), "mlw");
-    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
-    // The same table under another name gives the same numbers.
-    let numbers = |o: &std::process::Output| {
-        String::from_utf8_lossy(&o.stdout)
-            .lines()
-            .filter(|l| !l.starts_with("atmosphere") && !l.starts_with("table"))
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
-    assert_eq!(numbers(&a), numbers(&b));
-    let missing = dir.path().join("nothing");
-    let e = show(&missing, "mls");
-    let err = String::from_utf8_lossy(&e.stderr);
-    assert!(
-        !e.status.success() && err.contains("IRSIG_DATA") && err.contains("nothing"),
-        "{err}"
-    );
+    let (rc, _, err) = irsig(&["batch", "plan", s(&other), "-o", s(&b)]);
+    assert_ne!(rc, 0);
+    assert!(err.contains("already holds another batch"), "{err}");
 }
 
-/// A bad output path is refused before the scene is even loaded.
 #[test]
-fn the_output_path_is_checked_before_any_work() {
-    let dir = tempfile::tempdir().unwrap();
-    let folder = dir.path().join("x.exr");
-    std::fs::create_dir(&folder).unwrap();
-    let file = dir.path().join("plain");
-    std::fs::write(&file, "not a folder").unwrap();
-    let cases = [
-        (folder.clone(), "is a folder"),
-        (file.join("y.exr"), "is not a folder"),
-    ];
-    for (path, want) in cases {
-        let out = irsig()
-            .args(["render", plate().to_str().unwrap(), "-o"])
-            .arg(&path)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success() && err.contains(want), "{err}");
+fn random_draws_are_reproducible_and_within_range() {
+    let t = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/airfield/scene-constant.toml");
+    let text = format!(
+        r#"[[scene]]
+path = "{}"
+[random]
+count = 50
+seed = 7
+[[random.vary]]
+key = "time"
+range = ["08:00", "16:00"]
+[[random.vary]]
+key = "weather.constant.wind_m_s"
+range = [0.5, 9.5]
+[[random.vary]]
+key = "weather.constant.cloud_fraction"
+choice = [0.0, 0.5]
+"#,
+        scene.display()
+    );
+    std::fs::write(t.path().join("r.toml"), text).unwrap();
+    let a = irsig::batch::plan(&t.path().join("r.toml")).unwrap();
+    let b = irsig::batch::plan(&t.path().join("r.toml")).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a.frames.len(), 50);
+    let mut winds = Vec::new();
+    for f in &a.frames {
+        let t = f.local_time.as_deref().unwrap();
         assert!(
-            !err.contains("loading scene") && !err.contains("panicked"),
-            "{err}"
+            ("2001-08-08T08:00:00"..="2001-08-08T16:00:00").contains(&t),
+            "{t}"
         );
+        let w: f64 = f.labels["weather.constant.wind_m_s"].parse().unwrap();
+        assert!((0.5..=9.5).contains(&w), "{w}");
+        winds.push(w);
+        assert!(["0.0", "0.5"].contains(&f.labels["weather.constant.cloud_fraction"].as_str()));
     }
-    let out = irsig()
-        .args(["sequence", plate().to_str().unwrap(), "-o"])
-        .arg(file.join("seq"))
-        .args(["--from", "10:00", "--to", "11:00", "--step", "1h"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        !out.status.success() && err.contains("is not a folder"),
-        "{err}"
-    );
+    // 50 uniform draws over [0.5, 9.5]: mean 5 ± 4 standard errors (0.37 each).
+    let mean = winds.iter().sum::<f64>() / 50.0;
+    assert!((mean - 5.0).abs() < 1.5, "{mean}");
 }
 
-/// Off a terminal, progress is plain lines on stderr (stdout keeps only
-/// the result); `-q` silences them; `--stats` prints JSON alone.
 #[test]
-fn batch_progress_quiet_and_stats() {
-    let dir = tempfile::tempdir().unwrap();
-    let exr = dir.path().join("p.exr");
-    let run = |extra: &[&str]| {
-        let out = irsig()
-            .args(["render", plate().to_str().unwrap(), "-o"])
-            .arg(&exr)
-            .args(SMALL)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+fn bad_specs_fail_at_plan_with_file_line_and_key() {
+    let t = tempfile::tempdir().unwrap();
+    let sp = spec(t.path());
+    let good = std::fs::read_to_string(&sp).unwrap();
+    let cases: &[(&str, &str, &str)] = &[
+        // (what to replace, replacement, expected in the error)
         (
-            String::from_utf8(out.stdout).unwrap(),
-            String::from_utf8(out.stderr).unwrap(),
-        )
-    };
-    let (stdout, stderr) = run(&[]);
-    assert!(
-        stdout.starts_with("wrote ") && stdout.lines().count() == 1,
-        "{stdout}"
-    );
-    for want in [
-        "irsig: loading scene",
-        "tracing (blocks)",
-        "(100 %)",
-        "radiometry",
-    ] {
-        assert!(stderr.contains(want), "{want} missing from {stderr}");
+            "shards = 3",
+            "shards = 3\nthreads = 4",
+            "unknown field `threads`",
+        ),
+        (
+            "values = [0.0, 6.0]",
+            "values = []",
+            "values = [] gives no frames",
+        ),
+        (
+            "at = [\"09:00\", \"12:00\", \"15:00\"]",
+            "at = []",
+            "at = []",
+        ),
+        (
+            "key = \"weather.constant.wind_m_s\"",
+            "key = \"weather.constant.wind_speed\"",
+            "wind_speed",
+        ),
+        (
+            "values = [0.0, 6.0]",
+            "values = [6.0, 6.0]",
+            "would both write",
+        ),
+        (
+            "at = [\"09:00\", \"12:00\", \"15:00\"]",
+            "at = [\"25:00\"]",
+            "25:00",
+        ),
+    ];
+    for (from, to, want) in cases {
+        let p = t.path().join("bad.toml");
+        assert!(good.contains(from), "{from}");
+        std::fs::write(&p, good.replace(from, to)).unwrap();
+        let (rc, _, err) = irsig(&["batch", "plan", s(&p), "-o", s(&t.path().join("x"))]);
+        assert_ne!(rc, 0, "{to}");
+        assert!(err.contains(want), "{to}: {err}");
+        assert!(err.contains("bad.toml"), "{to}: {err}");
+        // A line number: `bad.toml:<line>`.
+        assert!(
+            err.contains("bad.toml:") || err.contains("line "),
+            "{to}: no line in {err}"
+        );
     }
-    assert!(
-        !stderr.contains('\r') && !stderr.contains("\x1b["),
-        "{stderr:?}"
-    );
-    let (stdout, stderr) = run(&["-q"]);
-    assert!(stderr.is_empty(), "{stderr}");
-    assert!(stdout.starts_with("wrote "));
-    let (stdout, stderr) = run(&["--stats"]);
-    let v: serde_json::Value = serde_json::from_str(&stdout).expect("stdout is JSON alone");
-    assert!(v["primary_rays"].as_u64().unwrap() >= 256);
-    assert!(stderr.contains("wrote "), "{stderr}");
 }
 
-/// `irsig atmos show --csv | head -0`: the reader is gone before the
-/// first line (the table takes ~0.1 s to load, so the pipe is closed before
-/// anything is written); the program ends by SIGPIPE with nothing on
-/// stderr (no panic message).
+/// Frame files of a batch folder (name → bytes), without temp files.
+fn frame_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "exr"))
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
 #[test]
-fn a_closed_pipe_ends_quietly() {
-    let mut child = irsig()
-        .args([
-            "atmos",
-            "show",
-            "mls",
-            "--altitude",
-            "1",
-            "--zenith",
-            "0",
-            "--csv",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+fn a_killed_run_resumes_to_the_same_frames_and_merges() {
+    let t = tempfile::tempdir().unwrap();
+    let sp = spec(t.path());
+    let (a, b) = (t.path().join("a"), t.path().join("b"));
+    for d in [&a, &b] {
+        assert_eq!(irsig(&["batch", "plan", s(&sp), "-o", s(d)]).0, 0);
+    }
+    // Uninterrupted, in three shards with different thread counts.
+    for (sh, th) in [("0/3", "1"), ("1/3", "2"), ("2/3", "1")] {
+        let (rc, out, err) = irsig(&["batch", "run", s(&a), "--shard", sh, "--threads", th]);
+        assert_eq!(rc, 0, "{out}{err}");
+        assert!(out.contains("2 frames: 2 rendered"), "{out}");
+    }
+    // Killed with SIGKILL once the first frame is complete, then resumed.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_irsig"))
+        .args(["batch", "run", s(&b), "--threads", "2"])
+        .stderr(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.is_empty(), "{err}");
-    use std::os::unix::process::ExitStatusExt;
-    assert_eq!(out.status.signal(), Some(13), "{:?}", out.status);
+    let first = b.join("frames/af_wind_m_s-0.0_0900.json");
+    let t0 = Instant::now();
+    while !first.exists() && t0.elapsed() < Duration::from_secs(300) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let st = irsig::batch::Batch::open(&b).unwrap().status();
+    assert!(st.done >= 1 && st.done < 6, "{st:?}");
+    // Every frame is complete or absent: no JSON without its EXR.
+    let (rc, out, _) = irsig(&["batch", "status", s(&b)]);
+    assert_eq!(rc, 1, "{out}");
+    assert!(out.contains(&format!("{} done", st.done)), "{out}");
+    let (rc, out, err) = irsig(&["batch", "run", s(&b), "--threads", "1"]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(
+        out.contains(&format!(
+            "{} rendered, {} done already",
+            6 - st.done,
+            st.done
+        )),
+        "{out}"
+    );
+    let (fa, fb) = (frame_files(&a), frame_files(&b));
+    assert_eq!(fa.len(), 6);
+    assert!(fa == fb, "frames differ after the resume");
+    // No temp files left in frames/.
+    let stray: Vec<_> = std::fs::read_dir(b.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".irsig-partial"))
+        .collect();
+    // (a killed write may leave one; the frame it belonged to was re-rendered)
+    assert!(stray.len() <= 1, "{stray:?}");
+
+    // Merge: the stack holds every frame's planes exactly.
+    let (rc, out, err) = irsig(&["batch", "merge", s(&b)]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(out.contains("6 frames of 24x24 px"), "{out}");
+    let nc = netcdf::open(b.join("merged/stack.nc")).unwrap();
+    let batch = irsig::batch::Batch::open(&b).unwrap();
+    let v = nc.variable("apparent_temperature").unwrap();
+    assert_eq!(
+        v.attribute_value("units").unwrap().unwrap(),
+        netcdf::AttributeValue::Str("K".into())
+    );
+    for (k, f) in batch.frames.iter().enumerate() {
+        let (_, _, chans) = read_exr(&b.join(&f.outputs.exr)).unwrap();
+        let want = &chans
+            .iter()
+            .find(|c| c.0 == "apparent_temperature")
+            .unwrap()
+            .1;
+        let got: Vec<f32> = v.get_values([k..k + 1, 0..24, 0..24]).unwrap();
+        assert!(
+            got.iter()
+                .zip(want)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "frame {k}"
+        );
+    }
+    let wind: Vec<f64> = nc
+        .variable("weather.constant.wind_m_s")
+        .unwrap()
+        .get_values(..)
+        .unwrap();
+    assert_eq!(wind, [0.0, 0.0, 0.0, 6.0, 6.0, 6.0]);
+    let index: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(b.join("merged/index.json")).unwrap())
+            .unwrap();
+    assert_eq!(index["frames"].as_array().unwrap().len(), 6);
+    // Wind cools the sunlit surfaces: the 12:00 frame's mean apparent
+    // temperature is lower at 6 m/s than at calm.
+    let mean = |i: usize| {
+        index["frames"][i]["apparent_temperature_k"]["mean"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(mean(4) < mean(1), "{} {}", mean(4), mean(1));
 }
 
 #[test]
-fn version_completions_and_man_page() {
-    let out = irsig().arg("--version").output().unwrap();
-    let v = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        v.starts_with(&format!("irsig {}", env!("CARGO_PKG_VERSION"))),
-        "{v}"
-    );
-    assert!(
-        v.contains("commit ") && (v.contains("Embree 3.") || v.contains("Embree 4.")),
-        "{v}"
-    );
-    let commit = v
-        .split("commit ")
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap();
-    let head = Command::new("git")
-        .args(["rev-parse", "--short=12", "HEAD"])
-        .current_dir(root())
-        .output();
-    if let Some(h) = head.ok().filter(|h| h.status.success()) {
-        assert_eq!(commit, String::from_utf8_lossy(&h.stdout).trim());
+fn merge_refuses_an_unfinished_batch_and_status_names_failures() {
+    let t = tempfile::tempdir().unwrap();
+    let sp = spec(t.path());
+    let b = t.path().join("b");
+    assert_eq!(irsig(&["batch", "plan", s(&sp), "-o", s(&b)]).0, 0);
+    let (rc, _, err) = irsig(&["batch", "merge", s(&b)]);
+    assert_ne!(rc, 0);
+    assert!(err.contains("0 of 6 frames are done"), "{err}");
+    // A scene broken after planning: every frame fails, is recorded, and
+    // the run exits 1.
+    let mut batch = irsig::batch::Batch::open(&b).unwrap();
+    let broken = t.path().join("broken.toml");
+    std::fs::write(&broken, "[site]\nlatitude_deg = 95\n").unwrap();
+    for f in &mut batch.frames {
+        f.scene = broken.clone();
     }
-    for shell in ["bash", "zsh", "fish"] {
-        let out = irsig().args(["completions", shell]).output().unwrap();
-        let s = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success() && s.contains("render") && s.contains("sequence"),
-            "{shell}"
-        );
+    let text: String = batch
+        .frames
+        .iter()
+        .map(|f| serde_json::to_string(f).unwrap() + "\n")
+        .collect();
+    std::fs::write(b.join("manifest.jsonl"), text).unwrap();
+    let (rc, out, _) = irsig(&["batch", "run", s(&b), "--shard", "0/3"]);
+    assert_eq!(rc, 1, "{out}");
+    assert!(out.contains("2 failed"), "{out}");
+    let (rc, out, _) = irsig(&["batch", "status", s(&b)]);
+    assert_eq!(rc, 1);
+    assert!(out.contains("2 failed, 4 missing"), "{out}");
+    assert!(out.contains("broken.toml"), "{out}");
+}
+
+#[test]
+fn slurm_scripts_map_array_tasks_to_shards() {
+    let t = tempfile::tempdir().unwrap();
+    let sp = spec(t.path());
+    let b = t.path().join("b");
+    assert_eq!(irsig(&["batch", "plan", s(&sp), "-o", s(&b)]).0, 0);
+    let (rc, out, err) = irsig(&[
+        "batch",
+        "slurm",
+        s(&b),
+        "--partition",
+        "cpu",
+        "--time",
+        "00:30:00",
+        "--cpus-per-task",
+        "4",
+        "--max-running",
+        "2",
+    ]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(out.contains("3 array tasks"), "{out}");
+    let array = std::fs::read_to_string(b.join("slurm/array.sh")).unwrap();
+    for want in [
+        "#SBATCH --array=0-2%2",
+        "#SBATCH --cpus-per-task=4",
+        "#SBATCH --partition=cpu",
+        "#SBATCH --time=00:30:00",
+        "--shard \"${SLURM_ARRAY_TASK_ID}/3\"",
+        "--threads \"${SLURM_CPUS_PER_TASK:-4}\"",
+    ] {
+        assert!(array.contains(want), "{want} not in\n{array}");
     }
-    let out = irsig().arg("man").output().unwrap();
-    let s = String::from_utf8_lossy(&out.stdout);
-    assert!(s.starts_with(".ie") || s.contains(".TH irsig 1"), "{s}");
-    assert!(s.contains("render") && s.contains("\\-\\-quiet"), "{s}");
+    let submit = std::fs::read_to_string(b.join("slurm/submit.sh")).unwrap();
+    assert!(submit.contains("--dependency=afterok:"), "{submit}");
+    let (rc, _, err) = irsig(&["batch", "slurm", s(&b), "--partition", "a b"]);
+    assert_ne!(rc, 0);
+    assert!(err.contains("without spaces"), "{err}");
+}
+
+#[test]
+fn the_docs_specs_plan_as_written() {
+    // Each ```toml block of docs/batch.md, saved beside a `scenes` link so
+    // that its `../scenes/...` paths resolve as in the repository.
+    let doc = std::fs::read_to_string(root().join("docs/batch.md")).unwrap();
+    let blocks: Vec<&str> = doc
+        .split("```toml\n")
+        .skip(1)
+        .map(|b| b.split("```").next().unwrap())
+        .collect();
+    assert_eq!(blocks.len(), 3, "docs/batch.md should hold three specs");
+    let t = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(root().join("scenes"), t.path().join("scenes")).unwrap();
+    std::fs::create_dir(t.path().join("docs")).unwrap();
+    let mut counts = Vec::new();
+    for (i, b) in blocks.iter().enumerate() {
+        let p = t.path().join("docs").join(format!("spec{i}.toml"));
+        std::fs::write(&p, b).unwrap();
+        let plan = irsig::batch::plan(&p).unwrap_or_else(|e| panic!("spec {i}: {e:#}\n{b}"));
+        counts.push(plan.frames.len());
+    }
+    // Figs. 12-13: 8 times x 4 winds; Fig. 14: 6 zeniths; training: 2 x 2500.
+    assert_eq!(counts, [32, 6, 5000]);
 }

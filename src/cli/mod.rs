@@ -4,6 +4,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod atmos;
+pub mod batch;
 pub mod bench;
 pub mod check;
 pub mod crosscheck;
@@ -34,9 +35,14 @@ pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.
     Crosscheck(crosscheck::Args),
-    /// Benchmarks (ray throughput).
+    /// Benchmarks: ray throughput, stage times against the ray floor, run
+    /// time against error.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Batches over scenes, times, sweeps and random draws: plan a
+    /// manifest, run shards here or as a Slurm job array, merge.
+    #[command(subcommand)]
+    Batch(batch::BatchCommand),
     /// Load and validate a scene; print a summary (objects, facets,
     /// materials, bounds, sensor footprint, what the render will need).
     Check(check::Args),
@@ -77,6 +83,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Crosscheck(a) => crosscheck::run(a),
         Command::Bench(c) => bench::run(c),
+        Command::Batch(c) => batch::run(c),
         Command::Check(a) => check::run(a),
         Command::Render(a) => render::run(a),
         Command::Probe(a) => probe::run(a),

@@ -280,7 +280,7 @@ fn check_pose_key(text: &str, key: &str) -> anyhow::Result<()> {
 }
 
 /// Keeps letters, digits, `.`, `+`, `-`; anything else becomes `_`.
-fn sanitise(s: &str) -> String {
+pub fn sanitise(s: &str) -> String {
     let t: String = s
         .chars()
         .map(|c| {

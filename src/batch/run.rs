@@ -1,0 +1,142 @@
+//! Rendering a batch's frames on this machine (`irsig batch run`): all of
+//! them, or one shard (a Slurm array task). Finished frames are skipped, so
+//! a re-run after a crash or pre-emption resumes where it stopped; a frame
+//! that fails is recorded under `failed/` and the others go on.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use chrono::NaiveDateTime;
+
+use super::plan::LOCAL_FORMAT;
+use super::{Batch, FrameJob, shard_range};
+use crate::render::{ProgressFn, Static, derive_static, render_at, thread_pool};
+use crate::scene::spec::TimeSpec;
+
+/// What [`run`] renders.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The batch folder.
+    pub dir: PathBuf,
+    /// Shard `i` of `n`; `None`: every frame.
+    pub shard: Option<(usize, usize)>,
+    /// Worker threads (None: all cores).
+    pub threads: Option<u32>,
+}
+
+/// What happened to one frame.
+#[derive(Debug, Clone)]
+pub enum RunEvent {
+    /// Already complete: skipped.
+    Skipped { id: String },
+    /// Rendered and written in `seconds`.
+    Done { id: String, seconds: f64 },
+    /// Failed with this error (recorded under `failed/`).
+    Failed { id: String, error: String },
+}
+
+/// [`run`]'s counts.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct RunReport {
+    pub frames: usize,
+    pub rendered: usize,
+    pub skipped: usize,
+    /// (frame id, error)
+    pub failed: Vec<(String, String)>,
+}
+
+/// Renders the frames of a shard (or all) that are not complete, one after
+/// another, each in parallel inside; consecutive frames with the same
+/// scene and overrides share the static part, and [`derive_static`] shares
+/// geometry, BVH and tables whenever the overrides leave them unchanged.
+/// Errors of single frames are recorded, not returned; the result is an
+/// error only when the batch itself cannot be read or written.
+pub fn run(o: &RunOptions, event: &mut dyn FnMut(&RunEvent)) -> anyhow::Result<RunReport> {
+    let batch = Batch::open(&o.dir)?;
+    let range = match o.shard {
+        Some((i, n)) => shard_range(i, n, batch.frames.len()),
+        None => 0..batch.frames.len(),
+    };
+    let pool = thread_pool(o.threads)?;
+    let mut rep = RunReport {
+        frames: range.len(),
+        ..Default::default()
+    };
+    let mut st: Option<Static> = None;
+    let mut st_key: Option<(PathBuf, Vec<(String, String)>)> = None;
+    for f in &batch.frames[range] {
+        if batch.is_done(f) {
+            rep.skipped += 1;
+            event(&RunEvent::Skipped { id: f.id.clone() });
+            continue;
+        }
+        let t0 = Instant::now();
+        let r = pool.install(|| render_frame(&batch.dir, f, &mut st, &mut st_key, None));
+        let fail = batch.failure_path(f);
+        match r {
+            Ok(()) => {
+                if fail.exists() {
+                    std::fs::remove_file(&fail)
+                        .with_context(|| format!("cannot remove {}", fail.display()))?;
+                }
+                rep.rendered += 1;
+                event(&RunEvent::Done {
+                    id: f.id.clone(),
+                    seconds: t0.elapsed().as_secs_f64(),
+                });
+            }
+            Err(e) => {
+                let error = format!("{e:#}");
+                std::fs::create_dir_all(batch.dir.join("failed"))
+                    .with_context(|| format!("cannot create {}/failed", batch.dir.display()))?;
+                super::write_text(&fail, &(error.clone() + "\n"))?;
+                // A failed scene load leaves no usable static part.
+                st = None;
+                st_key = None;
+                event(&RunEvent::Failed {
+                    id: f.id.clone(),
+                    error: error.clone(),
+                });
+                rep.failed.push((f.id.clone(), error));
+            }
+        }
+    }
+    Ok(rep)
+}
+
+/// Renders one frame and writes its files (EXR, PNG, then the JSON that
+/// marks it complete), reusing `st` when the scene and overrides are those
+/// of `st_key`.
+fn render_frame(
+    dir: &Path,
+    f: &FrameJob,
+    st: &mut Option<Static>,
+    st_key: &mut Option<(PathBuf, Vec<(String, String)>)>,
+    progress: ProgressFn,
+) -> anyhow::Result<()> {
+    let key = (f.scene.clone(), f.overrides.clone());
+    if st_key.as_ref() != Some(&key) {
+        let scene = crate::scene::load_with_overrides(&f.scene, &f.overrides)?;
+        let (s, _) = derive_static(st.as_ref(), scene, None)?;
+        *st = Some(s);
+        *st_key = Some(key);
+    }
+    let s = st.as_ref().expect("set above");
+    let sc = &s.scene.scene;
+    let local = match &f.local_time {
+        Some(t) => NaiveDateTime::parse_from_str(t, LOCAL_FORMAT)
+            .with_context(|| format!("frame {}: local time {t:?}", f.id))?,
+        None => sc.time.local,
+    };
+    let utc = TimeSpec { local }.utc(&sc.site);
+    let img = render_at(s, utc, progress)?;
+    let info = serde_json::json!({
+        "id": f.id,
+        "index": f.index,
+        "local_time": local.format(LOCAL_FORMAT).to_string(),
+        "labels": f.labels,
+        "overrides": f.overrides,
+    });
+    crate::output::frame::write_rendered(&dir.join(&f.outputs.exr), &img, false, Some(info))
+}
