@@ -22,6 +22,7 @@ use serde::Serialize;
 use super::{Batch, FrameJob};
 use crate::output::quicklook::write_grey_png;
 use crate::output::sequence::{GAP_PX, contact_sheet};
+use crate::output::set::OutputSet;
 use crate::output::{PlaneStats, plane_stats};
 
 /// Most frames on the contact sheet.
@@ -194,7 +195,10 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             })
             .collect::<anyhow::Result<_>>()?,
     };
-    // The stack, written under a temporary name in `merged/`.
+    // The result set (index.json last: its marker); then the stack,
+    // written by libnetcdf into a scratch file under a temporary name.
+    let index_path = out.join("index.json");
+    let mut set = OutputSet::new(&index_path)?;
     let tmp = tempfile::Builder::new()
         .prefix(".irsig-partial-")
         .suffix(".nc")
@@ -410,19 +414,14 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         }
         nc(file.close(), "close", tp)?;
     }
-    // tempfile creates 0600 files; outputs are ordinary files (0644).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file()
-            .set_permissions(std::fs::Permissions::from_mode(0o644))
-            .with_context(|| format!("cannot write {}", stack_path.display()))?;
-    }
-    tmp.as_file()
-        .sync_all()
-        .with_context(|| format!("cannot write {}", stack_path.display()))?;
-    tmp.persist(&stack_path)
-        .map_err(|e| anyhow::anyhow!("cannot write {}: {}", stack_path.display(), e.error))?;
+    // The set: stack, contact sheet, then index.json as the marker.
+    set.stage(&stack_path, |w| {
+        let mut f = std::fs::File::open(tmp.path()).map_err(|e| e.to_string())?;
+        std::io::copy(&mut f, w)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    })?;
+    drop(tmp);
 
     let views: Vec<(u32, u32, &[f32])> = sheet_data
         .iter()
@@ -435,6 +434,7 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
     );
     let sheet_path = out.join("contact_sheet.png");
     write_grey_png(
+        &mut set,
         &sheet_path,
         sheet.width,
         sheet.height,
@@ -461,8 +461,11 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         contact_sheet_stretch: stretch,
         frames: entries,
     };
-    let index_path = out.join("index.json");
-    super::write_text(&index_path, &(serde_json::to_string_pretty(&index)? + "\n"))?;
+    let json = serde_json::to_string_pretty(&index)? + "\n";
+    set.stage(&index_path, |w| {
+        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
+    })?;
+    set.commit()?;
     let (width, height) = size.unwrap_or((0, 0));
     Ok(MergeReport {
         frames: n,
