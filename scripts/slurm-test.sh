@@ -22,7 +22,7 @@ cleanup() {
       [ -f "$f" ] && { echo "== $f" >&2; tail -n 40 "$f" >&2; }
     done
   else
-    rm -rf "$T"
+    rm -rf "$T" 2>/dev/null || true
   fi
   exit $rc
 }

@@ -1,18 +1,7 @@
 //! `irsig atmos` end to end.
 
-use std::process::Command;
-
-fn irsig(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_irsig"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
+mod common;
+use common::irsig_out as irsig;
 
 #[test]
 fn atmos_list_and_show() {

@@ -15,17 +15,8 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn irsig(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_irsig"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
+mod common;
+use common::irsig_out as irsig;
 
 /// A spec of 3 times × 2 wind speeds on the airfield at 24x24 px.
 fn spec(dir: &Path) -> PathBuf {
@@ -299,6 +290,17 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
                 .all(|(a, b)| a.to_bits() == b.to_bits()),
             "frame {k}"
         );
+    }
+    // The resumed batch's stack equals the uninterrupted one's, bit for bit.
+    assert_eq!(irsig(&["batch", "merge", s(&a)]).0, 0);
+    let nc_a = netcdf::open(a.join("merged/stack.nc")).unwrap();
+    for var in nc_a.variables() {
+        if var.dimensions().len() == 3 {
+            let x: Vec<f32> = var.get_values(..).unwrap();
+            let y: Vec<f32> = nc.variable(&var.name()).unwrap().get_values(..).unwrap();
+            let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+            assert!(bits(&x) == bits(&y), "{}", var.name());
+        }
     }
     let wind: Vec<f64> = nc
         .variable("weather.constant.wind_m_s")

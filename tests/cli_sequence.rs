@@ -4,7 +4,6 @@
 //! first), Fig. 14 (contrast falls with view zenith), and clear errors.
 
 use std::path::Path;
-use std::process::Command;
 
 use irsig::output::exr::read_exr;
 use irsig::output::quicklook::{Stretch, percentile_stretch, to_grey};
@@ -19,17 +18,8 @@ const SMALL: [&str; 6] = [
     "render.history_hours=6",
 ];
 
-fn irsig(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_irsig"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
+mod common;
+use common::irsig_out as irsig;
 
 fn index(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).unwrap()).unwrap()

@@ -14,6 +14,17 @@ pub fn irsig() -> Command {
     Command::new(env!("CARGO_BIN_EXE_irsig"))
 }
 
+/// Runs `irsig` with `args`: (exit code, stdout, stderr), whatever the
+/// outcome.
+pub fn irsig_out(args: &[&str]) -> (i32, String, String) {
+    let o = irsig().args(args).output().expect("run irsig");
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
 /// Runs `irsig` with `args`; panics with its stderr on failure; returns
 /// stdout.
 pub fn run(args: &[String]) -> String {
