@@ -93,7 +93,8 @@ fn airfield_matches_the_paper_scene() {
 fn generated_meshes_have_outward_normals() {
     let s = scene::load(&root().join("scenes/airfield/scene.toml")).unwrap();
     for (k, o) in s.objects.iter().enumerate() {
-        let c = o.bounds_min_m.map(f64::from);
+        // Positions are in the tracer's local frame, bounds in world ones.
+        let c = s.frame.to_local(o.bounds_min_m);
         let (mut vol, mut down) = (0.0f64, 0usize);
         for t in 0..s.triangles.len() {
             if s.tri_object[t] as usize != k {
@@ -498,7 +499,7 @@ fn instances_and_transforms_place_geometry() {
     assert_eq!(s.objects[0].name, "g#1");
     // instance 1: rotate +90° about z (x -> y), then translate by 100 east
     let b = (s.objects[0].bounds_min_m, s.objects[0].bounds_max_m);
-    let close = |a: [f32; 3], e: [f32; 3]| (0..3).all(|i| (a[i] - e[i]).abs() < 1e-4);
+    let close = |a: [f64; 3], e: [f64; 3]| (0..3).all(|i| (a[i] - e[i]).abs() < 1e-4);
     assert!(
         close(b.0, [90.0, 0.0, 0.0]) && close(b.1, [100.0, 10.0, 0.0]),
         "{b:?}"

@@ -390,9 +390,15 @@ fn image_to_py<'py>(
         planes.append((p.name, p.unit, a))?;
     }
     let points = PyList::empty(py);
-    for (i, axis) in hit_points(&frame.samples, frame.sample_width as usize, w, h)
-        .into_iter()
-        .enumerate()
+    for (i, axis) in hit_points(
+        &frame.samples,
+        frame.sample_width as usize,
+        w,
+        h,
+        &image.local_frame,
+    )
+    .into_iter()
+    .enumerate()
     {
         let name = ["east", "north", "up"][i];
         points.append((name, PyArray1::from_vec(py, axis).reshape([h, w])?))?;
@@ -412,25 +418,29 @@ fn image_to_py<'py>(
     Ok(d)
 }
 
-/// The scene-frame point (east, north, up, m) each output pixel's centre
-/// sample hits (NaN where it sees no surface), three `w`×`h` planes.
+/// The world point (east, north, up, m: the scene's coordinates) each
+/// output pixel's centre sample hits (NaN where it sees no surface), three
+/// `w`×`h` float64 planes (the tracer's local-frame points plus the frame's
+/// origin, so that projected coordinates keep their millimetres).
 fn hit_points(
     samples: &[irsig::render::Sample],
     sample_width: usize,
     w: usize,
     h: usize,
-) -> [Vec<f32>; 3] {
+    frame: &irsig::scene::LocalFrame,
+) -> [Vec<f64>; 3] {
     let n = (sample_width / w.max(1)).max(1);
     let mut out = [
-        vec![f32::NAN; w * h],
-        vec![f32::NAN; w * h],
-        vec![f32::NAN; w * h],
+        vec![f64::NAN; w * h],
+        vec![f64::NAN; w * h],
+        vec![f64::NAN; w * h],
     ];
     for y in 0..h {
         for x in 0..w {
             let k = (y * n + n / 2) * sample_width + x * n + n / 2;
             if let Some(p) = samples.get(k).and_then(|s| s.surface.as_ref()) {
-                for (axis, v) in out.iter_mut().zip(p.point.to_array()) {
+                let world = frame.to_world(p.point.as_dvec3().to_array());
+                for (axis, v) in out.iter_mut().zip(world) {
                     axis[y * w + x] = v;
                 }
             }

@@ -44,9 +44,23 @@ pub fn render_text(s: &SceneSummary) -> String {
     let _ = writeln!(
         o,
         "bounds     {} .. {} m",
-        fmt3(s.bounds_min_m.map(f64::from)),
-        fmt3(s.bounds_max_m.map(f64::from))
+        fmt3(s.bounds_min_m),
+        fmt3(s.bounds_max_m)
     );
+    let f = &s.local_frame;
+    let _ = writeln!(
+        o,
+        "frame      tracer origin {} m (camera target); geometry within {:.0} m of it, \
+         single-precision positions exact to {:.3} mm (0.5 mm within {:.0} m; refused beyond {:.0} m)",
+        fmt3(f.origin_m),
+        f.extent_m,
+        f.error_m * 1e3,
+        f.precise_extent_m,
+        f.max_extent_m
+    );
+    if let Some(w) = &s.warning {
+        let _ = writeln!(o, "warning    {w}");
+    }
     let _ = writeln!(
         o,
         "materials  (triangles, specularity, internal power W/m²)"

@@ -15,6 +15,14 @@ pub mod sequence;
 pub mod sun;
 pub mod therm;
 
+/// Prints the scene's precision warning ([`crate::scene::LocalFrame::warning`]),
+/// if any, to stderr.
+pub fn warn_about_frame(s: &crate::scene::LoadedScene) {
+    if let Some(w) = s.frame.warning() {
+        eprintln!("irsig: warning: {w}");
+    }
+}
+
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
 #[command(name = "irsig", version = crate::version::LONG_VERSION, about)]

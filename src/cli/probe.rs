@@ -306,6 +306,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = super::render::parse_overrides(&a.set)?;
     let pool = crate::render::thread_pool(None)?;
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
+    super::warn_about_frame(&scene);
     let report = pool.install(|| probe_scene(scene, a.tracer, px, a.spectral))?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);

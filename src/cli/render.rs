@@ -65,6 +65,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let pool = thread_pool(a.threads)?;
     note("loading scene");
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
+    super::warn_about_frame(&scene);
     let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;
         let t = st.scene.scene.time.utc(&st.scene.scene.site);

@@ -87,6 +87,7 @@ pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let c = &a.common;
     let step_s = parse_step_s(&a.step)?;
     let scene = crate::scene::load_text(&c.scene, edited_text(c)?)?;
+    super::warn_about_frame(&scene);
     let date = scene.scene.time.local.date();
     let from = parse_local_time("--from", &a.from, date)?;
     let to = parse_local_time("--to", &a.to, date)?;
@@ -99,6 +100,9 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
     let text = edited_text(c)?;
     let values: Vec<&str> = a.values.split(',').collect();
     let plans = plan_sweep(&c.scene, &text, &a.key, &values)?;
+    if let Some(s) = plans.iter().find_map(|p| p.scene.as_ref()) {
+        super::warn_about_frame(s);
+    }
     run_frames(c, "sweep", Some(a.key.trim()), plans)
 }
 

@@ -25,6 +25,9 @@ pub struct Rendered {
     pub atmosphere: super::atmosphere::AtmosphereReport,
     /// The planes (every output plane, at output resolution) and statistics.
     pub frame: Frame,
+    /// The tracer's local frame (`scene::frame`): the samples' points are
+    /// in it; `local_frame.to_world` gives world coordinates.
+    pub local_frame: crate::scene::LocalFrame,
 }
 
 /// Renders the prepared scene `st` at `image_time` (UTC): the conditions
@@ -57,6 +60,7 @@ pub fn render_conditions(
         estimators: cond.estimators.to_string(),
         atmosphere: cond.atmosphere_report.clone(),
         frame,
+        local_frame: st.scene.frame,
     })
 }
 

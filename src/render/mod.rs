@@ -135,10 +135,11 @@ pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
     Ok(b.build()?)
 }
 
-/// The supersampled camera: n×n rays per output pixel.
+/// The supersampled camera in the tracer's local frame: n×n rays per
+/// output pixel.
 pub fn sample_camera(st: &Static) -> Camera {
     let n = st.scene.scene.render.supersample.max(1);
-    st.scene.camera.supersampled(n)
+    st.scene.local_camera.supersampled(n)
 }
 
 /// Surface record of a hit.

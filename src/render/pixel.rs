@@ -171,7 +171,7 @@ impl<'a> RadiometryContext<'a> {
         Ok(RadiometryContext {
             st,
             cond,
-            camera: DVec3::from(st.scene.camera.position_m),
+            camera: DVec3::from(st.scene.local_camera.position_m),
             sun_dir: DVec3::from(sun.sun_dir_enu).as_vec3(),
             sun_zenith_deg: sun.zenith_deg,
             sun_azimuth_deg: sun.azimuth_deg,

@@ -477,7 +477,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         interval_s,
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
-        ground_z_m: st.scene.bounds_m().0[2] as f64,
+        ground_z_m: st.scene.bounds_m().0[2],
         ground_material: ground,
         ground_temp_k,
         air_temp_k,

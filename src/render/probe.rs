@@ -93,7 +93,8 @@ pub struct SurfaceReport {
     pub material: String,
     pub material_index: u32,
     pub specularity: f64,
-    pub point_m: [f32; 3],
+    /// The hit point in world coordinates.
+    pub point_m: [f64; 3],
     /// Unit geometric normal facing the incoming ray.
     pub normal: [f32; 3],
     pub slope_deg: f64,
@@ -235,7 +236,7 @@ impl Ctx<'_> {
             material: sc.materials[s.material as usize].name.clone(),
             material_index: s.material,
             specularity: st.specularity[s.material as usize],
-            point_m: s.point.to_array(),
+            point_m: sc.frame.to_world(s.point.as_dvec3().to_array()),
             normal: s.normal.to_array(),
             slope_deg: o.slope_deg,
             aspect_deg: o.aspect_deg,

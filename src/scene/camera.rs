@@ -44,6 +44,16 @@ pub fn direction_from_angles(zenith_deg: f64, azimuth_deg: f64) -> [f64; 3] {
     [z.sin() * a.sin(), z.sin() * a.cos(), z.cos()]
 }
 
+/// The camera of a sensor spec in the frame whose origin is `origin_m`
+/// (world coordinates; its z must be 0, see [`super::frame`]): the pose's
+/// points are moved into the frame before the camera is computed.
+pub fn camera_geometry_at(s: &SensorSpec, origin_m: [f64; 3]) -> Result<Camera, String> {
+    debug_assert_eq!(origin_m[2], 0.0, "the local frame keeps heights");
+    let mut local = s.clone();
+    local.pose = s.pose.shifted(origin_m);
+    camera_geometry(&local)
+}
+
 /// The camera of a sensor spec. Errors (as text) for a degenerate pose:
 /// sensor at its target, an `up` parallel to the view, a sensor below
 /// its target with the altitude form.

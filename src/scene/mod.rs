@@ -1,6 +1,8 @@
 //! Scene description: the scene file (TOML), material libraries, OBJ
-//! geometry, and the loaded, world-space triangle soup the tracer builds
-//! from. Reference: docs/scene-format.md.
+//! geometry, and the loaded triangle soup the tracer builds from, in the
+//! tracer's local frame ([`frame`]: world coordinates in f64, shifted to
+//! an origin at the camera target before they become f32). Reference:
+//! docs/scene-format.md.
 //!
 //! ```no_run
 //! let s = irsig::scene::load(std::path::Path::new("scenes/airfield/scene.toml"))?;
@@ -10,6 +12,7 @@
 
 pub mod camera;
 pub mod error;
+pub mod frame;
 pub mod material;
 pub mod obj;
 pub mod spec;
@@ -24,6 +27,7 @@ use serde::Serialize;
 pub use crate::radiometry::SpectralResponse;
 pub use camera::{Camera, CameraGeometry, camera_geometry};
 pub use error::{Location, SceneError};
+pub use frame::LocalFrame;
 pub use material::{
     BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec,
 };
@@ -50,9 +54,9 @@ pub struct ObjectInfo {
     pub face_count: u32,
     /// Zero-area triangles skipped.
     pub degenerate_skipped: u32,
-    /// World-space axis-aligned bounds, metres.
-    pub bounds_min_m: [f32; 3],
-    pub bounds_max_m: [f32; 3],
+    /// Axis-aligned bounds in world coordinates, metres.
+    pub bounds_min_m: [f64; 3],
+    pub bounds_max_m: [f64; 3],
 }
 
 /// A square convolution kernel (odd size), weights normalised to sum 1.
@@ -63,8 +67,8 @@ pub struct PsfKernel {
     pub weights: Vec<f64>,
 }
 
-/// A scene ready to render: options, materials and one world-space
-/// triangle soup with per-triangle material, object and facet.
+/// A scene ready to render: options, materials and one triangle soup (in
+/// the tracer's local frame) with per-triangle material, object and facet.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LoadedScene {
     /// The scene file.
@@ -73,8 +77,12 @@ pub struct LoadedScene {
     pub scene: Scene,
     /// All materials of the libraries (index = material id).
     pub materials: Vec<Material>,
-    /// World-space vertices, metres (local ENU).
+    /// Vertices in the tracer's local frame, metres: world ENU coordinates
+    /// minus [`LocalFrame::origin_m`] (computed in f64, then rounded).
     pub positions: Vec<[f32; 3]>,
+    /// The local frame: its origin in world coordinates and the precision
+    /// of the f32 positions.
+    pub frame: LocalFrame,
     /// Triangles (indices into `positions`), counter-clockwise as in the OBJ.
     pub triangles: Vec<[u32; 3]>,
     /// Material id of each triangle.
@@ -85,8 +93,10 @@ pub struct LoadedScene {
     /// object (a polygon split into a fan keeps one facet id).
     pub tri_facet: Vec<u32>,
     pub objects: Vec<ObjectInfo>,
-    /// The sensor camera.
+    /// The sensor camera in world coordinates (as the scene gives it).
     pub camera: CameraGeometry,
+    /// The same camera in the local frame: what the tracer's rays use.
+    pub local_camera: CameraGeometry,
     /// The sensor's relative spectral response.
     pub response: SpectralResponse,
     /// The PSF kernel when `psf = { kernel_file = ... }`.
@@ -100,13 +110,17 @@ impl LoadedScene {
     pub fn resolve(&self, p: &Path) -> PathBuf {
         resolve(&self.path, p)
     }
-    /// World-space bounds of all triangles (min, max), metres.
-    pub fn bounds_m(&self) -> ([f32; 3], [f32; 3]) {
-        bounds(
+    /// Bounds of all triangles (min, max) in world coordinates, metres.
+    pub fn bounds_m(&self) -> ([f64; 3], [f64; 3]) {
+        let (lo, hi) = bounds(
             self.triangles
                 .iter()
                 .flatten()
                 .map(|&i| self.positions[i as usize]),
+        );
+        (
+            self.frame.to_world(lo.map(f64::from)),
+            self.frame.to_world(hi.map(f64::from)),
         )
     }
     /// Index of a material by name.
@@ -253,6 +267,9 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     let scene: Scene = src.parse()?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)
+        .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
+    let origin = LocalFrame::origin_for_target(scene.sensor.pose.target_m());
+    let local_camera = camera::camera_geometry_at(&scene.sensor, origin)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
 
     // Referenced files must exist: report them at their scene-file key.
@@ -402,21 +419,35 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| format!("object{}", oi + 1))
         });
-        let transforms = o.world_transforms();
+        let transforms = o.local_transforms(origin);
         let n_inst = transforms.len();
         for (k, xf) in transforms.iter().enumerate() {
             let object_id = objects.len() as u32;
             let first = out.triangles.len() as u32;
             let skipped = out
-                .add(mesh, xf, &face_mat, object_id)
-                .map_err(|line| {
+                .add(mesh, xf, origin, &face_mat, object_id)
+                .map_err(|(line, far)| {
                     src.invalid(
                         &at,
-                        format!(
-                            "the transform of object `{base_name}` maps the vertex of {}:{line} to a non-finite \
-                             or out-of-range position (|x| must stay below 1e7 m)",
-                            file.display()
-                        ),
+                        if far {
+                            format!(
+                                "the transform of object `{base_name}` places the vertex of {}:{line} more \
+                                 than {:.0} m from the tracer's origin at the camera target ({:.0}, {:.0}) m, \
+                                 where single precision keeps no better than {:.2} cm; split the scene or \
+                                 aim the camera nearer its centre",
+                                file.display(),
+                                frame::MAX_EXTENT_M,
+                                origin[0],
+                                origin[1],
+                                frame::f32_error_m(frame::MAX_EXTENT_M) * 100.0
+                            )
+                        } else {
+                            format!(
+                                "the transform of object `{base_name}` maps the vertex of {}:{line} to a \
+                                 non-finite or out-of-range position (|x| must stay below {MAX_COORD_M:e} m)",
+                                file.display()
+                            )
+                        },
                     )
                 })?;
             let count = out.triangles.len() as u32 - first;
@@ -425,6 +456,10 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                     .iter()
                     .flatten()
                     .map(|&i| out.positions[i as usize]),
+            );
+            let (lo, hi) = (
+                std::array::from_fn(|i| lo[i] as f64 + origin[i]),
+                std::array::from_fn(|i| hi[i] as f64 + origin[i]),
             );
             objects.push(ObjectInfo {
                 name: if n_inst > 1 {
@@ -445,17 +480,27 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         }
     }
     let degenerate_skipped = objects.iter().map(|o| o.degenerate_skipped as usize).sum();
+    let extent_m = out
+        .triangles
+        .iter()
+        .flatten()
+        .map(|&i| out.positions[i as usize])
+        .fold(0.0f64, |m, p| {
+            p.iter().fold(m, |m, c| m.max(c.abs() as f64))
+        });
     Ok(LoadedScene {
         path: path.to_path_buf(),
         scene,
         materials,
         positions: out.positions,
+        frame: LocalFrame::new(origin, extent_m),
         triangles: out.triangles,
         tri_material: out.tri_material,
         tri_object: out.tri_object,
         tri_facet: out.tri_facet,
         objects,
         camera,
+        local_camera,
         response,
         psf_kernel,
         degenerate_skipped,
@@ -471,38 +516,46 @@ struct Geometry {
     tri_facet: Vec<u32>,
 }
 
-/// Coordinates beyond this (metres) are refused: f32 has ~1 m resolution
-/// at 1e7 m, useless for facets.
-const MAX_COORD_M: f64 = 1e7;
+/// World coordinates beyond this (metres) are refused (projected
+/// coordinate systems stay within ±2.1e7 m; the pose is bounded alike).
+const MAX_COORD_M: f64 = 1e8;
 
 impl Geometry {
-    /// Appends one instance; returns the number of zero-area triangles
-    /// skipped, or `Err(obj line)` of a face whose vertex leaves the range.
+    /// Appends one instance placed by `xf` in the local frame of `origin`
+    /// (world = local + origin); returns the number of zero-area triangles
+    /// skipped, or `Err((obj line, far))` of a face whose vertex leaves the
+    /// world range (`far` false) or the frame's [`frame::MAX_EXTENT_M`]
+    /// (`far` true).
     fn add(
         &mut self,
         mesh: &obj::ObjMesh,
         xf: &glam::DAffine3,
+        origin: [f64; 3],
         face_mat: &[u32],
         object: u32,
-    ) -> Result<u32, usize> {
+    ) -> Result<u32, (usize, bool)> {
         let base = self.positions.len() as u32;
-        let mut world = Vec::with_capacity(mesh.positions.len());
-        for p in &mesh.positions {
-            let w = xf.transform_point3(glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
-            world.push(w);
-        }
+        let origin = glam::DVec3::from(origin);
+        let local: Vec<glam::DVec3> = mesh
+            .positions
+            .iter()
+            .map(|p| xf.transform_point3(glam::DVec3::from(*p)))
+            .collect();
         let mut skipped = 0;
         for (fi, f) in mesh.faces.iter().enumerate() {
             for &v in &f.verts {
-                let w = world[v as usize];
-                if !w.is_finite() || w.abs().max_element() > MAX_COORD_M {
-                    return Err(f.line);
+                let l = local[v as usize];
+                if !l.is_finite() || (l + origin).abs().max_element() > MAX_COORD_M {
+                    return Err((f.line, false));
+                }
+                if l.abs().max_element() > frame::MAX_EXTENT_M {
+                    return Err((f.line, true));
                 }
             }
             // Fan triangulation, as tobj would do.
             for j in 1..f.verts.len() - 1 {
                 let t = [f.verts[0], f.verts[j], f.verts[j + 1]];
-                let q = t.map(|i| world[i as usize].as_vec3().as_dvec3());
+                let q = t.map(|i| local[i as usize].as_vec3().as_dvec3());
                 let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
                 if area2.is_nan() || area2 <= 0.0 {
                     skipped += 1;
@@ -515,7 +568,7 @@ impl Geometry {
             }
         }
         self.positions
-            .extend(world.iter().map(|w| w.as_vec3().to_array()));
+            .extend(local.iter().map(|w| w.as_vec3().to_array()));
         Ok(skipped)
     }
 }

@@ -28,7 +28,9 @@ pub struct ObjFace {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ObjMesh {
     pub path: PathBuf,
-    pub positions: Vec<[f32; 3]>,
+    /// Vertex positions as written (parsed in double precision, so that
+    /// projected coordinates such as UTM keep their millimetres).
+    pub positions: Vec<[f64; 3]>,
     /// Faces in file order (face `i` is facet `i` of the object).
     pub faces: Vec<ObjFace>,
     /// Distinct `usemtl` names with the line of their first use.
@@ -134,7 +136,7 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<ObjMesh, SceneError> {
     let (models, _) =
         tobj::load_obj_buf(&mut sanitized.as_bytes(), &opts, |_| Ok(Default::default()))
             .map_err(|e| internal(format!("tobj failed: {e}")))?;
-    let mut positions: Vec<[f32; 3]> = Vec::new();
+    let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut faces_out: Vec<ObjFace> = Vec::with_capacity(scan.faces.len());
     let mut scanned = scan.faces.into_iter();
     for m in &models {
@@ -215,10 +217,10 @@ fn prescan(path: &Path, text: &str) -> Result<Scan, SceneError> {
                         args.len()
                     )));
                 }
-                let mut vals = [0f32; 6];
+                let mut vals = [0f64; 6];
                 for (j, a) in args.iter().enumerate() {
                     let v = num(a).ok_or_else(|| err(format!("vertex: `{a}` is not a number")))?;
-                    if !v.is_finite() {
+                    if !v.is_finite() || v.abs() > f32::MAX as f64 {
                         return Err(err(format!(
                             "vertex: coordinate `{a}` is NaN or infinite (or overflows 32-bit floating point): \
                              expected a finite number"
@@ -314,9 +316,9 @@ fn prescan(path: &Path, text: &str) -> Result<Scan, SceneError> {
     Ok(s)
 }
 
-/// Parses a number the way tobj does (as f32).
-fn num(s: &str) -> Option<f32> {
-    s.parse::<f32>().ok()
+/// Parses a number the way tobj does (as f64: its `use_f64` feature).
+fn num(s: &str) -> Option<f64> {
+    s.parse::<f64>().ok()
 }
 
 /// Validates one `v[/vt][/vn]` face token against the counts so far.
@@ -384,7 +386,7 @@ mod tests {
             vec![Some(0), Some(1), Some(0)]
         );
         // face 2 (-4 -3 -2) is vertices 1 2 3 -> positions (0,0,0) (1,0,0) (1,1,0)
-        let p: Vec<[f32; 3]> = m.faces[1]
+        let p: Vec<[f64; 3]> = m.faces[1]
             .verts
             .iter()
             .map(|&i| m.positions[i as usize])

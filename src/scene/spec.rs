@@ -214,7 +214,17 @@ impl ObjectSpec {
     }
     /// World transforms of every instance (object ∘ instance).
     pub fn world_transforms(&self) -> Vec<glam::DAffine3> {
-        let obj = self.transform().affine();
+        self.local_transforms([0.0; 3])
+    }
+
+    /// Transforms of every instance (object ∘ instance) into the frame
+    /// whose origin is `origin_m` (world coordinates): the origin is taken
+    /// off the object's translation before anything else, so an object
+    /// and an origin moved together give the same local transform.
+    pub fn local_transforms(&self, origin_m: [f64; 3]) -> Vec<glam::DAffine3> {
+        let mut t = self.transform();
+        t.translate_m = std::array::from_fn(|i| t.translate_m[i] - origin_m[i]);
+        let obj = t.affine();
         if self.instances.is_empty() {
             vec![obj]
         } else {
@@ -481,6 +491,39 @@ pub enum SensorPose {
         #[serde(default)]
         target_m: [f64; 3],
     },
+}
+
+impl SensorPose {
+    /// The point the camera looks at (world coordinates), m.
+    pub fn target_m(&self) -> [f64; 3] {
+        match self {
+            SensorPose::LookAt { target_m, .. }
+            | SensorPose::Altitude { target_m, .. }
+            | SensorPose::SlantRange { target_m, .. } => *target_m,
+        }
+    }
+
+    /// The pose with every point moved by `-origin_m` (into the frame
+    /// whose origin that is); directions, angles and `altitude_m` (which
+    /// the frame's z origin 0 leaves as is) unchanged.
+    pub fn shifted(&self, origin_m: [f64; 3]) -> SensorPose {
+        let sub = |p: &[f64; 3]| -> [f64; 3] { std::array::from_fn(|i| p[i] - origin_m[i]) };
+        let mut p = self.clone();
+        match &mut p {
+            SensorPose::LookAt {
+                position_m,
+                target_m,
+                ..
+            } => {
+                *position_m = sub(position_m);
+                *target_m = sub(target_m);
+            }
+            SensorPose::Altitude { target_m, .. } | SensorPose::SlantRange { target_m, .. } => {
+                *target_m = sub(target_m)
+            }
+        }
+        p
+    }
 }
 
 /// Spectral band: `"lwir"` (ideal 8-14 µm), `"mwir"` (ideal 3-5 µm),

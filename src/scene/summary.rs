@@ -54,8 +54,13 @@ pub struct SceneSummary {
     pub vertices: usize,
     pub degenerate_skipped: usize,
     pub materials: Vec<MaterialUse>,
-    pub bounds_min_m: [f32; 3],
-    pub bounds_max_m: [f32; 3],
+    /// Bounds in world coordinates.
+    pub bounds_min_m: [f64; 3],
+    pub bounds_max_m: [f64; 3],
+    /// The tracer's local frame: origin, extent and f32 precision.
+    pub local_frame: super::LocalFrame,
+    /// Set when the geometry reaches beyond the frame's precise extent.
+    pub warning: Option<String>,
     pub camera: super::CameraGeometry,
     /// Image corners on the plane z = target z (TL, TR, BR, BL); `null`
     /// where a corner ray misses the ground (above the horizon).
@@ -98,11 +103,7 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
     let specular_materials = used(&|m| m.is_specular());
     let heated_materials = used(&|m| m.internal_power_w_m2 != 0.0);
     let (lo, hi) = s.bounds_m();
-    let ground_z = match &sc.sensor.pose {
-        super::SensorPose::LookAt { target_m, .. }
-        | super::SensorPose::Altitude { target_m, .. }
-        | super::SensorPose::SlantRange { target_m, .. } => target_m[2],
-    };
+    let ground_z = sc.sensor.pose.target_m()[2];
     let band_um = s.response.support_um();
     let t_utc = sc.time.utc(&sc.site);
     let sun_el = crate::sun::approx::approx_sun_elevation_deg(
@@ -133,6 +134,8 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
         materials,
         bounds_min_m: lo,
         bounds_max_m: hi,
+        local_frame: s.frame,
+        warning: s.frame.warning(),
         camera: s.camera,
         footprint_m: s.camera.footprint(ground_z),
         centre_gsd_m: s.camera.centre_gsd_m(ground_z),

@@ -25,10 +25,27 @@ pub struct MeshView {
 }
 
 /// Loads an OBJ file as one triangle soup (faces fan-triangulated), with
-/// the scene loader's line-numbered errors.
+/// the scene loader's line-numbered errors, in a local frame whose origin
+/// is the centre of its bounds rounded to whole metres (see
+/// `scene::frame`: so that far-off coordinates keep their precision).
 pub fn load_obj(path: &Path) -> anyhow::Result<Geometry> {
     let m = crate::scene::obj::load_obj(path)?;
-    let positions = m.positions.iter().map(|p| Vec3::from(*p)).collect();
+    let (lo, hi) = m
+        .positions
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(DVec3::from(*p)), hi.max(DVec3::from(*p)))
+        });
+    let origin = if m.positions.is_empty() {
+        DVec3::ZERO
+    } else {
+        ((lo + hi) / 2.0).round()
+    };
+    let positions = m
+        .positions
+        .iter()
+        .map(|p| (DVec3::from(*p) - origin).as_vec3())
+        .collect();
     let triangles = m
         .faces
         .iter()
@@ -95,17 +112,29 @@ pub fn crosscheck_file(input: &Path, mesh: MeshView) -> anyhow::Result<Report> {
     let is_scene = input
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    let (geometry, camera, suns) = if is_scene {
-        let s = crate::scene::load(input)?;
-        let positions = s.positions.iter().map(|p| Vec3::from(*p)).collect();
-        let g = Geometry::new(positions, s.triangles.clone())
-            .with_context(|| format!("{}: bad geometry", input.display()))?;
-        (g, Camera::from_geometry(&s.camera), scene_sun_dirs(&s))
-    } else {
-        let g = load_obj(input)?;
-        let cam = oblique_camera(g.bounds(), mesh.width, mesh.height);
-        (g, cam, sun_arc(mesh.sun_samples))
-    };
+    if is_scene {
+        return crosscheck_scene(&crate::scene::load(input)?);
+    }
+    let g = load_obj(input)?;
+    let cam = oblique_camera(g.bounds(), mesh.width, mesh.height);
+    crosscheck_geometry(g, &cam, &sun_arc(mesh.sun_samples))
+}
+
+/// Cross-checks the backends on a loaded scene: its geometry in the
+/// tracer's local frame, its sensor camera and the sun directions of its
+/// shadow history.
+pub fn crosscheck_scene(s: &crate::scene::LoadedScene) -> anyhow::Result<Report> {
+    let positions = s.positions.iter().map(|p| Vec3::from(*p)).collect();
+    let g = Geometry::new(positions, s.triangles.clone())
+        .with_context(|| format!("{}: bad geometry", s.path.display()))?;
+    crosscheck_geometry(g, &s.local_camera, &scene_sun_dirs(s))
+}
+
+fn crosscheck_geometry(
+    geometry: Geometry,
+    camera: &Camera,
+    suns: &[Vec3],
+) -> anyhow::Result<Report> {
     let geometry = Arc::new(geometry);
     let embree = EmbreeTracer::new(geometry.clone(), QueryMode::Packet16)?;
     let bvh = BvhTracer::new(geometry.clone());
@@ -113,8 +142,8 @@ pub fn crosscheck_file(input: &Path, mesh: MeshView) -> anyhow::Result<Report> {
         &geometry,
         &embree,
         &bvh,
-        &camera,
-        &suns,
+        camera,
+        suns,
         Tolerances::default(),
     ))
 }

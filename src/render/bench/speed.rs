@@ -189,7 +189,7 @@ pub fn speed(
             let conditions = t1.elapsed().as_secs_f64();
             let frame = render(&st, &cond)?;
             let s = &frame.stats;
-            let cam = Camera::from_geometry(&st.scene.camera);
+            let cam = Camera::from_geometry(&st.scene.local_camera);
             let sun = glam::DVec3::from(cond.sun_now.sun_dir_enu).as_vec3();
             let (rp, rs) = embree_rates(&st.geometry, &cam, sun)?;
             let floor = s.primary_rays as f64 / rp + (s.solar_rays + s.specular_rays) as f64 / rs;
