@@ -121,7 +121,7 @@ fn generated_meshes_have_outward_normals() {
             assert_eq!(down, 0, "{}: faces pointing down", o.name);
         } else {
             let bbox: f64 = (0..3)
-                .map(|i| (o.bounds_max_m[i] - o.bounds_min_m[i]) as f64)
+                .map(|i| o.bounds_max_m[i] - o.bounds_min_m[i])
                 .product();
             assert!(
                 vol > 0.0 && vol < 1.5 * bbox,
