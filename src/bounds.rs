@@ -236,6 +236,14 @@ pub mod atmos_table {
     pub const MAX_BYTES: u64 = 2 << 30;
 }
 
+/// `[render]` keys of the scene (docs/scene-format.md).
+pub mod render {
+    use super::Bound;
+    /// `render.max_memory_mib`: the largest estimated peak a render may
+    /// need (`render::memory`).
+    pub const MAX_MEMORY: Bound = Bound::new("max_memory_mib", 1.0, 1e9, "MiB");
+}
+
 /// Sizes derived from the inputs, bounded before allocation.
 pub mod sizes {
     /// Bins of a band's spectral grid (0.2-100 µm at the finest step,
@@ -249,6 +257,7 @@ pub fn documented() -> Vec<(&'static str, Bound)> {
     v.extend(material::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.extend(data::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.push(("docs/scene-format.md", time::YEAR));
+    v.push(("docs/scene-format.md", render::MAX_MEMORY));
     v.extend(weather::ALL.iter().map(|b| ("docs/weather-format.md", *b)));
     v
 }

@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use crate::render::memory::{MemoryEstimate, estimate};
 use crate::scene;
 use crate::scene::summary::SceneSummary;
 use crate::scene::summary::summarize;
@@ -153,13 +154,40 @@ pub fn render_text(s: &SceneSummary) -> String {
     o
 }
 
+/// The memory lines of the text summary.
+pub fn memory_text(m: &MemoryEstimate) -> String {
+    let limit = match m.limit_mib {
+        Some(l) if m.total_mib > l => format!(
+            "; over the limit of {l:.0} MiB ({}): a render is refused",
+            m.limit_from
+        ),
+        Some(l) => format!(", limit {l:.0} MiB ({})", m.limit_from),
+        None => ", no limit".to_string(),
+    };
+    format!(
+        "  memory (estimated peak) {:.0} MiB: {} samples × {:.0} B = {:.0} MiB, planes {:.0} MiB, \
+         geometry {:.0} MiB, spectra {:.0} MiB, base {:.0} MiB{limit}\n",
+        m.total_mib,
+        m.samples,
+        m.bytes_per_sample,
+        m.samples_mib,
+        m.planes_mib,
+        m.geometry_mib,
+        m.spectral_mib,
+        m.base_mib
+    )
+}
+
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let s = scene::load(&a.scene)?;
     let sum = summarize(&s);
+    let mem = estimate(&s);
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&sum)?);
+        let mut v = serde_json::to_value(&sum)?;
+        v["memory"] = serde_json::to_value(&mem)?;
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print!("{}", render_text(&sum));
+        print!("{}{}", render_text(&sum), memory_text(&mem));
     }
     Ok(0)
 }

@@ -34,9 +34,10 @@ pub struct Args {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print the rays cast and skipped, thermal solves and cache hits, and
-    /// the time per stage, as JSON alone on stdout (the "wrote" line goes
-    /// to stderr).
+    /// Print the rays cast and skipped, thermal solves and cache hits, the
+    /// time per stage and the peak resident memory beside its estimate
+    /// (`memory`), as JSON alone on stdout (the "wrote" line goes to
+    /// stderr).
     #[arg(long)]
     pub stats: bool,
 }
@@ -66,6 +67,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     note("loading scene");
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
     super::warn_about_frame(&scene);
+    let memory = crate::render::memory::estimate(&scene);
     let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;
         let t = st.scene.scene.time.utc(&st.scene.scene.site);
@@ -96,7 +98,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if a.stats {
         // The statistics are the result: JSON alone on stdout.
         note(&wrote);
-        println!("{}", serde_json::to_string_pretty(s)?);
+        let mut v = serde_json::to_value(s)?;
+        v["memory"] = serde_json::json!({
+            "peak_resident_mib": crate::render::bench::peak_rss_mib(),
+            "estimated_mib": memory.total_mib,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         println!("{wrote}");
     }

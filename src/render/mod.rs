@@ -19,6 +19,7 @@ pub mod atmosphere;
 pub mod bench;
 pub mod cancel;
 pub mod image;
+pub mod memory;
 pub mod pixel;
 pub mod planes;
 pub mod prepare;

@@ -166,6 +166,7 @@ pub fn derive_static(
     scene: LoadedScene,
     backend: Option<Backend>,
 ) -> anyhow::Result<(Static, Reused)> {
+    super::memory::check(&scene)?;
     let mut reused = Reused::default();
     let backend_of = |s: &LoadedScene| {
         backend.unwrap_or(match s.scene.render.tracer {
@@ -207,18 +208,15 @@ pub fn derive_static(
     // response's support; only bins with non-zero response are kept.
     let resp = &scene.response;
     let (lo_um, hi_um) = resp.support_um();
-    let step = scene.scene.render.spectral_step_cm1;
-    let (v_lo, v_hi) = (1e4 / hi_um, 1e4 / lo_um);
-    let first = (v_lo / step).floor() * step;
-    let count = ((v_hi - first) / step).ceil() + 1.0;
+    let (first, step, count) = super::memory::band_grid(&scene);
     let max_bins = crate::bounds::sizes::MAX_SPECTRAL_BINS;
     if count.is_nan() || count > max_bins as f64 {
         anyhow::bail!(
             "{}: the band {lo_um}-{hi_um} um at render.spectral_step_cm1 = {step} needs {count} \
-             spectral bins ({:.0} MiB per spectrum of every atmosphere quantity); at most {max_bins}: \
+             spectral bins (about {:.0} MiB of atmosphere spectra); at most {max_bins}: \
              raise render.spectral_step_cm1 or narrow the band",
             scene.path.display(),
-            count * 8.0 / (1024.0 * 1024.0)
+            super::memory::spectral_mib(count)
         );
     }
     let count = (count as usize).max(2);

@@ -279,7 +279,16 @@ impl Check<'_> {
 
 /// Reads and validates one material library file.
 pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
-    let src = TomlSource::read(path)?;
+    load_library_source(path, TomlSource::read(path)?)
+}
+
+/// As [`load_library`], from the file's text (emissivity tables it names are
+/// still read from beside `path`).
+pub fn load_library_text(path: &Path, text: String) -> Result<Vec<Material>, SceneError> {
+    load_library_source(path, TomlSource::from_text(path, text))
+}
+
+fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, SceneError> {
     let lib: MaterialLibrary = src.parse()?;
     let c = Check { src: &src };
     let mut out = Vec::with_capacity(lib.material.len());
@@ -561,6 +570,12 @@ pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError>
         path: file.to_path_buf(),
         error: e,
     })?;
+    parse_emissivity_table(file, &text)
+}
+
+/// As [`read_emissivity_table`], from the file's text (`file` names it in
+/// errors).
+pub fn parse_emissivity_table(file: &Path, text: &str) -> Result<EmissivityTable, SceneError> {
     let data_err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),
         msg,

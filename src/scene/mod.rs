@@ -588,6 +588,11 @@ pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
         path: file.to_path_buf(),
         error: e,
     })?;
+    parse_response(file, &text)
+}
+
+/// As [`read_response`], from the file's text (`file` names it in errors).
+pub fn parse_response(file: &Path, text: &str) -> Result<SpectralResponse, SceneError> {
     let err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),
         msg,
@@ -654,6 +659,11 @@ pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
         path: file.to_path_buf(),
         error: e,
     })?;
+    parse_kernel(file, &text)
+}
+
+/// As [`read_kernel`], from the file's text (`file` names it in errors).
+pub fn parse_kernel(file: &Path, text: &str) -> Result<PsfKernel, SceneError> {
     let err = |line: usize, msg: String| SceneError::Data {
         loc: Location::line(file, line),
         msg,
@@ -1018,6 +1028,9 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     }
     let r = &s.render;
     let q = |k: &str| p(&["render", k]);
+    if let Some(m) = r.max_memory_mib {
+        c.bound(&q("max_memory_mib"), &crate::bounds::render::MAX_MEMORY, m)?;
+    }
     c.range(
         &q("supersample"),
         "supersample",

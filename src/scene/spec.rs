@@ -643,6 +643,11 @@ pub struct RenderOptions {
     /// Ray-tracing backend.
     #[serde(default)]
     pub tracer: TracerKind,
+    /// Largest estimated peak memory a render may need, MiB; a render whose
+    /// estimate ([`crate::render::memory`]) exceeds it is refused before
+    /// anything is allocated. Absent: the machine's physical memory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_memory_mib: Option<f64>,
 }
 
 // The defaults below are chosen from the accuracy curves of
@@ -683,6 +688,7 @@ impl Default for RenderOptions {
             shadow_interval_min: d_shadow_interval(),
             history_hours: d_history_hours(),
             tracer: TracerKind::default(),
+            max_memory_mib: None,
         }
     }
 }

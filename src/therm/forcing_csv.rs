@@ -12,8 +12,14 @@ use super::forcing::Forcing;
 /// Reads a forcing CSV (columns in the module docs). Errors name the file,
 /// the line and the column.
 pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    parse_forcing_csv(path, &text)
+}
+
+/// As [`read_forcing_csv`], from the file's text (`path` names it in errors).
+pub fn parse_forcing_csv(path: &Path, text: &str) -> anyhow::Result<Vec<Forcing>> {
     let file = path.display();
-    let text = std::fs::read_to_string(path).with_context(|| format!("{file}: cannot read"))?;
     const COLS: [&str; 10] = [
         "t_s",
         "air_temp_k",

@@ -9,4 +9,5 @@
 
 mod geometry;
 mod radiometry;
+mod render_edges;
 mod time;

@@ -1,0 +1,147 @@
+//! The peak memory a render will need, estimated from the scene before
+//! anything is allocated (issue 17, item 5), and the limit it is checked
+//! against (`render.max_memory_mib`, default the machine's memory).
+//!
+//! The render holds, at its peak (the radiometry of step 5), per
+//! supersampled sample: the [`Sample`] twice (traced blocks and the image
+//! order), its sun/shadow history (one byte per shadow sample; the bounce
+//! histories of specular pixels are not counted: few samples have one),
+//! the [`SampleResult`] twice
+//! (evaluated and per sample) and three index words; per output pixel the
+//! output planes; per triangle the geometry and the BVH; per spectral bin
+//! the atmosphere spectra; plus the process itself (code, Embree, the
+//! atmosphere table: [`BASE_MIB`]). The estimate is checked against the
+//! measured peak resident set of real renders in `tests/memory_limit.rs`
+//! (within 30 %, docs/reliability.md).
+
+use serde::Serialize;
+
+use super::Sample;
+use super::pixel::SampleResult;
+use crate::scene::LoadedScene;
+
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// The process before any scene-sized allocation: code, Embree, the
+/// atmosphere table and its resampling, MiB (measured: a 64x64 render of
+/// the plate scene peaks at 31 MiB).
+pub const BASE_MIB: f64 = 30.0;
+
+/// Output planes per pixel (every plane of a render, f32) and the copies
+/// the writers make (EXR, PNG quicklook, statistics).
+const PLANE_BYTES_PER_PIXEL: f64 = 24.0 * 4.0 * 2.0;
+
+/// Geometry, BVH (Embree or obvhs) and per-triangle tables, bytes per
+/// triangle.
+const TRIANGLE_BYTES: f64 = 400.0;
+
+/// A render's estimated peak memory, by part.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MemoryEstimate {
+    /// Supersampled samples (width·n × height·n).
+    pub samples: u64,
+    /// Bytes per sample (structs, history, results).
+    pub bytes_per_sample: f64,
+    pub samples_mib: f64,
+    pub planes_mib: f64,
+    pub geometry_mib: f64,
+    pub spectral_mib: f64,
+    pub base_mib: f64,
+    /// The estimated peak, MiB.
+    pub total_mib: f64,
+    /// The limit it is checked against, MiB, and where it comes from.
+    pub limit_mib: Option<f64>,
+    pub limit_from: String,
+}
+
+/// The band grid the render will use: uniform in wavenumber at
+/// `render.spectral_step_cm1` over the response's support; returns the first
+/// wavenumber (cm⁻¹), the step and the number of bins (as f64: it is
+/// bounded before it is used as a size).
+pub fn band_grid(scene: &LoadedScene) -> (f64, f64, f64) {
+    let (lo_um, hi_um) = scene.response.support_um();
+    let step = scene.scene.render.spectral_step_cm1;
+    let first = (1e4 / hi_um / step).floor() * step;
+    (first, step, ((1e4 / lo_um - first) / step).ceil() + 1.0)
+}
+
+/// Atmosphere spectra held per bin: sky and path spectra of ~100 cached
+/// directions, four f64 each, MiB.
+pub fn spectral_mib(bins: f64) -> f64 {
+    bins * 8.0 * 4.0 * 100.0 / MIB
+}
+
+/// The machine's physical memory, MiB (`/proc/meminfo` MemTotal), if known.
+pub fn machine_memory_mib() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Estimates the peak memory of rendering `scene` (one frame).
+pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
+    let sc = &scene.scene;
+    let n = sc.render.supersample.max(1) as f64;
+    let (w, h) = (sc.sensor.width_px as f64, sc.sensor.height_px as f64);
+    let samples = w * n * h * n;
+    let history = (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil() + 1.0;
+    // a Vec<bool> heap block: malloc rounds to 16 bytes plus an 8-byte header
+    let history_bytes = ((history + 8.0) / 16.0).ceil() * 16.0;
+    let bytes_per_sample = 2.0 * std::mem::size_of::<Sample>() as f64
+        + history_bytes
+        + 2.0 * std::mem::size_of::<SampleResult>() as f64
+        + 3.0 * 8.0;
+    let bins = band_grid(scene).2;
+    let (limit_mib, limit_from) = match sc.render.max_memory_mib {
+        Some(m) => (Some(m), "render.max_memory_mib".to_string()),
+        None => (
+            machine_memory_mib(),
+            "the machine's memory (set render.max_memory_mib to change)".to_string(),
+        ),
+    };
+    let samples_mib = samples * bytes_per_sample / MIB;
+    let planes_mib = w * h * PLANE_BYTES_PER_PIXEL / MIB;
+    let geometry_mib = scene.triangles.len() as f64 * TRIANGLE_BYTES / MIB;
+    let spectral_mib = spectral_mib(bins);
+    MemoryEstimate {
+        samples: samples as u64,
+        bytes_per_sample,
+        samples_mib,
+        planes_mib,
+        geometry_mib,
+        spectral_mib,
+        base_mib: BASE_MIB,
+        total_mib: BASE_MIB + samples_mib + planes_mib + geometry_mib + spectral_mib,
+        limit_mib,
+        limit_from,
+    }
+}
+
+/// The estimate, or an error when it exceeds the limit: the render is
+/// refused before anything scene-sized is allocated.
+pub fn check(scene: &LoadedScene) -> anyhow::Result<MemoryEstimate> {
+    let e = estimate(scene);
+    if let Some(limit) = e.limit_mib
+        && e.total_mib > limit
+    {
+        anyhow::bail!(
+            "{}: the render needs an estimated {:.0} MiB ({} samples of {:.0} bytes: {:.0} MiB; \
+             planes {:.0} MiB; geometry {:.0} MiB; spectra {:.0} MiB; base {:.0} MiB), more than \
+             the {:.0} MiB allowed by {}: reduce sensor.width_px/height_px, \
+             render.supersample or render.history_hours, or raise render.max_memory_mib",
+            scene.path.display(),
+            e.total_mib,
+            e.samples,
+            e.bytes_per_sample,
+            e.samples_mib,
+            e.planes_mib,
+            e.geometry_mib,
+            e.spectral_mib,
+            e.base_mib,
+            limit,
+            e.limit_from
+        );
+    }
+    Ok(e)
+}

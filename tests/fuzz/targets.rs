@@ -1,0 +1,601 @@
+//! One campaign per parser entry point.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use irsig::bounds::{self, Bound};
+use irsig::radiometry::{Band, SpectralGrid, SpectralResponse};
+use irsig::therm::weather::{ReadOptions, WeatherFile, parse_epw, parse_plain_csv, parse_tmy3};
+use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
+
+use crate::mutate::{INTERESTING, apply, campaign, mutation};
+use crate::require;
+
+type R = Result<(), TestCaseError>;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn read(rel: &str) -> Vec<u8> {
+    std::fs::read(root().join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+}
+
+/// The first `n` lines of a file (seeds stay small: fast cases).
+fn head(rel: &str, n: usize) -> Vec<u8> {
+    let text = String::from_utf8(read(rel)).unwrap();
+    let mut s: String = text.lines().take(n).collect::<Vec<_>>().join("\n");
+    s.push('\n');
+    s.into_bytes()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// An error must be a message naming the input file.
+fn names_file(e: &str, file: &str) -> R {
+    require!(e.contains(file), "error does not name the file {file}: {e}");
+    Ok(())
+}
+
+fn in_bound(b: &Bound, v: f64, what: &str) -> R {
+    require!(
+        b.contains(v),
+        "accepted {what} {} = {v} outside {}",
+        b.key,
+        b.expected()
+    );
+    Ok(())
+}
+
+/// Accepted weather: finite samples inside the bounds, sorted years inside
+/// 1900-2200.
+fn weather_ok(w: &WeatherFile) -> R {
+    use chrono::Datelike;
+    use irsig::bounds::weather as B;
+    let h = &w.history;
+    require!(!h.samples.is_empty(), "empty history accepted");
+    for (t, s) in h.times.iter().zip(&h.samples) {
+        in_bound(&bounds::time::YEAR, t.year() as f64, "time")?;
+        in_bound(&B::AIR_TEMP, s.air_temp_k - 273.15, "sample")?;
+        in_bound(&B::DEW_POINT, s.dew_point_k - 273.15, "sample")?;
+        in_bound(&B::WIND, s.wind_speed_m_s, "sample")?;
+        in_bound(&B::PRESSURE, s.pressure_pa / 100.0, "sample")?;
+        in_bound(&B::CLOUD, s.cloud_fraction, "sample")?;
+        in_bound(&B::PRECIPITATION, s.precip_mm_h, "sample")?;
+        for v in [s.ghi_w_m2, s.dni_w_m2, s.dhi_w_m2].into_iter().flatten() {
+            in_bound(&B::IRRADIANCE, v, "sample")?;
+        }
+        if let Some(t) = s.sky_temp_k {
+            in_bound(&B::SKY_TEMP, t - 273.15, "sample")?;
+        }
+    }
+    require!(
+        h.times.windows(2).all(|w| w[0] < w[1]),
+        "unsorted times accepted"
+    );
+    Ok(())
+}
+
+type WeatherParser =
+    fn(&str, &str, &ReadOptions) -> Result<WeatherFile, irsig::therm::weather::WeatherError>;
+
+fn weather_campaign(target: &str, seeds: Vec<Vec<u8>>, parse: WeatherParser, file: &str) {
+    let opts = [
+        ReadOptions::default(),
+        ReadOptions {
+            coerce_year: Some(2001),
+            ..ReadOptions::default()
+        },
+    ];
+    campaign(target, mutation(seeds.len()), |(k, edits), tally| {
+        let t = text(&apply(&seeds[k], &edits));
+        for o in &opts {
+            match parse(&t, file, o) {
+                Ok(w) => {
+                    tally.ok();
+                    weather_ok(&w)?;
+                }
+                Err(e) => {
+                    tally.err();
+                    names_file(&e.to_string(), file)?;
+                }
+            }
+        }
+        Ok(())
+    });
+}
+
+#[test]
+fn weather_plain_csv() {
+    weather_campaign(
+        "weather-csv",
+        vec![
+            head("tests/data/stations/bon-19950510.csv", 40),
+            head("tests/data/stations/sgp-e39-20230601.csv", 40),
+            head("tests/data/stations/slv-20160101.csv", 40),
+        ],
+        parse_plain_csv,
+        "wx.csv",
+    );
+}
+
+#[test]
+fn weather_tmy3() {
+    weather_campaign(
+        "weather-tmy3",
+        vec![
+            head("tests/data/tmy3_723170_greensboro_jun18-22.csv", 30),
+            head(
+                "scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv",
+                30,
+            ),
+        ],
+        parse_tmy3,
+        "tmy3.csv",
+    );
+}
+
+#[test]
+fn weather_epw() {
+    weather_campaign(
+        "weather-epw",
+        vec![head("tests/data/epw_amsterdam_iwec_jun18-22.epw", 36)],
+        parse_epw,
+        "wx.epw",
+    );
+}
+
+#[test]
+fn forcing_csv() {
+    let seeds = [head("tests/data/therm_ref_forcing.csv", 40)];
+    let path = Path::new("forcing.csv");
+    campaign("forcing-csv", mutation(seeds.len()), |(k, edits), tally| {
+        let t = text(&apply(&seeds[k], &edits));
+        match irsig::therm::forcing_csv::parse_forcing_csv(path, &t) {
+            Ok(f) => {
+                tally.ok();
+                for r in &f {
+                    let v = [
+                        r.t_s,
+                        r.air_temp_k,
+                        r.sky_temp_k,
+                        r.wind_speed_m_s,
+                        r.dni_w_m2,
+                        r.dhi_w_m2,
+                        r.ghi_w_m2,
+                    ];
+                    require!(v.iter().all(|x| x.is_finite()), "non-finite forcing {v:?}");
+                }
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&format!("{e:#}"), "forcing.csv")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+/// A small valid IRSIG-ATMOS table (4 wavenumbers, 2 nodes per axis).
+fn tiny_table(byteplanes: bool) -> Vec<u8> {
+    let mut h = String::from(
+        "IRSIG-ATMOS 1\nname tiny\ndescription fuzz seed\ncommand none\nwavenumber_cm1 500 20 4\n",
+    );
+    let mut n_values = 0;
+    for (q, axes) in irsig::atmos::table::REQUIRED {
+        let mut line = format!("quantity {q} unit=W_m-2");
+        for a in *axes {
+            line += &format!(" {a}=0,45");
+        }
+        h += &line;
+        h.push('\n');
+        n_values += 4 << axes.len();
+    }
+    h += if byteplanes {
+        "data f32le-byteplanes\n"
+    } else {
+        "data f32le\n"
+    };
+    let mut b = h.into_bytes();
+    for i in 0..n_values {
+        b.extend_from_slice(&(0.5f32 + i as f32 * 1e-3).to_le_bytes());
+    }
+    b
+}
+
+#[test]
+fn atmosphere_table() {
+    let seeds = [tiny_table(false), tiny_table(true)];
+    assert!(irsig::atmos::AtmosTable::from_bytes(&seeds[0], "t.atm").is_ok());
+    assert!(irsig::atmos::AtmosTable::from_bytes(&seeds[1], "t.atm").is_ok());
+    campaign("atmos-table", mutation(seeds.len()), |(k, edits), tally| {
+        let b = apply(&seeds[k], &edits);
+        match irsig::atmos::AtmosTable::from_bytes(&b, "t.atm") {
+            Ok(t) => {
+                tally.ok();
+                for w in &t.wavenumber_cm1 {
+                    in_bound(&bounds::atmos_table::WAVENUMBER, *w, "table")?;
+                }
+                for q in &t.quantities {
+                    require!(
+                        q.data.iter().all(|v| v.is_finite()),
+                        "non-finite table data"
+                    );
+                    require!(
+                        q.data.len() == q.n_spectra() * t.wavenumber_cm1.len(),
+                        "table size mismatch"
+                    );
+                }
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "t.atm")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+/// Renders that the scene targets may do (each costs ~0.1-1 s):
+/// `IRSIG_FUZZ_RENDERS` (default 8) per target.
+fn render_budget() -> u32 {
+    std::env::var("IRSIG_FUZZ_RENDERS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(8)
+}
+
+/// Accepted scene: materials inside their bounds, finite camera; some are
+/// rendered small (8x8, no supersampling) and every plane is checked.
+fn scene_ok(s: &irsig::scene::LoadedScene, text: &str, renders: &AtomicU32) -> R {
+    use irsig::bounds::material as M;
+    for m in &s.materials {
+        for (b, v) in [
+            (M::DENSITY, m.density_kg_m3),
+            (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
+            (M::CONDUCTIVITY, m.conductivity_w_mk),
+            (M::THICKNESS, m.thickness_m),
+            (M::SOLAR_ABSORPTIVITY, m.solar_absorptivity),
+            (M::THERMAL_EMISSIVITY, m.thermal_emissivity),
+            (M::INTERNAL_POWER, m.internal_power_w_m2),
+        ] {
+            in_bound(&b, v, &m.name)?;
+        }
+    }
+    require!(
+        s.camera.position_m.iter().all(|v| v.is_finite()),
+        "non-finite camera position accepted"
+    );
+    if renders.fetch_add(1, Ordering::Relaxed) < render_budget() {
+        let small = [
+            ("sensor.width_px", "8"),
+            ("sensor.height_px", "8"),
+            ("render.supersample", "1"),
+        ]
+        .map(|(k, v)| (k.to_string(), v.to_string()));
+        let t = irsig::scene::apply_overrides(&s.path, text, &small)
+            .map_err(|e| TestCaseError::fail(format!("small overrides refused: {e}")))?;
+        let small = irsig::scene::load_text(&s.path, t)
+            .map_err(|e| TestCaseError::fail(format!("small scene refused: {e}")))?;
+        // the render itself checks every plane (render::pixel::check_finite)
+        if let Ok(r) = irsig::render::render_scene(small, None, None) {
+            for p in &r.frame.planes.planes {
+                let may_be_nan = irsig::render::pixel::SURFACE_PLANES.contains(&p.name.as_str());
+                require!(
+                    may_be_nan || p.data.iter().all(|v| v.is_finite()),
+                    "non-finite {} plane from an accepted scene",
+                    p.name
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn scene_seeds() -> Vec<(PathBuf, Vec<u8>)> {
+    [
+        "scenes/plate/scene.toml",
+        "scenes/airfield/scene-constant.toml",
+    ]
+    .iter()
+    .map(|p| (root().join(p), read(p)))
+    .collect()
+}
+
+#[test]
+fn scene_toml() {
+    let seeds = scene_seeds();
+    let renders = AtomicU32::new(0);
+    campaign("scene-toml", mutation(seeds.len()), |(k, edits), tally| {
+        let (path, seed) = &seeds[k];
+        let t = text(&apply(seed, &edits));
+        match irsig::scene::load_text(path, t.clone()) {
+            Ok(s) => {
+                tally.ok();
+                scene_ok(&s, &t, &renders)?;
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "scene")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+/// Scene keys that `--set` may override.
+const KEYS: &[&str] = &[
+    "site.latitude_deg",
+    "site.longitude_deg",
+    "site.elevation_m",
+    "site.utc_offset_h",
+    "time.local",
+    "weather.constant.wind_m_s",
+    "weather.constant.air_min_c",
+    "weather.constant.air_max_c",
+    "weather.constant.dew_point_c",
+    "weather.constant.cloud_fraction",
+    "weather.constant.pressure_pa",
+    "atmosphere.model",
+    "atmosphere.visibility_km",
+    "sensor.width_px",
+    "sensor.height_px",
+    "sensor.fov_h_deg",
+    "sensor.fov_v_deg",
+    "sensor.band",
+    "sensor.psf",
+    "sensor.noise.random_sigma_w_m2_sr_um",
+    "sensor.quantisation.bits",
+    "sensor.pose.slant_range.slant_range_m",
+    "sensor.pose.slant_range.view_zenith_deg",
+    "sensor.pose.slant_range.azimuth_deg",
+    "render.supersample",
+    "render.spectral_step_cm1",
+    "render.thermal_step_min",
+    "render.thermal_tol_k",
+    "render.shadow_interval_min",
+    "render.history_hours",
+    "render.max_memory_mib",
+    "object",
+    "materials",
+    "no.such.key",
+];
+
+/// Override values: the interesting numbers plus structured values.
+const VALUES: &[&str] = &[
+    "\"lwir\"",
+    "\"mwir\"",
+    "{ range_um = [0.2, 100] }",
+    "{ range_um = [1e-10, 1] }",
+    "{ gaussian = { sigma_px = 1e-6 } }",
+    "\"tropical\"",
+    "1900-01-01T00:00:00",
+    "2200-12-31T23:59:59",
+    "\"+262142-12-31T23:00:00\"",
+    "[1, 2]",
+    "true",
+    "\"\"",
+    "{",
+];
+
+#[test]
+fn scene_overrides() {
+    let plate = root().join("scenes/plate/scene.toml");
+    let base = String::from_utf8(read("scenes/plate/scene.toml")).unwrap();
+    let value = prop_oneof![
+        (0..INTERESTING.len()).prop_map(|i| INTERESTING[i].to_string()),
+        (0..VALUES.len()).prop_map(|i| VALUES[i].to_string()),
+    ];
+    let set = prop::collection::vec(((0..KEYS.len()).prop_map(|i| KEYS[i]), value), 1..4);
+    let renders = AtomicU32::new(0);
+    campaign("scene-set", set, |sets, tally| {
+        let kv: Vec<(String, String)> = sets
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect();
+        let text = irsig::scene::apply_overrides(&plate, &base, &kv);
+        match text.and_then(|t| irsig::scene::load_text(&plate, t.clone()).map(|s| (s, t))) {
+            Ok((s, t)) => {
+                tally.ok();
+                scene_ok(&s, &t, &renders)?;
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "scene.toml")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+#[test]
+fn material_library() {
+    let seeds = [read("scenes/materials.toml")];
+    let path = root().join("scenes/mats.toml");
+    campaign("materials", mutation(seeds.len()), |(k, edits), tally| {
+        let t = text(&apply(&seeds[k], &edits));
+        match irsig::scene::material::load_library_text(&path, t) {
+            Ok(ms) => {
+                tally.ok();
+                use irsig::bounds::material as M;
+                for m in &ms {
+                    for (b, v) in [
+                        (M::DENSITY, m.density_kg_m3),
+                        (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
+                        (M::CONDUCTIVITY, m.conductivity_w_mk),
+                        (M::THICKNESS, m.thickness_m),
+                        (M::INTERNAL_POWER, m.internal_power_w_m2),
+                        (M::SPECULARITY, m.specularity),
+                    ] {
+                        in_bound(&b, v, &m.name)?;
+                    }
+                    require!(m.slab().validate().is_ok(), "{}: slab refused", m.name);
+                }
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "mats.toml")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+#[test]
+fn obj_mesh() {
+    let seeds = [
+        read("scenes/plate/obj/plate.obj"),
+        read("scenes/plate/obj/ground.obj"),
+        read("scenes/meshes/mixed.obj"),
+    ];
+    let path = Path::new("m.obj");
+    campaign("obj", mutation(seeds.len()), |(k, edits), tally| {
+        let t = text(&apply(&seeds[k], &edits));
+        match irsig::scene::obj::parse_obj(path, &t) {
+            Ok(m) => {
+                tally.ok();
+                require!(
+                    m.positions.iter().flatten().all(|v| v.is_finite()),
+                    "non-finite vertex accepted"
+                );
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "m.obj")?;
+            }
+        }
+        Ok(())
+    });
+}
+
+const RESPONSES: &[&str] = &[
+    "# a filter curve\nwavelength_um,response\n7.5,0\n8,0.5\n9,0.95\n12,0.9\n13.5,0.3\n14,0\n",
+    "3.0,0\n3.2,1\n4.8,1\n5.0,0\n",
+    "wavelength_um;response\n0.25;0\n1;1\n19.9;1\n20;0\n",
+];
+
+/// The shipped tables' grid (500-40000 cm⁻¹ every 20).
+fn table_grid() -> SpectralGrid {
+    SpectralGrid::uniform(500.0, 20.0, 1976)
+}
+
+fn band_ok(r: &SpectralResponse) -> R {
+    for w in &r.wavelength_um {
+        in_bound(&bounds::data::WAVELENGTH_UM, *w, "response")?;
+    }
+    if let Ok(b) = Band::new(&table_grid(), r) {
+        let s: f64 = b.weights.iter().sum();
+        require!(
+            b.weights.iter().all(|w| w.is_finite()) && (s - 1.0).abs() < 1e-9,
+            "band weights not finite / not normalised: sum {s}"
+        );
+        let l = b.planck_w_m2_sr_um(300.0);
+        require!(l.is_finite() && l >= 0.0, "band radiance {l} at 300 K");
+    }
+    Ok(())
+}
+
+#[test]
+fn response_csv() {
+    let seeds: Vec<Vec<u8>> = RESPONSES.iter().map(|s| s.as_bytes().to_vec()).collect();
+    let path = Path::new("resp.csv");
+    campaign(
+        "response-csv",
+        mutation(seeds.len()),
+        |(k, edits), tally| {
+            let b = apply(&seeds[k], &edits);
+            // the radiometry's reader (irsig atmos show --band FILE)
+            match SpectralResponse::from_csv_str(&text(&b), "r.csv") {
+                Ok(r) => {
+                    tally.ok();
+                    band_ok(&r)?;
+                }
+                Err(e) => {
+                    tally.err();
+                    names_file(&e.to_string(), "r.csv")?;
+                }
+            }
+            // the scene's reader (sensor.band = { response_file })
+            match irsig::scene::parse_response(path, &text(&b)) {
+                Ok(r) => {
+                    tally.ok();
+                    band_ok(&r)?;
+                }
+                Err(e) => {
+                    tally.err();
+                    names_file(&e.to_string(), "resp.csv")?;
+                }
+            }
+            Ok(())
+        },
+    );
+}
+
+const EMISSIVITIES: &[&str] = &[
+    "# grass\nwavelength_um, 0, 60, 85\n8.0, 0.96, 0.94, 0.80\n12.0, 0.98, 0.96, 0.84\n",
+    "wavelength_um,0,30,60,89\n3,0.9,0.9,0.85,0.5\n5,0.92,0.91,0.86,0.52\n10,0.95,0.94,0.9,0.6\n",
+];
+
+#[test]
+fn emissivity_table() {
+    let seeds: Vec<Vec<u8>> = EMISSIVITIES.iter().map(|s| s.as_bytes().to_vec()).collect();
+    let path = Path::new("eps.csv");
+    campaign(
+        "emissivity-csv",
+        mutation(seeds.len()),
+        |(k, edits), tally| {
+            let t = text(&apply(&seeds[k], &edits));
+            match irsig::scene::material::parse_emissivity_table(path, &t) {
+                Ok(t) => {
+                    tally.ok();
+                    for (a, w) in [(0.0, 0.1), (45.0, 10.0), (90.0, 1e3), (-5.0, 4.0)] {
+                        let e = t.eval(a, w);
+                        require!((0.0..=1.0).contains(&e), "ε({a}°, {w} µm) = {e}");
+                    }
+                }
+                Err(e) => {
+                    tally.err();
+                    names_file(&e.to_string(), "eps.csv")?;
+                }
+            }
+            Ok(())
+        },
+    );
+}
+
+const KERNELS: &[&str] = &[
+    "# 3x3\n0.05,0.1,0.05\n0.1,0.4,0.1\n0.05,0.1,0.05\n",
+    "0,0,1,0,0\n0,1,2,1,0\n1,2,4,2,1\n0,1,2,1,0\n0,0,1,0,0\n",
+];
+
+#[test]
+fn psf_kernel() {
+    let seeds: Vec<Vec<u8>> = KERNELS.iter().map(|s| s.as_bytes().to_vec()).collect();
+    let path = Path::new("k.csv");
+    campaign("kernel-csv", mutation(seeds.len()), |(k, edits), tally| {
+        let t = text(&apply(&seeds[k], &edits));
+        match irsig::scene::parse_kernel(path, &t) {
+            Ok(kn) => {
+                tally.ok();
+                let s: f64 = kn.weights.iter().sum();
+                require!(
+                    kn.size % 2 == 1
+                        && kn.weights.len() == kn.size * kn.size
+                        && kn.weights.iter().all(|w| w.is_finite() && *w >= 0.0)
+                        && (s - 1.0).abs() < 1e-9,
+                    "kernel {}x{} sum {s}",
+                    kn.size,
+                    kn.size
+                );
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "k.csv")?;
+            }
+        }
+        Ok(())
+    });
+}
