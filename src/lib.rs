@@ -7,6 +7,7 @@
 
 pub mod atmos;
 pub mod batch;
+pub mod bench;
 pub mod bounds;
 pub mod cli;
 pub mod output;

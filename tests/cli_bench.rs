@@ -1,4 +1,4 @@
-//! `irsig bench accuracy`: the harness's table is consistent (the reference
+//! `irsig bench accuracy` and `bench speed`: the accuracy harness's table is consistent (the reference
 //! row has zero error, every requested ladder row is there) and its errors
 //! behave as the numerics say they must: the spectral integration error
 //! falls as the step is refined (trapezoid rule, O(Δν²)), and at least
@@ -131,4 +131,35 @@ fn accuracy_ladder_needs_one_knob() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--ladder needs exactly one --knob"), "{err}");
+}
+
+#[test]
+fn speed_reports_the_write_stage() {
+    let out = irsig()
+        .args([
+            "bench",
+            "speed",
+            airfield().to_str().unwrap(),
+            "--sizes",
+            "32",
+            "--subdivide",
+            "1",
+            "--set",
+            "render.history_hours=6",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let r = &rows[0];
+    let f = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k} in {r}"));
+    assert!(f("output_s") > 0.0);
+    assert!((f("total_with_output_s") - f("total_s") - f("output_s")).abs() < 1e-9);
+    assert!(f("peak_rss_mib") > 10.0, "{r}");
+    assert_eq!(r["size"], 32);
 }

@@ -1,11 +1,11 @@
-//! `irsig bench rays|speed|accuracy`: flags → [`crate::render::bench`]'s
+//! `irsig bench rays|speed|accuracy`: flags → [`crate::bench`]'s
 //! calls → tables on stdout (or JSON) and, for `accuracy`, files written by
-//! [`crate::output::bench`].
+//! [`crate::bench::report`].
 
 use std::path::PathBuf;
 
 use super::render::parse_overrides;
-use crate::render::bench::{self, AccuracyOptions, RaysOptions, SpeedOptions};
+use crate::bench::{self, AccuracyOptions, RaysOptions, SpeedOptions};
 
 #[derive(clap::Subcommand, Debug)]
 pub enum BenchCommand {
@@ -157,12 +157,12 @@ fn speed(a: SpeedArgs) -> anyhow::Result<i32> {
         return Ok(0);
     }
     println!(
-        "| px | triangles | load+BVH s | weather+sun s | trace s | thermal s | radiometry s | sensor s | total s | Mrays/s (trace) | Embree floor s | render/floor | solves | peak MiB |"
+        "| px | triangles | load+BVH s | weather+sun s | trace s | thermal s | radiometry s | sensor s | total s | write s | total+write s | Mrays/s (trace) | Embree floor s | render/floor | solves | peak MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {0}² | {1} | {2:.2} | {3:.2} | {4:.2} | {5:.2} | {6:.2} | {7:.2} | {8:.2} | {9:.1} | {10:.3} | {11:.0}x | {12} | {13:.0} |",
+            "| {0}² | {1} | {2:.2} | {3:.2} | {4:.2} | {5:.2} | {6:.2} | {7:.2} | {8:.2} | {14:.2} | {15:.2} | {9:.1} | {10:.3} | {11:.0}x | {12} | {13:.0} |",
             r.size,
             r.triangles,
             r.load_bvh_s,
@@ -176,7 +176,9 @@ fn speed(a: SpeedArgs) -> anyhow::Result<i32> {
             r.embree_floor_s,
             r.ratio_to_floor,
             r.thermal_solves,
-            r.peak_rss_mib
+            r.peak_rss_mib,
+            r.output_s,
+            r.total_with_output_s
         );
     }
     Ok(0)
@@ -198,7 +200,7 @@ fn accuracy(a: AccuracyArgs) -> anyhow::Result<i32> {
         candidate: parse_overrides(&a.candidate)?,
     };
     let rows = bench::accuracy(&opts, &mut |what| eprintln!("bench accuracy: {what}"))?;
-    crate::output::bench::write_accuracy(&a.output, &rows)?;
+    crate::bench::report::write_accuracy(&a.output, &rows)?;
     print!("{}", bench::accuracy::to_csv(&rows));
     Ok(0)
 }

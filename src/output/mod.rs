@@ -6,7 +6,6 @@
 //! last, so an interrupted run never leaves a half-written file or a mixed
 //! set that looks complete.
 
-pub mod bench;
 pub mod envi;
 pub mod exr;
 pub mod frame;

@@ -16,7 +16,6 @@
 //! never on thread scheduling.
 
 pub mod atmosphere;
-pub mod bench;
 pub mod cancel;
 pub mod image;
 pub mod memory;

@@ -2,13 +2,15 @@
 //! shells over them): ray throughput of the tracer backends ([`rays`]),
 //! stage times against the pure-Embree ray floor ([`speed`]) and run time
 //! against error, knob by knob ([`accuracy`]). Each takes plain-data
-//! options and returns rows (serde-serialisable); writing them is
-//! `output::bench`'s.
+//! options and returns rows (serde-serialisable); [`report`] writes
+//! accuracy's files. A harness above `render` and `output` (it renders and
+//! times the writing), as `batch` is.
 
 use std::time::Instant;
 
 pub mod accuracy;
 pub mod rays;
+pub mod report;
 pub mod speed;
 
 pub use accuracy::{AccuracyOptions, AccuracyRow, accuracy};

@@ -59,6 +59,11 @@ pub struct SpeedRow {
     pub radiometry_s: f64,
     pub sensor_s: f64,
     pub total_s: f64,
+    /// Writing the frame as `irsig render` does (EXR with every plane, PNG
+    /// quicklook, JSON summary), into a temporary folder, s.
+    pub output_s: f64,
+    /// `total_s` + `output_s`.
+    pub total_with_output_s: f64,
     pub rays: u64,
     pub mrays_per_s: f64,
     /// Time of the same numbers of primary and shadow rays at the
@@ -197,6 +202,15 @@ pub fn speed(
                 s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor;
             let total = load + conditions + stages;
             let rays = s.primary_rays + s.solar_rays + s.specular_rays;
+            let tmp = tempfile::tempdir()?;
+            let t2 = Instant::now();
+            crate::output::frame::write_frame(
+                &tmp.path().join("speed.exr"),
+                &frame,
+                |_, _| Ok("{}".into()),
+                false,
+            )?;
+            let output = t2.elapsed().as_secs_f64();
             Ok(SpeedRow {
                 size,
                 triangles: st.geometry.triangles.len(),
@@ -207,6 +221,8 @@ pub fn speed(
                 radiometry_s: s.seconds.radiometry,
                 sensor_s: s.seconds.sensor,
                 total_s: total,
+                output_s: output,
+                total_with_output_s: total + output,
                 rays,
                 mrays_per_s: rays as f64 / s.seconds.trace / 1e6,
                 embree_floor_s: floor,

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::Context;
 use plotters::prelude::*;
 
-use crate::render::bench::accuracy::{AccuracyRow, KNOBS, to_csv};
+use crate::bench::accuracy::{AccuracyRow, KNOBS, to_csv};
 
 /// Writes `accuracy.csv`, `accuracy.json` and `accuracy.svg` into `dir`
 /// (created if missing), each atomically.
