@@ -135,3 +135,46 @@ fn crosscheck_airfield_scene_has_no_unexplained_difference() {
     assert!(v["solar"]["compared"].as_u64().unwrap() > 1_000_000);
     assert!(v["triangles"].as_u64().unwrap() > 4000);
 }
+
+/// A mesh at UTM-like coordinates (500 km east, 4,800 km north) is traced
+/// in a local frame at its centre: the cross-check's counts are those of
+/// the same mesh at the origin, with no unexplained difference, and the
+/// report gives the frame's origin in world coordinates.
+#[test]
+fn crosscheck_of_a_far_mesh_equals_the_near_one() {
+    let text = std::fs::read_to_string(root().join("scenes/meshes/mixed.obj")).unwrap();
+    let far: String = text
+        .lines()
+        .map(
+            |l| match l.split_whitespace().collect::<Vec<_>>().as_slice() {
+                ["v", x, y, z] => {
+                    let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+                    format!("v {} {} {z}\n", x + 500e3, y + 4800e3)
+                }
+                _ => format!("{l}\n"),
+            },
+        )
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let mut reports = Vec::new();
+    for (name, t) in [("near.obj", &text), ("far.obj", &far)] {
+        let p = dir.path().join(name);
+        std::fs::write(&p, t).unwrap();
+        let out = irsig()
+            .args(["crosscheck", "--json", "--width", "96", "--height", "96"])
+            .arg(&p)
+            .output()
+            .unwrap();
+        let s = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(out.status.success(), "{name}: {s}");
+        let mut v: serde_json::Value = serde_json::from_str(&s).unwrap();
+        let origin = v["local_origin_m"].take();
+        reports.push((v, origin));
+    }
+    let (near, far) = (&reports[0], &reports[1]);
+    assert_eq!(near.0, far.0, "the far mesh's cross-check differs");
+    for k in 0..2 {
+        let d = far.1[k].as_f64().unwrap() - near.1[k].as_f64().unwrap();
+        assert_eq!(d, [500e3, 4800e3][k], "{:?} vs {:?}", far.1, near.1);
+    }
+}

@@ -128,8 +128,12 @@ pub struct Report {
     pub solar: Counts,
     /// Occlusion answers (`occluded` queries) compared for solar rays.
     pub occlusion: Counts,
-    /// Up to `max_examples` unexplained differences.
+    /// Up to `max_examples` unexplained differences; their ray origins are
+    /// in the tracer's local frame.
     pub examples: Vec<Example>,
+    /// World coordinates of that frame's origin (`scene::frame`), m: add
+    /// it to an example's origin for the scene's coordinates.
+    pub local_origin_m: [f64; 3],
 }
 
 impl Report {
@@ -173,6 +177,12 @@ impl Report {
                 c.surface_start,
                 c.explained(),
                 c.unexplained
+            );
+        }
+        if !self.examples.is_empty() {
+            s += &format!(
+                "ray origins below are in the tracer's local frame, origin {:?} m (world)\n",
+                self.local_origin_m
             );
         }
         for e in &self.examples {

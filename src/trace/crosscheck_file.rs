@@ -28,7 +28,8 @@ pub struct MeshView {
 /// the scene loader's line-numbered errors, in a local frame whose origin
 /// is the centre of its bounds rounded to whole metres (see
 /// `scene::frame`: so that far-off coordinates keep their precision).
-pub fn load_obj(path: &Path) -> anyhow::Result<Geometry> {
+/// Returns the geometry and the world coordinates of that origin.
+pub fn load_obj(path: &Path) -> anyhow::Result<(Geometry, [f64; 3])> {
     let m = crate::scene::obj::load_obj(path)?;
     let (lo, hi) = m
         .positions
@@ -51,7 +52,9 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Geometry> {
         .iter()
         .flat_map(|f| (1..f.verts.len() - 1).map(move |k| [f.verts[0], f.verts[k], f.verts[k + 1]]))
         .collect();
-    Geometry::new(positions, triangles).with_context(|| format!("{}: bad geometry", path.display()))
+    let g = Geometry::new(positions, triangles)
+        .with_context(|| format!("{}: bad geometry", path.display()))?;
+    Ok((g, origin.to_array()))
 }
 
 /// A camera looking at the centre of `bounds` from the south-west, 35° off
@@ -115,9 +118,11 @@ pub fn crosscheck_file(input: &Path, mesh: MeshView) -> anyhow::Result<Report> {
     if is_scene {
         return crosscheck_scene(&crate::scene::load(input)?);
     }
-    let g = load_obj(input)?;
+    let (g, origin) = load_obj(input)?;
     let cam = oblique_camera(g.bounds(), mesh.width, mesh.height);
-    crosscheck_geometry(g, &cam, &sun_arc(mesh.sun_samples))
+    let mut report = crosscheck_geometry(g, &cam, &sun_arc(mesh.sun_samples))?;
+    report.local_origin_m = origin;
+    Ok(report)
 }
 
 /// Cross-checks the backends on a loaded scene: its geometry in the
@@ -127,7 +132,9 @@ pub fn crosscheck_scene(s: &crate::scene::LoadedScene) -> anyhow::Result<Report>
     let positions = s.positions.iter().map(|p| Vec3::from(*p)).collect();
     let g = Geometry::new(positions, s.triangles.clone())
         .with_context(|| format!("{}: bad geometry", s.path.display()))?;
-    crosscheck_geometry(g, &s.local_camera, &scene_sun_dirs(s))
+    let mut report = crosscheck_geometry(g, &s.local_camera, &scene_sun_dirs(s))?;
+    report.local_origin_m = s.frame.origin_m;
+    Ok(report)
 }
 
 fn crosscheck_geometry(
