@@ -100,7 +100,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         note(&wrote);
         let mut v = serde_json::to_value(s)?;
         v["memory"] = serde_json::json!({
-            "peak_resident_mib": crate::render::bench::peak_rss_mib(),
+            "peak_resident_mib": crate::bench::peak_rss_mib(),
             "estimated_mib": memory.total_mib,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
