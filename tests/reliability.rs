@@ -360,4 +360,19 @@ fn scene_times_outside_1900_2200_are_refused() {
         err.contains("bad.toml:19:") && err.contains("year"),
         "{err}"
     );
+    // and the sun's --time (RFC 3339 allows years up to 9999)
+    let (code, err) = irsig(&[
+        "sun",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--time",
+        "9999-06-21T12:00:00Z",
+    ]);
+    assert_ne!(code, 0, "{err}");
+    assert!(
+        err.contains("`year` = 9999 is out of range: expected 1900 <= year <= 2200"),
+        "{err}"
+    );
 }

@@ -12,10 +12,16 @@ pub const TIME_FORMAT_HELP: &str =
 
 /// Parses an RFC 3339 time with a UTC offset (`irsig sun --time`); the
 /// error says what format is expected.
+/// Years outside [`crate::bounds::time::YEAR`] are refused.
 pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
-    DateTime::parse_from_rfc3339(s.trim())
+    use chrono::Datelike;
+    let t = DateTime::parse_from_rfc3339(s.trim())
         .map(|t| t.with_timezone(&Utc))
-        .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))
+        .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))?;
+    crate::bounds::time::YEAR
+        .check(t.year().into())
+        .map_err(|m| format!("time '{s}': {m}"))?;
+    Ok(t)
 }
 
 /// The solar position and its inputs; serialises as `irsig sun --json`
