@@ -180,7 +180,7 @@ impl Scene {
 
     /// `irsig check --json` as JSON text.
     fn check_json(&self) -> PyResult<String> {
-        anyhow_py(serde_json::to_string(&irsig::scene::summary::summarize(
+        anyhow_py(serde_json::to_string(&irsig::render::memory::check_report(
             &self.scene,
         )))
     }

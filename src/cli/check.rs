@@ -4,10 +4,9 @@
 
 use std::path::PathBuf;
 
-use crate::render::memory::{MemoryEstimate, estimate};
+use crate::render::memory::{MemoryEstimate, check_report};
 use crate::scene;
 use crate::scene::summary::SceneSummary;
-use crate::scene::summary::summarize;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -180,14 +179,11 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let s = scene::load(&a.scene)?;
-    let sum = summarize(&s);
-    let mem = estimate(&s);
+    let r = check_report(&s);
     if a.json {
-        let mut v = serde_json::to_value(&sum)?;
-        v["memory"] = serde_json::to_value(&mem)?;
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        println!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        print!("{}{}", render_text(&sum), memory_text(&mem));
+        print!("{}{}", render_text(&r.summary), memory_text(&r.memory));
     }
     Ok(0)
 }
@@ -200,6 +196,9 @@ mod tests {
     fn text_of_the_airfield() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let s = scene::load(&root.join("scenes/airfield/scene.toml")).unwrap();
-        assert!(render_text(&summarize(&s)).contains("specular bounce rays    yes"));
+        assert!(
+            render_text(&crate::scene::summary::summarize(&s))
+                .contains("specular bounce rays    yes")
+        );
     }
 }

@@ -145,3 +145,20 @@ pub fn check(scene: &LoadedScene) -> anyhow::Result<MemoryEstimate> {
     }
     Ok(e)
 }
+
+/// What `irsig check` reports (and Python's `Scene.check()`): the scene's
+/// summary and the render's memory estimate, one object.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CheckReport {
+    #[serde(flatten)]
+    pub summary: crate::scene::summary::SceneSummary,
+    pub memory: MemoryEstimate,
+}
+
+/// The [`CheckReport`] of a loaded scene.
+pub fn check_report(scene: &LoadedScene) -> CheckReport {
+    CheckReport {
+        summary: crate::scene::summary::summarize(scene),
+        memory: estimate(scene),
+    }
+}
