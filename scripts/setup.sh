@@ -11,8 +11,10 @@ if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi
 # libclang for bindgen, a C compiler for the shim; python3-venv for the
 # Python package's virtual environment; libnetcdf for the merged batch stack
 # (`irsig batch merge`); Slurm and munge for the batch runner's job arrays
-# (scripts/slurm-test.sh starts a throw-away one-node cluster).
-PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv libnetcdf-dev slurm-wlm munge"
+# (scripts/slurm-test.sh starts a throw-away one-node cluster); gdal-bin
+# (gdalinfo, gdal_translate, gdaltransform) for the tests that read the
+# georeferenced outputs.
+PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv libnetcdf-dev slurm-wlm munge gdal-bin"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -302,5 +302,5 @@ fn killed_sequence_resumes_from_its_finished_frames() {
     assert_eq!(kept_and_written(&stdout), (0, 3), "{stdout}");
     let ix: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("index.json")).unwrap()).unwrap();
-    assert_eq!(ix["band"], "Lwir");
+    assert_eq!(ix["band"], "lwir 8-14 um");
 }

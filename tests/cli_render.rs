@@ -59,10 +59,30 @@ fn render_writes_exr_png_json_and_envi_in_both_bands() {
         ] {
             assert!(names.contains(&want), "{want} missing from {names:?}");
         }
+        // The ENVI radiance cube holds the planes at the sensor's band.
         let img = std::fs::metadata(exr.with_extension("img")).unwrap().len();
-        assert_eq!(img, (chans.len() * 48 * 48 * 4) as u64);
         let hdr = std::fs::read_to_string(exr.with_extension("hdr")).unwrap();
-        assert!(hdr.contains(&format!("bands = {}", chans.len())), "{hdr}");
+        let nb = [
+            "band_radiance",
+            "sensor_radiance",
+            "emitted",
+            "path_thermal",
+        ]
+        .iter()
+        .filter(|n| hdr.contains(&format!("{n} [")))
+        .count();
+        assert_eq!(nb, 4, "{hdr}");
+        let bands: u64 = hdr
+            .lines()
+            .find_map(|l| l.strip_prefix("bands = "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(img, bands * 48 * 48 * 4);
+        assert!(
+            !hdr.contains("surface_temperature"),
+            "truth is in x_truth.img: {hdr}"
+        );
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(exr.with_extension("json")).unwrap())
                 .unwrap();
@@ -104,7 +124,10 @@ fn render_bad_flags_are_clear_errors() {
         "--set",
         "sensor.height_px=8",
     ]);
-    assert!(!ok && err.contains("must be an .exr path"), "{err}");
+    assert!(
+        !ok && err.contains("must be an .exr or a .tif path"),
+        "{err}"
+    );
     assert!(!png.exists());
     let exr = dir.path().join("x.exr");
     let (ok, err) = run(&[

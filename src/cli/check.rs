@@ -15,6 +15,10 @@ pub struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Override a scene key before loading, as for `irsig render`
+    /// (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
 fn fmt3(v: [f64; 3]) -> String {
@@ -178,7 +182,8 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
-    let s = scene::load(&a.scene)?;
+    let overrides = super::render::parse_overrides(&a.set)?;
+    let s = scene::load_with_overrides(&a.scene, &overrides)?;
     let r = check_report(&s);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

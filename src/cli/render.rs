@@ -1,13 +1,12 @@
-//! `irsig render <scene> -o <path>.exr`: renders the scene and writes the
-//! EXR (every plane), a PNG quicklook and a JSON summary beside it, and an
-//! ENVI cube with `--envi`.
+//! `irsig render <scene> -o <path>.exr|.tif`: renders the scene and writes
+//! the EXR or the GeoTIFF (every plane), a PNG quicklook and a JSON summary
+//! beside it, and the other formats asked for (`--exr`, `--geotiff`,
+//! `--envi`); see [`crate::output::frame`].
 
 use std::path::PathBuf;
 
-use anyhow::bail;
-
 use super::log::{ProgressReporter, note};
-use crate::output::frame::write_rendered;
+use crate::output::frame::{Formats, write_rendered};
 use crate::render::{Progress, prepare_conditions, prepare_static, render_conditions};
 use crate::trace::Backend;
 
@@ -15,8 +14,10 @@ use crate::trace::Backend;
 pub struct Args {
     /// The scene file (TOML).
     pub scene: PathBuf,
-    /// Output EXR path; the PNG quicklook (.png), the JSON summary (.json)
-    /// and the ENVI cube (.img/.hdr, with --envi) are written beside it.
+    /// Output path: `x.exr` (OpenEXR) or `x.tif` (GeoTIFF, with the
+    /// float64 geolocation in `x_geo.tif`); the PNG quicklook (.png), the
+    /// JSON summary (.json) and the other formats asked for are written
+    /// beside it.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Override a scene key before loading, e.g. `--set sensor.band=lwir`
@@ -25,9 +26,17 @@ pub struct Args {
     /// `--set 'sensor.pose={slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}'`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Also write an ENVI BSQ float32 cube of every plane.
+    /// Also write ENVI cubes: the radiance cube (x.img/.hdr), the float64
+    /// truth cube (x_truth.img) and the material classification
+    /// (x_class.img).
     #[arg(long)]
     pub envi: bool,
+    /// Also write the georeferenced GeoTIFF (x.tif and x_geo.tif).
+    #[arg(long)]
+    pub geotiff: bool,
+    /// Also write the EXR (x.exr), when -o names a .tif.
+    #[arg(long)]
+    pub exr: bool,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,
@@ -49,7 +58,7 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
             Some((k, v)) if !k.trim().is_empty() => {
                 Ok((k.trim().to_string(), v.trim().to_string()))
             }
-            _ => bail!("--set {s}: expected KEY=VALUE, e.g. --set sensor.band=lwir"),
+            _ => anyhow::bail!("--set {s}: expected KEY=VALUE, e.g. --set sensor.band=lwir"),
         })
         .collect()
 }
@@ -58,9 +67,7 @@ use crate::render::thread_pool;
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
-    if a.output.extension().and_then(|e| e.to_str()) != Some("exr") {
-        bail!("-o {}: the output must be an .exr path", a.output.display());
-    }
+    let formats = Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?;
     crate::output::check_output_file(&a.output)?;
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;
@@ -86,7 +93,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         }
         Ok(image)
     })?;
-    write_rendered(&a.output, &image, a.envi, None)?;
+    write_rendered(&a.output, &image, formats, None)?;
     let s = &image.frame.stats;
     let wrote = format!(
         "wrote {} ({}x{}), {:.2} s",

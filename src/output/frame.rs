@@ -1,27 +1,109 @@
-//! A rendered frame's files: the EXR with every plane, the PNG quicklook of
-//! `sensor_radiance` (2-98 % stretch, stated in the PNG and the JSON), the
-//! JSON summary and optionally an ENVI cube, all beside one another, as one
-//! [`OutputSet`] whose marker is the JSON.
+//! A rendered frame's files, as one [`OutputSet`] whose marker is the JSON
+//! summary (written last): the PNG quicklook of `sensor_radiance` (2-98 %
+//! stretch, stated in the PNG and the JSON), and in the formats asked for
+//!
+//! * EXR: every plane (`x.exr`);
+//! * GeoTIFF: every plane as float32 bands (`x.tif`) and the geolocation in
+//!   float64 (`x_geo.tif`: lat, lon, map x, map y), georeferenced;
+//! * ENVI: the radiance cube (`x.img`: the planes at the sensor band, with
+//!   wavelength, fwhm, acquisition time, sun angles, map info), the truth
+//!   cube in float64 (`x_truth.img`: material, facet, case, sun, range,
+//!   angles, temperature, ground x/y/z, lat/lon, map x/y) and the material
+//!   classification (`x_class.img`: class names and colours).
+//!
+//! docs/render.md documents every file and field.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::bail;
 use serde::Serialize;
 
-use super::{OutputSet, envi::write_envi, exr::write_exr, quicklook::write_png};
+use super::envi::{list, write_cube};
+use super::geotiff::{Band, Placement, placement, write_geotiff};
+use super::{OutputSet, exr::write_exr, quicklook::write_png};
 use crate::render::{Frame, Rendered, Stats};
+use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 
-/// The JSON summary written beside the image.
+/// The formats of a render's output (the PNG and the JSON are always
+/// written).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Formats {
+    pub exr: bool,
+    pub geotiff: bool,
+    pub envi: bool,
+}
+
+impl Formats {
+    /// The formats of `-o path` (its extension: `.exr`, `.tif`/`.tiff`)
+    /// plus those asked for with flags.
+    pub fn of_path(path: &Path, exr: bool, geotiff: bool, envi: bool) -> anyhow::Result<Formats> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let mut f = Formats { exr, geotiff, envi };
+        match ext.as_deref() {
+            Some("exr") => f.exr = true,
+            Some("tif" | "tiff") => f.geotiff = true,
+            _ => bail!(
+                "-o {}: the output must be an .exr or a .tif path",
+                path.display()
+            ),
+        }
+        Ok(f)
+    }
+}
+
+/// The planes of the radiance cube: quantities at the sensor's band.
+const RADIOMETRIC: [&str; 10] = [
+    "band_radiance",
+    "apparent_temperature",
+    "emitted",
+    "reflected_solar",
+    "reflected_sky",
+    "reflected_background",
+    "path_thermal",
+    "path_scattered",
+    "sensor_radiance",
+    "dn",
+];
+
+/// One entry of the material table.
+#[derive(Clone, Debug, Serialize)]
+pub struct MaterialEntry {
+    /// The `material` plane's value (-1: no surface).
+    pub index: i64,
+    pub name: String,
+    /// The classification's class (0: no surface).
+    pub class: u32,
+}
+
+/// What built this image and from what (recorded in every output).
 #[derive(Serialize)]
 pub struct Summary<'a> {
+    pub irsig: crate::version::BuildInfo,
     pub scene: String,
+    /// The `--set` overrides applied, `key=value`.
+    pub overrides: Vec<String>,
+    /// RFC 3339, UTC (`Z`).
     pub image_time_utc: String,
     pub sun_zenith_deg: f64,
     pub sun_azimuth_deg: f64,
+    pub sun_elevation_deg: f64,
+    /// Lower-case identifier and limits, e.g. `lwir 8-14 um`.
     pub band: String,
+    /// The band's spectral support, µm.
+    pub band_um: [f64; 2],
     pub estimators: String,
     /// The atmosphere table, why, and how it followed the weather.
     pub atmosphere: &'a crate::render::atmosphere::AtmosphereReport,
+    /// The sensor's pose (as the scene states it) and camera.
+    pub pose: &'a crate::scene::spec::SensorPose,
+    pub camera: &'a crate::scene::Camera,
+    /// CRS, footprint, GSD, affine transform, ground origin.
+    pub georef: &'a Georef,
+    /// The material table (the `material` plane and the classification).
+    pub materials: Vec<MaterialEntry>,
     /// What the quicklook shows and its stretch.
     pub quicklook: String,
     /// The other files of this output set (names beside this JSON, which
@@ -42,60 +124,6 @@ pub fn plane_list(frame: &Frame) -> Vec<(String, String)> {
         .collect()
 }
 
-/// Writes a frame's outputs as one [`OutputSet`]: the EXR at `exr` (which
-/// must end in `.exr`; its folder is created), the PNG quicklook, with
-/// `envi` an ENVI cube, and last the JSON summary (the set's marker) that
-/// `summary_of(quicklook description, file names of the others)` makes.
-pub fn write_frame(
-    exr: &Path,
-    frame: &Frame,
-    summary_of: impl FnOnce(String, Vec<String>) -> anyhow::Result<String>,
-    envi: bool,
-) -> anyhow::Result<()> {
-    if exr.extension().and_then(|e| e.to_str()) != Some("exr") {
-        bail!("-o {}: the output must be an .exr path", exr.display());
-    }
-    let json_path = exr.with_extension("json");
-    let mut set = OutputSet::new(&json_path)?;
-    let p = &frame.planes;
-    write_exr(&mut set, exr, p)?;
-    let ql = p
-        .get("sensor_radiance")
-        .expect("render writes sensor_radiance");
-    let s = write_png(
-        &mut set,
-        &exr.with_extension("png"),
-        p.width,
-        p.height,
-        &ql.data,
-        "sensor_radiance W m-2 sr-1 um-1",
-    )?;
-    let quicklook = format!(
-        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
-        s.lo, s.hi
-    );
-    if envi {
-        write_envi(
-            &mut set,
-            &exr.with_extension("img"),
-            p,
-            None,
-            "irsig render planes",
-        )?;
-    }
-    let files = set
-        .files()
-        .filter_map(|f| f.file_name())
-        .map(|n| n.to_string_lossy().into_owned())
-        .collect();
-    let json = summary_of(quicklook, files)?;
-    set.stage(&json_path, |w| {
-        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
-    })?;
-    set.commit()?;
-    Ok(())
-}
-
 /// The JSON summary at `json` when its output set is complete: the file
 /// exists and parses, and every file its `files` list names exists beside
 /// it; `None` otherwise (no set, or an interrupted one).
@@ -110,42 +138,378 @@ pub fn read_complete(json: &Path) -> Option<serde_json::Value> {
     all_there.then_some(v)
 }
 
-/// Writes a rendered image's files as `irsig render` does: the EXR at
-/// `exr`, the PNG quicklook, the JSON [`Summary`] and with `envi` an ENVI
-/// cube beside it. `frame_info` (a sequence frame's description) is added
-/// to the summary as its `frame` key (the summary's keys are then sorted).
+/// `base` with `suffix` added to its file stem and extension `ext`
+/// (`out/x.exr`, `_geo`, `tif` → `out/x_geo.tif`).
+fn sibling(base: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = base
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    base.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+/// A distinct colour per class (golden-angle hues), class 0 black.
+fn class_colour(class: u32) -> [u8; 3] {
+    if class == 0 {
+        return [0, 0, 0];
+    }
+    let h = (class as f64 * 137.507_764) % 360.0 / 60.0;
+    let x = (1.0 - (h % 2.0 - 1.0).abs()) * 200.0 + 40.0;
+    let (c, x) = (240.0, x);
+    let (r, g, b) = match h as u32 {
+        0 => (c, x, 40.0),
+        1 => (x, c, 40.0),
+        2 => (40.0, c, x),
+        3 => (40.0, x, c),
+        4 => (x, 40.0, c),
+        _ => (c, 40.0, x),
+    };
+    [r as u8, g as u8, b as u8]
+}
+
+/// ENVI `map info` (and `coordinate system string`) for an affine
+/// transform, or `geo points` (pixel → lat/lon tie points, ENVI's 1-based
+/// pixel coordinates) for an oblique view.
+fn envi_georef_fields(g: &Georef, geoloc: &Geolocation, width: u32) -> Vec<(String, String)> {
+    let mut f = Vec::new();
+    match g.geotransform {
+        Some(gt) => {
+            // Rotation counter-clockwise, degrees, as GDAL reads it.
+            let rot = gt[4].atan2(gt[1]).to_degrees();
+            let (xs, ys) = (gt[1].hypot(gt[4]), gt[2].hypot(gt[5]));
+            let proj = match g.crs.utm {
+                Some((zone, north)) => format!(
+                    "UTM, 1, 1, {:.4}, {:.4}, {xs:.9}, {ys:.9}, {zone}, {}, WGS-84",
+                    gt[0],
+                    gt[3],
+                    if north { "North" } else { "South" }
+                ),
+                None => format!(
+                    "Orthographic, 1, 1, {:.4}, {:.4}, {xs:.9}, {ys:.9}, WGS-84",
+                    gt[0], gt[3]
+                ),
+            };
+            f.push((
+                "map info".into(),
+                format!("{{{proj}, units=Meters, rotation={rot:.9}}}"),
+            ));
+            f.push((
+                "coordinate system string".into(),
+                format!("{{{}}}", g.crs.wkt),
+            ));
+        }
+        None => {
+            if let Placement::TiePoints(tp) =
+                placement(g, width, &geoloc.lat_deg, &geoloc.lon_deg, 8)
+            {
+                // placement() gives (col, row, lat, lon) for these inputs.
+                let v: Vec<String> = tp
+                    .iter()
+                    .flat_map(|p| {
+                        [
+                            format!("{:.4}", p[0] + 1.0),
+                            format!("{:.4}", p[1] + 1.0),
+                            format!("{:.9}", p[2]),
+                            format!("{:.9}", p[3]),
+                        ]
+                    })
+                    .collect();
+                f.push(("geo points".into(), format!("{{{}}}", v.join(", "))));
+            }
+        }
+    }
+    f
+}
+
+/// Writes a rendered image's files as `irsig render` does, beside `path`
+/// (whose extension is that of the main format): see the module docs.
+/// `frame_info` (a sequence frame's description) is added to the summary
+/// as its `frame` key (the summary's keys are then sorted).
 pub fn write_rendered(
-    exr: &Path,
+    path: &Path,
     r: &Rendered,
-    envi: bool,
+    formats: Formats,
     frame_info: Option<serde_json::Value>,
 ) -> anyhow::Result<()> {
-    write_frame(
-        exr,
-        &r.frame,
-        |quicklook, files| {
-            let summary = Summary {
-                scene: r.scene.clone(),
-                image_time_utc: r.image_time_utc.to_rfc3339(),
-                sun_zenith_deg: r.sun_zenith_deg,
-                sun_azimuth_deg: r.sun_azimuth_deg,
-                band: r.band.clone(),
-                estimators: r.estimators.clone(),
-                atmosphere: &r.atmosphere,
-                quicklook,
-                files,
-                planes: plane_list(&r.frame),
-                stats: &r.frame.stats,
-            };
-            Ok(match frame_info {
-                None => serde_json::to_string_pretty(&summary)?,
-                Some(info) => {
-                    let mut v = serde_json::to_value(summary)?;
-                    v["frame"] = info;
-                    serde_json::to_string_pretty(&v)?
-                }
+    let json_path = path.with_extension("json");
+    let mut set = OutputSet::new(&json_path)?;
+    let p = &r.frame.planes;
+    let (w, h) = (p.width, p.height);
+    let g = &r.georef;
+    let time = r
+        .image_time_utc
+        .to_rfc3339_opts(chrono::SecondsFormat::Secs, true);
+    let sun_el = 90.0 - r.sun_zenith_deg;
+    let materials: Vec<MaterialEntry> = r
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, n)| MaterialEntry {
+            index: i as i64,
+            name: n.clone(),
+            class: i as u32 + 1,
+        })
+        .collect();
+    let plane = |name: &str| p.get(name).map(|pl| pl.data.as_slice());
+    let nan = vec![f32::NAN; (w * h) as usize];
+    let gx = plane("ground_x").unwrap_or(&nan);
+    let gy = plane("ground_y").unwrap_or(&nan);
+    let gz = plane("ground_z").unwrap_or(&nan);
+    let geo = Geo::for_georef(g)?;
+    let geoloc = geolocate(&geo, g.ground_origin_m, gx, gy, gz);
+
+    if formats.exr {
+        write_exr(&mut set, &path.with_extension("exr"), p)?;
+    }
+    let ql = p
+        .get("sensor_radiance")
+        .expect("render writes sensor_radiance");
+    let s = write_png(
+        &mut set,
+        &path.with_extension("png"),
+        w,
+        h,
+        &ql.data,
+        "sensor_radiance W m-2 sr-1 um-1",
+    )?;
+    let quicklook = format!(
+        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
+        s.lo, s.hi
+    );
+    let common_meta: Vec<(String, String)> = vec![
+        ("irsig_version".into(), crate::version::LONG_VERSION.into()),
+        ("scene".into(), r.scene.clone()),
+        ("image_time_utc".into(), time.clone()),
+        ("sun_azimuth_deg".into(), format!("{}", r.sun_azimuth_deg)),
+        ("sun_elevation_deg".into(), format!("{sun_el}")),
+        ("band".into(), r.band.clone()),
+        (
+            "ground_origin_m".into(),
+            format!(
+                "{} {} {}",
+                g.ground_origin_m[0], g.ground_origin_m[1], g.ground_origin_m[2]
+            ),
+        ),
+        ("crs".into(), g.crs.name.clone()),
+        (
+            "materials".into(),
+            serde_json::to_string(&materials).unwrap_or_default(),
+        ),
+    ];
+    if formats.geotiff {
+        let bands: Vec<Band<f32>> = p
+            .planes
+            .iter()
+            .map(|pl| Band {
+                name: &pl.name,
+                unit: &pl.unit,
+                data: &pl.data,
             })
-        },
-        envi,
-    )
+            .collect();
+        let place = placement(g, w, &geoloc.map_x_m, &geoloc.map_y_m, 10);
+        write_geotiff(
+            &mut set,
+            &path.with_extension("tif"),
+            (w, h),
+            &bands,
+            Some(&g.crs),
+            &place,
+            &common_meta,
+        )?;
+        let geo_bands = [
+            Band {
+                name: "lat",
+                unit: "deg",
+                data: geoloc.lat_deg.as_slice(),
+            },
+            Band {
+                name: "lon",
+                unit: "deg",
+                data: geoloc.lon_deg.as_slice(),
+            },
+            Band {
+                name: "map_x",
+                unit: "m",
+                data: geoloc.map_x_m.as_slice(),
+            },
+            Band {
+                name: "map_y",
+                unit: "m",
+                data: geoloc.map_y_m.as_slice(),
+            },
+        ];
+        write_geotiff(
+            &mut set,
+            &sibling(path, "_geo", "tif"),
+            (w, h),
+            &geo_bands,
+            Some(&g.crs),
+            &place,
+            &common_meta,
+        )?;
+    }
+    if formats.envi {
+        let (lo, hi) = r.band_um;
+        let geo_fields = envi_georef_fields(g, &geoloc, w);
+        let mut common = vec![
+            ("acquisition time".to_string(), time.clone()),
+            ("sun azimuth".into(), format!("{:.6}", r.sun_azimuth_deg)),
+            ("sun elevation".into(), format!("{sun_el:.6}")),
+            ("sensor type".into(), format!("irsig {}", r.band)),
+            ("data ignore value".into(), "nan".into()),
+            ("irsig version".into(), crate::version::LONG_VERSION.into()),
+        ];
+        common.extend(geo_fields);
+        // Radiance cube: the planes at the sensor's band.
+        let rad: Vec<_> = RADIOMETRIC.iter().filter_map(|n| p.get(n)).collect();
+        let names: Vec<String> = rad
+            .iter()
+            .map(|pl| format!("{} [{}]", pl.name, pl.unit))
+            .collect();
+        let bands: Vec<(&str, &[f32])> = names
+            .iter()
+            .zip(&rad)
+            .map(|(n, pl)| (n.as_str(), pl.data.as_slice()))
+            .collect();
+        let mut fields = vec![
+            ("wavelength units".to_string(), "Micrometers".to_string()),
+            (
+                "wavelength".into(),
+                list(rad.iter().map(|_| format!("{:.6}", (lo + hi) / 2.0))),
+            ),
+            (
+                "fwhm".into(),
+                list(rad.iter().map(|_| format!("{:.6}", hi - lo))),
+            ),
+            (
+                "default stretch".into(),
+                format!("{:.6} {:.6} linear", s.lo, s.hi),
+            ),
+        ];
+        fields.extend(common.iter().cloned());
+        write_cube(
+            &mut set,
+            &path.with_extension("img"),
+            (w, h),
+            &bands,
+            "ENVI Standard",
+            &format!("irsig radiance cube, {}, {time}", r.band),
+            &fields,
+        )?;
+        // Truth cube, float64: exact indices and full-precision positions.
+        let to64 = |name: &str| -> Vec<f64> {
+            plane(name).map_or_else(
+                || vec![f64::NAN; (w * h) as usize],
+                |d| d.iter().map(|&v| v as f64).collect(),
+            )
+        };
+        let abs = |d: &[f32], o: f64| -> Vec<f64> { d.iter().map(|&v| v as f64 + o).collect() };
+        let o = g.ground_origin_m;
+        let mut truth: Vec<(String, Vec<f64>)> = [
+            "material",
+            "facet",
+            "case",
+            "sun_now",
+            "hours_sunlit",
+            "range",
+            "view_angle",
+            "surface_temperature",
+        ]
+        .iter()
+        .filter_map(|n| p.get(n).map(|pl| (format!("{n} [{}]", pl.unit), to64(n))))
+        .collect();
+        truth.push(("ground_x [m scene frame]".into(), abs(gx, o[0])));
+        truth.push(("ground_y [m scene frame]".into(), abs(gy, o[1])));
+        truth.push(("ground_z [m scene frame]".into(), abs(gz, o[2])));
+        truth.push(("lat [deg]".into(), geoloc.lat_deg.clone()));
+        truth.push(("lon [deg]".into(), geoloc.lon_deg.clone()));
+        truth.push((format!("map_x [m {}]", g.crs.name), geoloc.map_x_m.clone()));
+        truth.push((format!("map_y [m {}]", g.crs.name), geoloc.map_y_m.clone()));
+        let bands: Vec<(&str, &[f64])> = truth
+            .iter()
+            .map(|(n, d)| (n.as_str(), d.as_slice()))
+            .collect();
+        write_cube(
+            &mut set,
+            &sibling(path, "_truth", "img"),
+            (w, h),
+            &bands,
+            "ENVI Standard",
+            &format!("irsig truth cube, {time}"),
+            &common,
+        )?;
+        // Material classification: class = material index + 1, 0 = none.
+        let class: Vec<u16> = plane("material")
+            .unwrap_or(&nan)
+            .iter()
+            .map(|&m| if m >= 0.0 { m as u16 + 1 } else { 0 })
+            .collect();
+        let mut names = vec!["no surface".to_string()];
+        names.extend(r.materials.iter().map(|n| n.replace([',', '{', '}'], ";")));
+        let lookup: Vec<u8> = (0..names.len() as u32).flat_map(class_colour).collect();
+        let mut fields = vec![
+            ("classes".to_string(), names.len().to_string()),
+            ("class names".into(), list(&names)),
+            ("class lookup".into(), list(&lookup)),
+        ];
+        // Class 0 is "no surface"; there are no missing values.
+        fields.extend(
+            common
+                .iter()
+                .filter(|(k, _)| k != "data ignore value")
+                .cloned(),
+        );
+        write_cube(
+            &mut set,
+            &sibling(path, "_class", "img"),
+            (w, h),
+            &[("material", class.as_slice())],
+            "ENVI Classification",
+            &format!("irsig material classification, {time}"),
+            &fields,
+        )?;
+    }
+    let files = set
+        .files()
+        .filter_map(|f| f.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .collect();
+    let summary = Summary {
+        irsig: crate::version::build_info(),
+        scene: r.scene.clone(),
+        overrides: r
+            .overrides
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect(),
+        image_time_utc: time,
+        sun_zenith_deg: r.sun_zenith_deg,
+        sun_azimuth_deg: r.sun_azimuth_deg,
+        sun_elevation_deg: sun_el,
+        band: r.band.clone(),
+        band_um: [r.band_um.0, r.band_um.1],
+        estimators: r.estimators.clone(),
+        atmosphere: &r.atmosphere,
+        pose: &r.pose,
+        camera: &r.camera,
+        georef: g,
+        materials,
+        quicklook,
+        files,
+        planes: plane_list(&r.frame),
+        stats: &r.frame.stats,
+    };
+    let json = match frame_info {
+        None => serde_json::to_string_pretty(&summary)?,
+        Some(info) => {
+            let mut v = serde_json::to_value(summary)?;
+            v["frame"] = info;
+            serde_json::to_string_pretty(&v)?
+        }
+    };
+    set.stage(&json_path, |w| {
+        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
+    })?;
+    set.commit()?;
+    Ok(())
 }

@@ -9,6 +9,7 @@
 pub mod envi;
 pub mod exr;
 pub mod frame;
+pub mod geotiff;
 pub mod quicklook;
 pub mod sequence;
 pub mod set;

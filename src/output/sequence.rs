@@ -55,7 +55,9 @@ impl FrameEntry {
             value_number: f.value.parse().ok(),
             value: f.value.clone(),
             local_time: f.local.format("%Y-%m-%dT%H:%M:%S").to_string(),
-            image_time_utc: r.image_time_utc.to_rfc3339(),
+            image_time_utc: r
+                .image_time_utc
+                .to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
             exr: format!("{}.exr", f.stem),
             png: format!("{}.png", f.stem),
             json: format!("{}.json", f.stem),
@@ -257,7 +259,12 @@ pub fn write_frame(
         "entry": entry,
     });
     let exr = out.dir.join(format!("{}.exr", f.stem));
-    write_rendered(&exr, &f.image, out.envi, Some(frame_info))?;
+    let formats = super::frame::Formats {
+        exr: true,
+        geotiff: false,
+        envi: out.envi,
+    };
+    write_rendered(&exr, &f.image, formats, Some(frame_info))?;
     Ok(entry)
 }
 

@@ -21,8 +21,20 @@ pub struct Rendered {
     pub band: String,
     /// The forcing estimators used (weather files), as text.
     pub estimators: String,
+    /// The band's spectral support, µm (lowest, highest wavelength of
+    /// non-zero response).
+    pub band_um: (f64, f64),
     /// The atmosphere table, why, and how it followed the weather.
     pub atmosphere: super::atmosphere::AtmosphereReport,
+    /// Material names, by index (the `material` plane's values).
+    pub materials: Vec<String>,
+    /// The `--set` overrides applied to the scene file.
+    pub overrides: Vec<(String, String)>,
+    /// The sensor's pose as the scene states it, and its camera.
+    pub pose: crate::scene::spec::SensorPose,
+    pub camera: crate::scene::Camera,
+    /// Where the image is on the Earth and in the output CRS.
+    pub georef: crate::scene::georef::Georef,
     /// The planes (every output plane, at output resolution) and statistics.
     pub frame: Frame,
     /// The tracer's local frame (`scene::frame`): the samples' points are
@@ -51,6 +63,14 @@ pub fn render_conditions(
     progress: ProgressFn,
 ) -> anyhow::Result<Rendered> {
     let frame = render_with(st, cond, progress)?;
+    let sc = &st.scene.scene;
+    let geo = crate::scene::georef::Geo::new(&sc.site, &sc.site.crs)?;
+    let georef = crate::scene::georef::georeference(
+        &geo,
+        &sc.site,
+        &st.scene.camera,
+        sc.sensor.pose.target_m()[2],
+    )?;
     Ok(Rendered {
         scene: st.scene.path.display().to_string(),
         image_time_utc: cond.image_time,
@@ -58,7 +78,13 @@ pub fn render_conditions(
         sun_azimuth_deg: cond.sun_now.azimuth_deg,
         band: st.band.label.clone(),
         estimators: cond.estimators.to_string(),
+        band_um: st.scene.response.support_um(),
         atmosphere: cond.atmosphere_report.clone(),
+        materials: st.scene.materials.iter().map(|m| m.name.clone()).collect(),
+        overrides: st.scene.overrides.clone(),
+        pose: sc.sensor.pose.clone(),
+        camera: st.scene.camera,
+        georef,
         frame,
         local_frame: st.scene.frame,
     })

@@ -420,7 +420,9 @@ pub fn probe(
     Ok(PixelProbe {
         scene: st.scene.path.display().to_string(),
         pixel: [x, y],
-        image_time_utc: cond.image_time.to_rfc3339(),
+        image_time_utc: cond
+            .image_time
+            .to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
         image_time_local: ctx.local(cond.image_time),
         band: st.band.label.clone(),
         spectral_bins: st.band.len(),

@@ -13,6 +13,7 @@
 pub mod camera;
 pub mod error;
 pub mod frame;
+pub mod georef;
 pub mod material;
 pub mod obj;
 pub mod spec;
@@ -103,6 +104,8 @@ pub struct LoadedScene {
     pub psf_kernel: Option<PsfKernel>,
     /// Zero-area triangles skipped over the whole scene.
     pub degenerate_skipped: usize,
+    /// The `key = value` overrides applied to the file's text (`--set`).
+    pub overrides: Vec<(String, String)>,
 }
 
 impl LoadedScene {
@@ -180,7 +183,9 @@ pub fn load_with_overrides(
         error: e,
     })?;
     let text = apply_overrides(path, &text, overrides)?;
-    load_source(path, TomlSource::from_text(path, text))
+    let mut scene = load_source(path, TomlSource::from_text(path, text))?;
+    scene.overrides = overrides.to_vec();
+    Ok(scene)
 }
 
 /// Applies `key = value` overrides to scene text (see [`load_with_overrides`]).
@@ -341,9 +346,18 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
             read_response(&file)?
         }
     };
-    // The band's label: the scene's band as written (e.g. `Lwir`).
+    // The band's label: a lower-case identifier and its limits, e.g.
+    // `lwir 8-14 um`, `range 8.1-9.2 um`, `response_file r.csv 7.6-12.1 um`.
+    let (lo_um, hi_um) = response.support_um();
     let response = SpectralResponse {
-        label: format!("{:?}", scene.sensor.band),
+        label: match &scene.sensor.band {
+            Band::Lwir => format!("lwir {lo_um}-{hi_um} um"),
+            Band::Mwir => format!("mwir {lo_um}-{hi_um} um"),
+            Band::RangeUm(_) => format!("range {lo_um}-{hi_um} um"),
+            Band::ResponseFile(f) => {
+                format!("response_file {} {lo_um:.3}-{hi_um:.3} um", f.display())
+            }
+        },
         ..response
     };
     let psf_kernel = match &scene.sensor.psf {
@@ -504,6 +518,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         response,
         psf_kernel,
         degenerate_skipped,
+        overrides: Vec::new(),
     })
 }
 

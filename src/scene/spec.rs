@@ -49,6 +49,23 @@ pub struct Site {
     pub elevation_m: f64,
     /// Offset of the local clock from UTC, hours (e.g. -4 for EDT), [-14, 14].
     pub utc_offset_h: f64,
+    /// The map CRS of the outputs' georeferencing: `"utm"` (default, the
+    /// WGS 84 / UTM zone of the site) or `"enu"` (the local frame: an
+    /// orthographic projection centred on the site). See
+    /// [`crate::scene::georef`].
+    #[serde(default)]
+    pub crs: OutputCrs,
+}
+
+/// `site.crs`: the map CRS of the outputs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OutputCrs {
+    /// WGS 84 / UTM zone of the site (EPSG 326zz / 327zz).
+    #[default]
+    Utm,
+    /// The scene's local east-north-up frame (orthographic at the site).
+    Enu,
 }
 
 /// `[time]`.
@@ -407,6 +424,20 @@ pub enum AtmosphereModel {
     /// A table file (relative to the scene file).
     #[serde(rename = "table_file")]
     TableFile(PathBuf),
+}
+
+impl AtmosphereModel {
+    /// The model as written in a scene file (`mid-latitude-summer`, or the
+    /// table file's path).
+    pub fn id(&self) -> String {
+        match self {
+            AtmosphereModel::TableFile(p) => format!("table_file {}", p.display()),
+            m => serde_json::to_value(m)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default(),
+        }
+    }
 }
 
 /// `[sensor]`.

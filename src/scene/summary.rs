@@ -125,7 +125,7 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
         scene: s.path.clone(),
         site: sc.site.clone(),
         time_local: sc.time.local.format("%Y-%m-%d %H:%M:%S").to_string(),
-        time_utc: t_utc.format("%Y-%m-%d %H:%M:%S UTC").to_string(),
+        time_utc: t_utc.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
         objects: s.objects.len(),
         faces,
         triangles: s.triangles.len(),
@@ -150,8 +150,9 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
             ),
         },
         atmosphere: format!(
-            "{:?}, visibility {} km",
-            sc.atmosphere.model, sc.atmosphere.visibility_km
+            "{}, visibility {} km",
+            sc.atmosphere.model.id(),
+            sc.atmosphere.visibility_km
         ),
         needs: Needs {
             solar_reflection: band_um.0 < 5.0 && sun_el > 0.0,

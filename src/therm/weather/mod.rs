@@ -189,6 +189,7 @@ impl Default for ReadOptions {
 
 /// Which reader read a file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum WeatherFormat {
     PlainCsv,
     Tmy3,

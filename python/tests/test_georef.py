@@ -1,0 +1,130 @@
+"""The georeferenced outputs read as GIS and DIRSIG users read them:
+rasterio (GDAL in its wheel) opens the GeoTIFF with its CRS, transform,
+band names and units; pyproj's PROJ pipeline (ENU at the site -> WGS 84 ->
+UTM, independent of irsig's conversion) places the footprint of
+``irsig check`` on the GeoTIFF's corners within half a pixel; spectral's
+``open_image`` reads the ENVI wavelengths, band names and class names;
+OpenEXR's reader finds the ground planes and the JSON's material table
+matches the classification."""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, read_exr, run_cli, set_args
+
+PLATE = ROOT / "scenes" / "plate" / "scene.toml"
+#: Straight down from 60 m, image top to the north-east (rotated), 40x24 px.
+NADIR = {
+    "sensor.width_px": 40,
+    "sensor.height_px": 24,
+    "sensor.pose": "{altitude={altitude_m=61.5,view_zenith_deg=0.0,azimuth_deg=225.0,target_m=[0.0,0.0,1.5]}}",
+}
+
+
+@pytest.fixture(scope="module")
+def nadir(tmp_path_factory):
+    d = tmp_path_factory.mktemp("georef")
+    run_cli("render", PLATE, "-o", d / "n.tif", "--exr", "--envi", "-q", *set_args(NADIR))
+    check = json.loads(run_cli("check", PLATE, "--json", *set_args(NADIR)).stdout)
+    return d, check
+
+
+def test_rasterio_reads_crs_transform_bands_and_units(nadir):
+    rasterio = pytest.importorskip("rasterio")
+    from pyproj import Transformer
+
+    d, check = nadir
+    with rasterio.open(d / "n.tif") as src:
+        assert src.crs.to_epsg() == 32618
+        assert src.count == len(json.loads((d / "n.json").read_text())["planes"])
+        names = list(src.descriptions)
+        units = list(src.units)
+        assert units[names.index("apparent_temperature")] == "K"
+        assert units[names.index("band_radiance")] == "W m-2 sr-1 um-1"
+        assert units[names.index("ground_x")] == "m"
+        t = src.transform
+        w, h = src.width, src.height
+        corners = [
+            (t.c + t.a * c + t.b * r, t.f + t.d * c + t.e * r) for c, r in ((0, 0), (w, 0), (w, h), (0, h))
+        ]
+        temp = src.read(names.index("apparent_temperature") + 1)
+        assert np.isfinite(temp).all() and 250 < temp.mean() < 360
+    # The footprint (scene ENU at the site) through PROJ: topocentric ->
+    # geocentric -> geodetic -> UTM 18N.
+    site = check["site"]
+    pipe = Transformer.from_pipeline(
+        "+proj=pipeline +step +inv +proj=topocentric +ellps=WGS84 "
+        f"+lat_0={site['latitude_deg']} +lon_0={site['longitude_deg']} +h_0={site['elevation_m']} "
+        "+step +inv +proj=cart +ellps=WGS84 +step +proj=utm +zone=18 +ellps=WGS84"
+    )
+    gsd = check["centre_gsd_m"][0]
+    for (x, y), (e, n, u) in zip(corners, check["footprint_m"]):
+        ux, uy, _ = pipe.transform(e, n, u)
+        err = np.hypot(x - ux, y - uy)
+        assert err < 0.5 * gsd and err < 0.01, (x, y, ux, uy, err)
+
+
+def test_geolocation_is_float64_lat_lon(nadir):
+    rasterio = pytest.importorskip("rasterio")
+    from pyproj import Transformer
+
+    d, check = nadir
+    with rasterio.open(d / "n_geo.tif") as g, rasterio.open(d / "n.tif") as m:
+        assert g.dtypes[0] == "float64" and list(g.descriptions) == ["lat", "lon", "map_x", "map_y"]
+        lat, lon, mx, my = g.read()
+        names = list(m.descriptions)
+        gx = m.read(names.index("ground_x") + 1).astype(np.float64)
+        gy = m.read(names.index("ground_y") + 1).astype(np.float64)
+        gz = m.read(names.index("ground_z") + 1).astype(np.float64)
+    site = check["site"]
+    inv = Transformer.from_pipeline(
+        "+proj=pipeline +step +inv +proj=topocentric +ellps=WGS84 "
+        f"+lat_0={site['latitude_deg']} +lon_0={site['longitude_deg']} +h_0={site['elevation_m']} "
+        "+step +inv +proj=cart +ellps=WGS84 +step +proj=unitconvert +xy_in=rad +xy_out=deg"
+    )
+    plon, plat, _ = inv.transform(gx.ravel(), gy.ravel(), gz.ravel())
+    ok = np.isfinite(gx.ravel())
+    assert ok.sum() == gx.size
+    # 1e-8 deg is ~1 mm.
+    assert np.abs(plat - lat.ravel()).max() < 1e-8
+    assert np.abs(plon - lon.ravel()).max() < 1e-8
+    utm = Transformer.from_crs("EPSG:4326", "EPSG:32618", always_xy=True)
+    ux, uy = utm.transform(plon, plat)
+    assert np.abs(ux - mx.ravel()).max() < 1e-3 and np.abs(uy - my.ravel()).max() < 1e-3
+
+
+def test_spectral_reads_envi_wavelengths_band_names_and_classes(nadir):
+    spectral = pytest.importorskip("spectral")
+    d, _ = nadir
+    img = spectral.open_image(str(d / "n.hdr"))
+    assert img.bands.band_unit == "Micrometers"
+    assert all(abs(c - 11.0) < 1e-6 for c in img.bands.centers)
+    assert all(abs(w - 6.0) < 1e-6 for w in img.bands.bandwidths)
+    assert img.metadata["band names"][0] == "band_radiance [W m-2 sr-1 um-1]"
+    assert img.metadata["acquisition time"] == "2001-08-08T17:00:00Z"
+    cls = spectral.open_image(str(d / "n_class.hdr"))
+    names = cls.metadata["class names"]
+    assert names[0] == "no surface"
+    table = json.loads((d / "n.json").read_text())["materials"]
+    assert [m["name"] for m in table] == names[1:]
+    classes = np.asarray(cls.load()).reshape(cls.nrows, cls.ncols).astype(int)
+    exr = read_exr(d / "n.exr")
+    # class = material index + 1 (0: no surface).
+    assert (classes == np.where(exr["material"] >= 0, exr["material"] + 1, 0)).all()
+    truth = spectral.open_image(str(d / "n_truth.hdr"))
+    tn = truth.metadata["band names"]
+    assert "lat [deg]" in tn and np.dtype(truth.dtype) == np.float64
+
+
+def test_exr_has_ground_planes(nadir):
+    d, check = nadir
+    exr = read_exr(d / "n.exr")
+    j = json.loads((d / "n.json").read_text())
+    assert j["georef"]["ground_origin_m"] == [0.0, 0.0, 0.0]
+    # The nadir view sees the ground plane (z 0) or the plate above it.
+    gz = exr["ground_z"]
+    assert np.isfinite(gz).all() and gz.min() > -0.01 and gz.max() < 6.0
+    assert j["irsig"]["git_commit"] and j["image_time_utc"].endswith("Z")
+    assert j["band"] == "lwir 8-14 um" and j["band_um"] == [8.0, 14.0]
