@@ -96,7 +96,14 @@ fn complete_band(exr: &Path, refs: &Path) -> Option<String> {
     let json = exr.with_extension("json");
     let text = std::fs::read_to_string(&json).ok()?;
     let v: serde_json::Value = serde_json::from_str(&text).expect("a JSON marker is complete");
-    let key = v["band"].as_str().unwrap().to_lowercase();
+    // The band identifier: "mwir 3-5 um" -> "mwir".
+    let key = v["band"]
+        .as_str()
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .to_lowercase();
     for ext in ["exr", "png"] {
         assert!(
             read(&exr.with_extension(ext)) == read(&refs.join(format!("{key}.{ext}"))),

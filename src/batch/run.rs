@@ -138,5 +138,13 @@ fn render_frame(
         "labels": f.labels,
         "overrides": f.overrides,
     });
-    crate::output::frame::write_rendered(&dir.join(&f.outputs.exr), &img, false, Some(info))
+    crate::output::frame::write_rendered(
+        &dir.join(&f.outputs.exr),
+        &img,
+        crate::output::frame::Formats {
+            exr: true,
+            ..Default::default()
+        },
+        Some(info),
+    )
 }

@@ -70,6 +70,7 @@ pub fn render_conditions(
         &sc.site,
         &st.scene.camera,
         sc.sensor.pose.target_m()[2],
+        st.scene.frame.origin_m,
     )?;
     Ok(Rendered {
         scene: st.scene.path.display().to_string(),

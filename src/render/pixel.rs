@@ -629,17 +629,14 @@ pub fn assemble(
         "m",
         mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64)),
     );
-    // The hit point, relative to the georeferencing's ground origin (f32
-    // keeps millimetres within 16 km of it; see scene::georef).
-    let origin = crate::scene::georef::ground_origin_m(
-        &st.scene.camera,
-        st.scene.scene.sensor.pose.target_m()[2],
-    );
+    // The hit point in the tracer's local frame: world coordinates minus
+    // the frame's origin (`scene::frame`), which the georeferencing states
+    // as its ground origin (f32 keeps 0.5 mm within 16 km of it).
     for (axis, name) in ["ground_x", "ground_y", "ground_z"].iter().enumerate() {
         p.push(
             name,
             "m",
-            mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64 - origin[axis])),
+            mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64)),
         );
     }
     p.push("view_angle", "deg", mean(&|k| results[k].view_angle_deg));

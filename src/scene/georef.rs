@@ -208,10 +208,10 @@ pub struct Georef {
     pub site_lat_deg: f64,
     pub site_lon_deg: f64,
     pub site_height_m: f64,
-    /// The `ground_x/y/z` planes are scene-frame metres minus this origin
-    /// (f32 planes keep millimetres within 16 km of it): the image
-    /// centre's point on the reference plane, rounded to whole kilometres
-    /// (0, 0, 0 for scenes near their frame origin).
+    /// The `ground_x/y/z` planes are scene (world) metres minus this
+    /// origin: the tracer's local frame origin (the camera target rounded
+    /// to whole metres, z 0; [`crate::scene::frame`]), so float32 planes
+    /// keep 0.5 mm within 16 km of it, UTM-scale scenes included.
     pub ground_origin_m: [f64; 3],
     /// Height z of the reference plane (the pose's target), scene metres:
     /// the footprint and the affine transform are on it.
@@ -232,14 +232,16 @@ pub struct Georef {
     pub centre_gsd_m: Option<[f64; 2]>,
 }
 
-/// The georeferencing of an image of `camera` at a site: the CRS, the
-/// reference plane z = `reference_z_m`, the footprint, the ground origin
-/// of the geolocation planes and, for nadir views, the affine transform.
+/// The georeferencing of an image of `camera` (world coordinates) at a
+/// site: the CRS, the reference plane z = `reference_z_m`, the footprint,
+/// the ground origin of the geolocation planes and, for nadir views, the
+/// affine transform.
 pub fn georeference(
     geo: &Geo,
     site: &Site,
     camera: &Camera,
     reference_z_m: f64,
+    ground_origin_m: [f64; 3],
 ) -> anyhow::Result<Georef> {
     let corner = |c: f64, r: f64| -> Option<Corner> {
         let p = camera.ground_point(c, r, reference_z_m)?;
@@ -278,24 +280,13 @@ pub fn georeference(
         site_lat_deg: site.latitude_deg,
         site_lon_deg: site.longitude_deg,
         site_height_m: site.elevation_m,
-        ground_origin_m: ground_origin_m(camera, reference_z_m),
+        ground_origin_m,
         reference_z_m,
         nadir,
         geotransform,
         footprint,
         centre_gsd_m: camera.centre_gsd_m(reference_z_m),
     })
-}
-
-/// The origin of the `ground_x/y/z` planes: the image centre's point on
-/// the reference plane z = `reference_z_m` (the camera position when the
-/// centre ray misses it), each coordinate rounded to whole kilometres.
-pub fn ground_origin_m(camera: &Camera, reference_z_m: f64) -> [f64; 3] {
-    let (cx, cy) = (camera.width_px as f64 / 2.0, camera.height_px as f64 / 2.0);
-    let p = camera
-        .ground_point(cx, cy, reference_z_m)
-        .unwrap_or(camera.position_m);
-    p.map(|v| (v / 1000.0).round() * 1000.0)
 }
 
 /// Per-pixel geolocation in full precision: latitude, longitude (deg),
@@ -391,15 +382,7 @@ mod tests {
     /// coarse.
     #[test]
     fn ground_origin_keeps_precision_far_from_the_frame_origin() {
-        let cam = Camera::look_at(
-            DVec3::new(350_400.3, 4_780_700.7, 1_000.0),
-            DVec3::new(350_400.3, 4_780_700.7, 0.0),
-            10.0,
-            8,
-            8,
-        );
-        let o = ground_origin_m(&cam, 0.0);
-        assert_eq!(o, [350_000.0, 4_781_000.0, 0.0]);
+        let o = [350_400.0, 4_780_701.0, 0.0];
         let p = [350_412.345_678, 4_780_688.765_432, 12.5];
         let rel = p.map(|v| v as f32);
         let off = [
