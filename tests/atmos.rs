@@ -165,7 +165,7 @@ fn off_grid_interpolation_error_is_bounded() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// DESIGN.md §4 sanity numbers (MLS, sensor 3 km, measured with LOWTRAN 7 without
+/// The sanity numbers of docs/models.md ("Atmosphere") (MLS, sensor 3 km, measured with LOWTRAN 7 without
 /// aerosol or multiple scattering — the shipped `mls_clear` table):
 /// τ₂(10 µm, nadir) 0.778, τ₂(10 µm, 75°) 0.420, L_UE(10 µm, nadir) 1.82,
 /// sky L_DE(10 µm, zenith) 2.20 W m⁻² sr⁻¹ µm⁻¹. Tolerances: ±0.001 on τ at nadir,

@@ -281,3 +281,82 @@ fn version_completions_and_man_page() {
     assert!(s.starts_with(".ie") || s.contains(".TH irsig 1"), "{s}");
     assert!(s.contains("render") && s.contains("\\-\\-quiet"), "{s}");
 }
+
+/// Every `.md` file that a `--help` text, a doc page, the README or a
+/// source comment names exists in the repository (nothing cites a design
+/// note kept elsewhere).
+#[test]
+fn cited_documents_are_in_the_repository() {
+    let mut texts: Vec<(String, String)> = Vec::new();
+    let cmds = [
+        "render",
+        "sequence",
+        "sweep",
+        "probe",
+        "check",
+        "crosscheck",
+        "sun",
+        "therm",
+        "atmos",
+        "bench",
+        "batch",
+    ];
+    for c in cmds {
+        let out = irsig().args([c, "--help"]).output().unwrap();
+        if out.status.success() {
+            texts.push((
+                format!("irsig {c} --help"),
+                String::from_utf8_lossy(&out.stdout).into(),
+            ));
+        }
+    }
+    let mut files = vec![root().join("README.md"), root().join("BENCHMARKS.md")];
+    for dir in ["docs", "src", "tools"] {
+        let mut stack = vec![root().join(dir)];
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).unwrap().flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p
+                    .extension()
+                    .is_some_and(|x| x == "md" || x == "rs" || x == "py")
+                {
+                    files.push(p);
+                }
+            }
+        }
+    }
+    for f in files {
+        if let Ok(t) = std::fs::read_to_string(&f) {
+            texts.push((f.display().to_string(), t));
+        }
+    }
+    let mut missing = Vec::new();
+    for (what, text) in &texts {
+        for word in text.split(|c: char| c.is_whitespace() || "()[]`'\",;:".contains(c)) {
+            let Some(name) = word.strip_suffix(".md").filter(|n| !n.is_empty()) else {
+                continue;
+            };
+            let file = Path::new(name)
+                .file_name()
+                .map(|f| format!("{}.md", f.to_string_lossy()))
+                .unwrap();
+            let found = [
+                root().to_path_buf(),
+                root().join("docs"),
+                root().join("tools/lowtran"),
+            ]
+            .iter()
+            .any(|d| d.join(&file).is_file())
+                || root().join(format!("{name}.md")).is_file();
+            if !found {
+                missing.push(format!("{what}: {word}"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "documents cited but not in the repository: {missing:#?}"
+    );
+}

@@ -190,7 +190,7 @@ fn energy_is_conserved() {
 }
 
 /// The error-vs-cost curve of the numerical knobs on this reference
-/// (DESIGN.md §6), for choosing the defaults. Not part of the default suite:
+/// (docs/models.md, "Accuracy and speed are measured"), for choosing the defaults. Not part of the default suite:
 /// `cargo test --release --test therm_reference -- --ignored --nocapture`.
 #[test]
 #[ignore]

@@ -25,7 +25,7 @@ both solvers through the CSV):
     with the Walton (1983) cloud factor (1 + 0.0224 N - 0.0035 N^2 + 0.00028 N^3),
     N = opaque cloud cover in tenths (as in EnergyPlus); T_sky = eps^0.25 T_air.
 
-Physics (DESIGN.md section 4, the same continuous problem as irsig):
+Physics (docs/models.md "Thermal model", the same continuous problem as irsig):
   rho c dT/dt = d/dz (k dT/dz), surface balance
   q_s = a [I DNI max(0, n.s) + DHI F_sky + rho_g GHI F_gnd]
       + e [F_sky sig T_sky^4 + F_gnd sig T_air^4] - e sig T_s^4

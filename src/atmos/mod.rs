@@ -1,4 +1,4 @@
-//! Atmosphere submodel (DESIGN.md §4): LOWTRAN-7 tables of τ₂, L_UE, L_US (vs
+//! Atmosphere submodel (docs/models.md, docs/atmosphere-tables.md): LOWTRAN-7 tables of τ₂, L_UE, L_US (vs
 //! sensor altitude and view zenith), L_DE, L_DS (vs sky zenith), τ₁ (vs sun
 //! zenith) and the exo-atmospheric solar irradiance, per wavenumber; reading
 //! (format in docs/atmosphere-tables.md) and interpolation.

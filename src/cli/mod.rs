@@ -70,7 +70,7 @@ pub enum Command {
     /// Solar position (NREL SPA) for a site and a UTC instant.
     Sun(sun::Args),
     /// Surface temperature and flux terms of one material and facet over
-    /// time (THERM-style slab, DESIGN.md §4).
+    /// time (THERM-style slab, docs/models.md).
     Therm(therm::Args),
     /// Atmosphere tables: list them, show what a geometry uses.
     Atmos(atmos::Args),

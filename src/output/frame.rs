@@ -124,6 +124,69 @@ pub fn plane_list(frame: &Frame) -> Vec<(String, String)> {
         .collect()
 }
 
+/// Writes a bare frame's outputs as one [`OutputSet`]: the EXR at `exr`,
+/// the PNG quicklook, with `envi` an ENVI cube of every plane, and last
+/// the JSON that `summary_of(quicklook description, file names of the
+/// others)` makes. (A render's full set, georeferenced, is
+/// [`write_rendered`]'s; this is for frames without their description,
+/// e.g. `irsig bench speed`'s output timing.)
+pub fn write_frame(
+    exr: &Path,
+    frame: &Frame,
+    summary_of: impl FnOnce(String, Vec<String>) -> anyhow::Result<String>,
+    envi: bool,
+) -> anyhow::Result<()> {
+    let json_path = exr.with_extension("json");
+    let mut set = OutputSet::new(&json_path)?;
+    let p = &frame.planes;
+    write_exr(&mut set, exr, p)?;
+    let ql = p
+        .get("sensor_radiance")
+        .expect("render writes sensor_radiance");
+    let s = write_png(
+        &mut set,
+        &exr.with_extension("png"),
+        p.width,
+        p.height,
+        &ql.data,
+        "sensor_radiance W m-2 sr-1 um-1",
+    )?;
+    if envi {
+        super::envi::write_envi(
+            &mut set,
+            &exr.with_extension("img"),
+            p,
+            None,
+            "irsig planes",
+        )?;
+    }
+    let quicklook = format!(
+        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
+        s.lo, s.hi
+    );
+    commit_with_json(set, &json_path, |files| summary_of(quicklook, files))
+}
+
+/// Stages the JSON marker `json_path`, made by `make(file names of the
+/// set's other files)`, and commits the set.
+fn commit_with_json(
+    mut set: OutputSet,
+    json_path: &Path,
+    make: impl FnOnce(Vec<String>) -> anyhow::Result<String>,
+) -> anyhow::Result<()> {
+    let files = set
+        .files()
+        .filter_map(|f| f.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .collect();
+    let json = make(files)?;
+    set.stage(json_path, |w| {
+        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
+    })?;
+    set.commit()?;
+    Ok(())
+}
+
 /// The JSON summary at `json` when its output set is complete: the file
 /// exists and parses, and every file its `files` list names exists beside
 /// it; `None` otherwise (no set, or an interrupted one).
@@ -469,47 +532,39 @@ pub fn write_rendered(
             &fields,
         )?;
     }
-    let files = set
-        .files()
-        .filter_map(|f| f.file_name())
-        .map(|n| n.to_string_lossy().into_owned())
-        .collect();
-    let summary = Summary {
-        irsig: crate::version::build_info(),
-        scene: r.scene.clone(),
-        overrides: r
-            .overrides
-            .iter()
-            .map(|(k, v)| format!("{k}={v}"))
-            .collect(),
-        image_time_utc: time,
-        sun_zenith_deg: r.sun_zenith_deg,
-        sun_azimuth_deg: r.sun_azimuth_deg,
-        sun_elevation_deg: sun_el,
-        band: r.band.clone(),
-        band_um: [r.band_um.0, r.band_um.1],
-        estimators: r.estimators.clone(),
-        atmosphere: &r.atmosphere,
-        pose: &r.pose,
-        camera: &r.camera,
-        georef: g,
-        materials,
-        quicklook,
-        files,
-        planes: plane_list(&r.frame),
-        stats: &r.frame.stats,
-    };
-    let json = match frame_info {
-        None => serde_json::to_string_pretty(&summary)?,
-        Some(info) => {
-            let mut v = serde_json::to_value(summary)?;
-            v["frame"] = info;
-            serde_json::to_string_pretty(&v)?
-        }
-    };
-    set.stage(&json_path, |w| {
-        std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
-    })?;
-    set.commit()?;
-    Ok(())
+    commit_with_json(set, &json_path, |files| {
+        let summary = Summary {
+            irsig: crate::version::build_info(),
+            scene: r.scene.clone(),
+            overrides: r
+                .overrides
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect(),
+            image_time_utc: time,
+            sun_zenith_deg: r.sun_zenith_deg,
+            sun_azimuth_deg: r.sun_azimuth_deg,
+            sun_elevation_deg: sun_el,
+            band: r.band.clone(),
+            band_um: [r.band_um.0, r.band_um.1],
+            estimators: r.estimators.clone(),
+            atmosphere: &r.atmosphere,
+            pose: &r.pose,
+            camera: &r.camera,
+            georef: g,
+            materials,
+            quicklook,
+            files,
+            planes: plane_list(&r.frame),
+            stats: &r.frame.stats,
+        };
+        Ok(match frame_info {
+            None => serde_json::to_string_pretty(&summary)?,
+            Some(info) => {
+                let mut v = serde_json::to_value(summary)?;
+                v["frame"] = info;
+                serde_json::to_string_pretty(&v)?
+            }
+        })
+    })
 }

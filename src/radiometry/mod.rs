@@ -1,4 +1,4 @@
-//! Radiometry submodel (DESIGN.md §4): Planck's law and its inverse, spectral
+//! Radiometry submodel (docs/models.md, "Radiometry"): Planck's law and its inverse, spectral
 //! grids and sensor responses with band integration, angular spectral
 //! emissivity (tabulated and Fresnel), and the seed's equations 1-4 as pure
 //! functions returning every term.

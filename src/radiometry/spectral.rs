@@ -1,6 +1,6 @@
 //! Spectral grids, sensor relative spectral response and band integration.
 //!
-//! Band radiance is L_band = ∫ L(λ) R(λ) dλ / ∫ R(λ) dλ (DESIGN.md §4). Spectra
+//! Band radiance is L_band = ∫ L(λ) R(λ) dλ / ∫ R(λ) dλ (docs/models.md, "Radiometry"). Spectra
 //! are sampled on a wavenumber grid (the atmosphere tables' grid); each sample
 //! stands for the bin [ν − Δν⁻/2, ν + Δν⁺/2] around it. A [`Band`] keeps only the
 //! bins where the response is non-zero, with quadrature weights

@@ -502,11 +502,14 @@ impl ApparentTempLut {
 }
 
 /// Planes that are NaN by design where no sample of a pixel hit a surface.
-pub const SURFACE_PLANES: [&str; 5] = [
+pub const SURFACE_PLANES: [&str; 8] = [
     "surface_temperature",
     "sun_now",
     "hours_sunlit",
     "range",
+    "ground_x",
+    "ground_y",
+    "ground_z",
     "view_angle",
 ];
 

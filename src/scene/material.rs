@@ -1,4 +1,4 @@
-//! Materials: the thermal and optical properties of a facet (DESIGN.md §4;
+//! Materials: the thermal and optical properties of a facet (docs/models.md, "Thermal model";
 //! DIRSIG's MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
 //! VISIBLE_EMISSIVITY, THERMAL_EMISSIVITY, EXPOSED_AREA, SPECULARITY and
 //! internal power). Library files hold `[material.NAME]` tables.

@@ -1,4 +1,4 @@
-//! Surface energy balance of a THERM-style slab (DESIGN.md §4): the flux
+//! Surface energy balance of a THERM-style slab (docs/models.md, docs/energy-balance.md): the flux
 //! terms at the exposed surface and at the back face, each a pure function
 //! of plain data, with the derivative the implicit solver needs.
 //!

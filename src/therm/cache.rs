@@ -1,4 +1,4 @@
-//! Memoising cache of slab solutions (DESIGN.md §4 "Memoising").
+//! Memoising cache of slab solutions (docs/models.md, "Memoising").
 //!
 //! A pixel's temperature depends only on (material, facet orientation,
 //! sun/shadow history, weather); many pixels share such a key, so each key

@@ -1,5 +1,5 @@
 //! THERM-style transient 1-D heat flow per (material, orientation, sun/shadow
-//! history), driven by weather and the sun ephemeris (DESIGN.md §4).
+//! history), driven by weather and the sun ephemeris (docs/models.md, "Thermal model").
 //!
 //! Data flow: [`weather::WeatherHistory`] + [`crate::sun`] →
 //! [`forcing::Forcing`] (one per thermal time step, everything the surface

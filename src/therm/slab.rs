@@ -1,4 +1,4 @@
-//! The THERM-style transient 1-D slab solver (DESIGN.md §4).
+//! The THERM-style transient 1-D slab solver (docs/models.md, "Thermal model").
 //!
 //! **Model.** A slab of thickness `L` with constant density ρ, specific heat
 //! c and conductivity k: `ρc ∂T/∂t = ∂/∂z(k ∂T/∂z)`, no lateral conduction.
@@ -88,7 +88,7 @@ pub struct SlabMaterial {
     pub solar_absorptivity: f64,
     pub thermal_emissivity: f64,
     pub back: BackBoundary,
-    /// Internal heat delivered at the surface node, W/m² (DESIGN.md §4).
+    /// Internal heat delivered at the surface node, W/m² (docs/models.md, "Thermal model").
     #[serde(default)]
     pub internal_power_w_m2: f64,
     /// Solar albedo of the ground seen by a tilted facet (default 0.2).

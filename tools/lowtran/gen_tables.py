@@ -43,7 +43,7 @@ ATMOSPHERES = {
     "sas": (4, 1, 1, "Sub-arctic summer"),
     "saw": (5, 1, 1, "Sub-arctic winter"),
     "us1976": (6, 1, 1, "US standard 1976"),
-    # the configuration of DESIGN.md's sanity numbers (no aerosol, no
+    # the configuration of the sanity numbers in docs/models.md (no aerosol, no
     # multiple scattering): lets the shipped tables be checked against them
     "mls_clear": (2, 0, 0, "Mid-latitude summer"),
 }
