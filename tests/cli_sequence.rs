@@ -103,8 +103,8 @@ fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
         // The static part is prepared once: every later frame shares it.
         assert_eq!(f["reused"]["geometry"], f["index"] != 0);
     }
-    // Local 09:00 EDT = 13:00 UTC.
-    assert_eq!(frames[0]["image_time_utc"], "2001-08-08T13:00:00+00:00");
+    // Local 09:00 EDT = 13:00 UTC (RFC 3339 with Z, as in every JSON).
+    assert_eq!(frames[0]["image_time_utc"], "2001-08-08T13:00:00Z");
     // The sun climbs from 09:00 to 13:00 (EDT; solar noon ~13:15).
     let zen: Vec<f64> = frames
         .iter()
