@@ -277,7 +277,7 @@ fn unknown_key_is_rejected_with_a_suggestion() {
     assert_eq!(
         f.err(),
         "D/scene.toml:4:1: unknown field `latitude`, expected one of `name`, `latitude_deg`, `longitude_deg`, \
-         `elevation_m`, `utc_offset_h`; did you mean `latitude_deg`?"
+         `elevation_m`, `utc_offset_h`, `crs`; did you mean `latitude_deg`?"
     );
     let f = Fixture::new(
         SCENE,

@@ -404,7 +404,10 @@ fn image_to_py<'py>(
         points.append((name, PyArray1::from_vec(py, axis).reshape([h, w])?))?;
     }
     meta["scene"] = image.scene.into();
-    meta["image_time_utc"] = image.image_time_utc.to_rfc3339().into();
+    meta["image_time_utc"] = image
+        .image_time_utc
+        .to_rfc3339_opts(chrono::SecondsFormat::Secs, true)
+        .into();
     meta["sun_zenith_deg"] = image.sun_zenith_deg.into();
     meta["sun_azimuth_deg"] = image.sun_azimuth_deg.into();
     meta["band"] = image.band.into();
