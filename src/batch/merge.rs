@@ -206,7 +206,6 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         .with_context(|| format!("cannot write in {}", out.display()))?;
     let stack_path = out.join("stack.nc");
     let n = batch.frames.len();
-    let mut size: Option<(u32, u32)> = None;
     let mut entries = Vec::with_capacity(n);
     let sheet_pick: Vec<usize> = if n <= SHEET_MAX {
         (0..n).collect()
@@ -216,11 +215,15 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             .collect()
     };
     let mut sheet_data: Vec<(u32, u32, Vec<f32>)> = Vec::new();
-    {
+    let (width, height) = {
         let tp = tmp.path();
         let mut file = nc(netcdf::create(tp), "create", tp)?;
-        let (w0, h0, _) = crate::output::exr::read_exr(&dir.join(&batch.frames[0].outputs.exr))
-            .map_err(anyhow::Error::msg)?;
+        // The first frame is read once: its size shapes the stack, and the
+        // loop below takes its planes.
+        let (w0, h0, chans0) =
+            crate::output::exr::read_exr(&dir.join(&batch.frames[0].outputs.exr))
+                .map_err(anyhow::Error::msg)?;
+        let mut first_chans = Some(chans0);
         nc(file.add_dimension("frame", n), "frame", tp)?;
         nc(file.add_dimension("y", h0 as usize), "y", tp)?;
         nc(file.add_dimension("x", w0 as usize), "x", tp)?;
@@ -367,16 +370,16 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         // The planes, frame by frame (one frame in memory at a time).
         for (k, (f, m)) in batch.frames.iter().zip(&metas).enumerate() {
             let exr = dir.join(&f.outputs.exr);
-            let (w, h, chans) = crate::output::exr::read_exr(&exr).map_err(anyhow::Error::msg)?;
-            if let Some((w0, h0)) = size
-                && (w, h) != (w0, h0)
-            {
+            let (w, h, chans) = match first_chans.take() {
+                Some(c) => (w0, h0, c),
+                None => crate::output::exr::read_exr(&exr).map_err(anyhow::Error::msg)?,
+            };
+            if (w, h) != (w0, h0) {
                 bail!(
                     "{}: {w}x{h} px, but the batch's first frame is {w0}x{h0}: a stack needs one image size",
                     exr.display()
                 );
             }
-            size = Some((w, h));
             let get = |name: &str| -> anyhow::Result<&Vec<f32>> {
                 chans
                     .iter()
@@ -413,7 +416,8 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             });
         }
         nc(file.close(), "close", tp)?;
-    }
+        (w0, h0)
+    };
     // The set: stack, contact sheet, then index.json as the marker.
     set.stage(&stack_path, |w| {
         let mut f = std::fs::File::open(tmp.path()).map_err(|e| e.to_string())?;
@@ -466,7 +470,6 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         std::io::Write::write_all(w, json.as_bytes()).map_err(|e| e.to_string())
     })?;
     set.commit()?;
-    let (width, height) = size.unwrap_or((0, 0));
     Ok(MergeReport {
         frames: n,
         width,

@@ -55,13 +55,6 @@ pub struct BatchInfo {
 /// The value of [`BatchInfo::format`].
 pub const FORMAT: &str = "irsig-batch-1";
 
-fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
-    crate::output::write_atomic(path, |w| {
-        std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())
-    })?;
-    Ok(())
-}
-
 /// The manifest's text: one JSON object per line.
 fn manifest_text(frames: &[FrameJob]) -> anyhow::Result<String> {
     let mut s = String::new();
@@ -100,8 +93,8 @@ pub fn write_plan(dir: &Path, p: &Plan) -> anyhow::Result<BatchInfo> {
             );
         }
     }
-    write_text(&mpath, &manifest)?;
-    write_text(
+    crate::output::write_text(&mpath, &manifest)?;
+    crate::output::write_text(
         &dir.join("batch.json"),
         &(serde_json::to_string_pretty(&info)? + "\n"),
     )?;

@@ -90,7 +90,7 @@ pub fn run(o: &RunOptions, event: &mut dyn FnMut(&RunEvent)) -> anyhow::Result<R
                 let error = format!("{e:#}");
                 std::fs::create_dir_all(batch.dir.join("failed"))
                     .with_context(|| format!("cannot create {}/failed", batch.dir.display()))?;
-                super::write_text(&fail, &(error.clone() + "\n"))?;
+                crate::output::write_text(&fail, &(error.clone() + "\n"))?;
                 // A failed scene load leaves no usable static part.
                 st = None;
                 st_key = None;

@@ -165,9 +165,9 @@ pub fn slurm(dir: &Path, o: &SlurmOptions, submit: bool) -> anyhow::Result<Slurm
         sdir.join("merge.sh"),
         sdir.join("submit.sh"),
     );
-    super::write_text(&paths.0, &array)?;
-    super::write_text(&paths.1, &merge)?;
-    super::write_text(&paths.2, &submit_sh)?;
+    crate::output::write_text(&paths.0, &array)?;
+    crate::output::write_text(&paths.1, &merge)?;
+    crate::output::write_text(&paths.2, &submit_sh)?;
     let mut jobs = None;
     if submit {
         let sbatch = |args: &[&str]| -> anyhow::Result<String> {

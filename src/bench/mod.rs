@@ -8,6 +8,13 @@
 
 use std::time::Instant;
 
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::sensor::camera::Camera;
+use crate::trace::offset::offset_origin;
+use crate::trace::{Geometry, Hit, Ray, Tracer};
+
 pub mod accuracy;
 pub mod rays;
 pub mod report;
@@ -19,6 +26,42 @@ pub use speed::{SpeedOptions, SpeedRow, speed};
 
 /// Rays per rayon task: 16 packets of one 4x4 tile each.
 const TASK: usize = 256;
+
+/// One ray through each pixel centre of `cam`, in 4x4 tile order (as a
+/// render traces them, so packets stay coherent).
+fn tile_rays(cam: &Camera) -> Vec<Ray> {
+    cam.tile_order()
+        .iter()
+        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
+        .collect()
+}
+
+/// The closest hits of `rays`, traced in parallel in tasks of [`TASK`] rays
+/// (in the current rayon pool).
+fn intersect_all(t: &dyn Tracer, rays: &[Ray]) -> Vec<Option<Hit>> {
+    let mut hits = vec![None; rays.len()];
+    rays.par_chunks(TASK)
+        .zip(hits.par_chunks_mut(TASK))
+        .for_each(|(r, h)| t.intersect(r, h));
+    hits
+}
+
+/// Whether each of `rays` is occluded, traced as [`intersect_all`].
+fn occluded_all(t: &dyn Tracer, rays: &[Ray]) -> Vec<bool> {
+    let mut out = vec![false; rays.len()];
+    rays.par_chunks(TASK)
+        .zip(out.par_chunks_mut(TASK))
+        .for_each(|(r, o)| t.occluded(r, o));
+    out
+}
+
+/// The ray toward `sun` from the hit `h` of `r`, offset off the surface on
+/// the side `r` came from.
+fn shadow_ray(g: &Geometry, r: &Ray, h: &Hit, sun: Vec3) -> Ray {
+    let n = g.normals[h.prim as usize];
+    let n = if n.dot(r.dir) > 0.0 { -n } else { n };
+    Ray::new(offset_origin(g.point(h.prim, h.u, h.v), n), sun)
+}
 
 /// The shortest of `repeat` timed runs of `f`, s.
 fn time_best(repeat: u32, mut f: impl FnMut()) -> f64 {

@@ -5,16 +5,14 @@
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
-use rayon::prelude::*;
 use serde::Serialize;
 
-use super::{TASK, time_best};
+use super::{intersect_all, occluded_all, shadow_ray, tile_rays, time_best};
 use crate::render::thread_pool;
 use crate::sensor::camera::Camera;
 use crate::trace::bvh::BvhTracer;
 use crate::trace::embree::EmbreeTracer;
-use crate::trace::offset::offset_origin;
-use crate::trace::{Geometry, Hit, QueryMode, Ray, Tracer, meshgen};
+use crate::trace::{Geometry, QueryMode, Ray, Tracer, meshgen};
 
 /// What [`rays`] measures.
 #[derive(Debug, Clone, Copy)]
@@ -82,30 +80,16 @@ pub fn rays(a: &RaysOptions) -> anyhow::Result<RaysReport> {
         a.size,
         a.size,
     );
-    let primary: Vec<Ray> = cam
-        .tile_order()
-        .iter()
-        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
-        .collect();
-    let mut hits = vec![None; primary.len()];
-    pool.install(|| {
-        primary
-            .par_chunks(TASK)
-            .zip(hits.par_chunks_mut(TASK))
-            .for_each(|(r, h)| packet.intersect(r, h))
-    });
+    let primary = tile_rays(&cam);
+    let hits = pool.install(|| intersect_all(&packet, &primary));
     // Shadow rays: one sun direction for the whole image, from each hit,
     // kept in tile order so packets stay coherent.
     let sun = Vec3::new(0.35, -0.45, 0.82).normalize();
     let shadow: Vec<Ray> = primary
         .iter()
         .zip(&hits)
-        .map(|(r, h): (&Ray, &Option<Hit>)| match h {
-            Some(h) => {
-                let n = g.normals[h.prim as usize];
-                let n = if n.dot(r.dir) > 0.0 { -n } else { n };
-                Ray::new(offset_origin(g.point(h.prim, h.u, h.v), n), sun)
-            }
+        .map(|(r, h)| match h {
+            Some(h) => shadow_ray(&g, r, h, sun),
             // Misses still cast a (trivially unoccluded) ray, as a render would not.
             None => Ray::new(r.org, sun),
         })
@@ -118,15 +102,9 @@ pub fn rays(a: &RaysOptions) -> anyhow::Result<RaysReport> {
             let best = pool.install(|| {
                 time_best(a.repeat, || {
                     if name == "primary" {
-                        let mut out = vec![None; set.len()];
-                        set.par_chunks(TASK)
-                            .zip(out.par_chunks_mut(TASK))
-                            .for_each(|(r, h)| tracer.intersect(r, h));
+                        std::hint::black_box(intersect_all(tracer, set));
                     } else {
-                        let mut out = vec![false; set.len()];
-                        set.par_chunks(TASK)
-                            .zip(out.par_chunks_mut(TASK))
-                            .for_each(|(r, o)| tracer.occluded(r, o));
+                        std::hint::black_box(occluded_all(tracer, set));
                     }
                 })
             });

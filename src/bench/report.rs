@@ -7,18 +7,17 @@ use anyhow::Context;
 use plotters::prelude::*;
 
 use crate::bench::accuracy::{AccuracyRow, KNOBS, to_csv};
+use crate::output::write_text;
 
 /// Writes `accuracy.csv`, `accuracy.json` and `accuracy.svg` into `dir`
 /// (created if missing), each atomically.
 pub fn write_accuracy(dir: &Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let write = |name: &str, text: &str| {
-        crate::output::write_atomic(&dir.join(name), |w| {
-            std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())
-        })
-    };
-    write("accuracy.csv", &to_csv(rows))?;
-    write("accuracy.json", &serde_json::to_string_pretty(rows)?)?;
+    write_text(&dir.join("accuracy.csv"), &to_csv(rows))?;
+    write_text(
+        &dir.join("accuracy.json"),
+        &serde_json::to_string_pretty(rows)?,
+    )?;
     plot(&dir.join("accuracy.svg"), rows)
 }
 
@@ -50,9 +49,7 @@ fn plot(path: &Path, rows: &[AccuracyRow]) -> anyhow::Result<()> {
         )?;
         root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    crate::output::write_atomic(path, |w| {
-        std::io::Write::write_all(w, svg.as_bytes()).map_err(|e| e.to_string())
-    })?;
+    write_text(path, &svg)?;
     Ok(())
 }
 

@@ -6,15 +6,15 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::Vec3;
-use rayon::prelude::*;
 use serde::Serialize;
 
-use super::{TASK, peak_rss_mib, reset_peak_rss, time_best};
+use super::{
+    intersect_all, occluded_all, peak_rss_mib, reset_peak_rss, shadow_ray, tile_rays, time_best,
+};
 use crate::render::{prepare_conditions, prepare_static, render, thread_pool};
 use crate::sensor::camera::Camera;
 use crate::trace::embree::EmbreeTracer;
-use crate::trace::offset::offset_origin;
-use crate::trace::{Geometry, QueryMode, Ray, Tracer};
+use crate::trace::{Geometry, QueryMode, Ray};
 
 /// What [`speed`] measures.
 #[derive(Debug, Clone)]
@@ -120,40 +120,18 @@ fn subdivide(s: &mut crate::scene::LoadedScene, n: u32) {
 /// scene's geometry and a camera, tile-ordered as the render traces.
 fn embree_rates(g: &Arc<Geometry>, cam: &Camera, sun: Vec3) -> anyhow::Result<(f64, f64)> {
     let packet = EmbreeTracer::new(g.clone(), QueryMode::Packet16)?;
-    let primary: Vec<Ray> = cam
-        .tile_order()
-        .iter()
-        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
-        .collect();
-    let mut hits = vec![None; primary.len()];
-    primary
-        .par_chunks(TASK)
-        .zip(hits.par_chunks_mut(TASK))
-        .for_each(|(r, h)| packet.intersect(r, h));
+    let primary = tile_rays(cam);
+    let hits = intersect_all(&packet, &primary);
     let shadow: Vec<Ray> = primary
         .iter()
         .zip(&hits)
-        .filter_map(|(r, h)| {
-            h.map(|h| {
-                let n = g.normals[h.prim as usize];
-                let n = if n.dot(r.dir) > 0.0 { -n } else { n };
-                Ray::new(offset_origin(g.point(h.prim, h.u, h.v), n), sun)
-            })
-        })
+        .filter_map(|(r, h)| h.as_ref().map(|h| shadow_ray(g, r, h, sun)))
         .collect();
     let tp = time_best(3, || {
-        let mut out = vec![None; primary.len()];
-        primary
-            .par_chunks(TASK)
-            .zip(out.par_chunks_mut(TASK))
-            .for_each(|(r, h)| packet.intersect(r, h));
+        std::hint::black_box(intersect_all(&packet, &primary));
     });
     let ts = time_best(3, || {
-        let mut out = vec![false; shadow.len()];
-        shadow
-            .par_chunks(TASK)
-            .zip(out.par_chunks_mut(TASK))
-            .for_each(|(r, o)| packet.occluded(r, o));
+        std::hint::black_box(occluded_all(&packet, &shadow));
     });
     Ok((primary.len() as f64 / tp, shadow.len().max(1) as f64 / ts))
 }

@@ -14,7 +14,7 @@ pub mod quicklook;
 pub mod sequence;
 pub mod set;
 
-pub use set::{OutputSet, write_atomic};
+pub use set::{OutputSet, write_atomic, write_text};
 
 use std::path::PathBuf;
 

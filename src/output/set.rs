@@ -319,3 +319,10 @@ where
     set.stage(path, fill)?;
     set.commit()
 }
+
+/// Writes the text `text` to `path` atomically ([`write_atomic`]).
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    write_atomic(path, |w| {
+        w.write_all(text.as_bytes()).map_err(|e| e.to_string())
+    })
+}
