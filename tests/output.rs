@@ -21,16 +21,48 @@ fn planes() -> Planes {
     p
 }
 
+/// The test planes plus integer truth planes (with -1 = none) and a term.
+fn planes_with_truth() -> Planes {
+    let mut p = planes();
+    p.push(
+        "material",
+        "index (-1 none)",
+        (0..35)
+            .map(|i| if i % 4 == 0 { -1.0 } else { (i % 3) as f32 })
+            .collect(),
+    );
+    p.push(
+        "facet",
+        "triangle index (-1 none)",
+        (0..35)
+            .map(|i| if i % 4 == 0 { -1.0 } else { (i * 1000) as f32 })
+            .collect(),
+    );
+    p.push(
+        "case",
+        "eq. 1-4 (0 outside)",
+        (0..35).map(|i| (i % 5) as f32).collect(),
+    );
+    p.push("range", "m", (0..35).map(|i| 100.5 + i as f32).collect());
+    p.push(
+        "emitted",
+        "W m-2 sr-1 um-1",
+        (0..35).map(|i| i as f32).collect(),
+    );
+    p
+}
+
 #[test]
 fn exr_round_trips_every_plane_exactly() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("x.exr");
-    let p = planes();
+    let p = planes_with_truth();
     let mut set = OutputSet::new(&path).unwrap();
-    write_exr(&mut set, &path, &p).unwrap();
+    write_exr(&mut set, &path, &p, &[]).unwrap();
     set.commit().unwrap();
     let (w, h, chans) = read_exr(&path).unwrap();
     assert_eq!((w, h), (7, 5));
+    assert_eq!(chans.len(), p.planes.len());
     for plane in &p.planes {
         let (_, data) = chans
             .iter()
@@ -50,6 +82,63 @@ fn exr_round_trips_every_plane_exactly() {
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names.len(), 1, "{names:?}");
+}
+
+/// The EXR layout, read with the exr crate's own metadata reader: grouped
+/// `layer.channel` names, UINT integer planes, units and caller attributes
+/// in the header. (python/tests/test_exr.py checks the same file type with
+/// OpenEXR's reference library.)
+#[test]
+fn exr_groups_channels_types_integers_and_states_units() {
+    use irsig::output::exr::{Attr, read_exr_attributes};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("x.exr");
+    let p = planes_with_truth();
+    let mut set = OutputSet::new(&path).unwrap();
+    let attrs = [
+        (
+            "image_time_utc".to_string(),
+            Attr::Text("2001-08-08T18:00:00Z".into()),
+        ),
+        ("sun_zenith_deg".to_string(), Attr::F64(31.25)),
+    ];
+    write_exr(&mut set, &path, &p, &attrs).unwrap();
+    set.commit().unwrap();
+    let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+    let chans: Vec<(String, exr::meta::attribute::SampleType)> = meta.headers[0]
+        .channels
+        .list
+        .iter()
+        .map(|c| (c.name.to_string(), c.sample_type))
+        .collect();
+    use exr::meta::attribute::SampleType::{F32, U32};
+    assert_eq!(
+        chans,
+        [
+            ("radiance.apparent_temperature".to_string(), F32),
+            ("radiance.band_radiance".into(), F32),
+            ("terms.emitted".into(), F32),
+            ("truth.case".into(), U32),
+            ("truth.facet".into(), U32),
+            ("truth.material".into(), U32),
+            ("truth.range".into(), F32),
+        ]
+    );
+    let a = read_exr_attributes(&path).unwrap();
+    let get = |k: &str| {
+        a.iter()
+            .find(|(n, _)| n == k)
+            .map(|(_, v)| v.as_str())
+            .unwrap_or_else(|| panic!("{k} missing in {a:?}"))
+    };
+    assert_eq!(get("irsig.units.truth.range"), "m");
+    assert_eq!(get("irsig.units.radiance.band_radiance"), "W m-2 sr-1 um-1");
+    assert_eq!(get("irsig.units.truth.material"), "index (-1 none)");
+    assert_eq!(get("irsig.image_time_utc"), "2001-08-08T18:00:00Z");
+    assert_eq!(get("irsig.sun_zenith_deg"), "31.25");
+    assert!(get("irsig.uint_none").starts_with("4294967295"));
+    assert_eq!(get("irsig.version"), irsig::version::LONG_VERSION);
+    assert!(get("software").starts_with("irsig "));
 }
 
 #[test]

@@ -33,13 +33,27 @@ def set_args(overrides: dict) -> list:
     return [a for k, v in overrides.items() for a in ("--set", f"{k}={v}")]
 
 
+#: The UINT value of "no surface" in truth.material and truth.facet.
+UINT_NONE = 0xFFFFFFFF
+
+
 def read_exr(path: Path) -> dict:
-    """The float channels of an EXR the CLI wrote (OpenEXR's Python
-    bindings, the PyPI wheel), as name -> float32 (height, width) array."""
+    """The planes of an EXR the CLI wrote (OpenEXR's Python bindings, the
+    PyPI wheel), as plane name (the ``layer.`` prefix removed) -> float32
+    (height, width) array; UINT channels as float32, with UINT_NONE -> -1 in
+    material and facet (the planes' value for "no surface")."""
     import OpenEXR
 
+    out = {}
     with OpenEXR.File(str(path)) as f:
-        return {name: np.array(c.pixels, dtype=np.float32) for name, c in f.channels().items()}
+        for name, c in f.channels().items():
+            plane = name.rsplit(".", 1)[-1]
+            px = np.asarray(c.pixels)
+            if px.dtype == np.uint32 and plane in ("material", "facet"):
+                out[plane] = np.where(px == UINT_NONE, -1.0, px).astype(np.float32)
+            else:
+                out[plane] = px.astype(np.float32)
+    return out
 
 
 def bits(a: np.ndarray) -> np.ndarray:

@@ -4,8 +4,9 @@ band names and units; pyproj's PROJ pipeline (ENU at the site -> WGS 84 ->
 UTM, independent of irsig's conversion) places the footprint of
 ``irsig check`` on the GeoTIFF's corners within half a pixel; spectral's
 ``open_image`` reads the ENVI wavelengths, band names and class names;
-OpenEXR's reader finds the ground planes and the JSON's material table
-matches the classification."""
+OpenEXR's reader finds the ground planes, the grouped channels, the UINT
+truth planes and the header's units, time, sun, band, version and CRS, and
+the JSON's material table matches the classification."""
 
 import json
 
@@ -128,3 +129,42 @@ def test_exr_has_ground_planes(nadir):
     assert np.isfinite(gz).all() and gz.min() > -0.01 and gz.max() < 6.0
     assert j["irsig"]["git_commit"] and j["image_time_utc"].endswith("Z")
     assert j["band"] == "lwir 8-14 um" and j["band_um"] == [8.0, 14.0]
+
+
+def test_exr_layers_uint_planes_and_header(nadir):
+    """OpenEXR's reader: channels grouped as layer.channel, integer truth
+    planes as UINT, and the header states units, time, sun, band, version
+    and the CRS with the same affine transform as the GeoTIFF."""
+    import OpenEXR
+
+    rasterio = pytest.importorskip("rasterio")
+    d, _ = nadir
+    j = json.loads((d / "n.json").read_text())
+    with OpenEXR.File(str(d / "n.exr")) as f:
+        h = dict(f.header())
+        ch = {n: np.asarray(c.pixels) for n, c in f.channels().items()}
+    layers = {n.split(".")[0] for n in ch}
+    assert layers == {"radiance", "terms", "truth"}
+    assert {"radiance.band_radiance", "radiance.apparent_temperature", "terms.emitted", "truth.range"} <= set(ch)
+    for n in ("truth.material", "truth.facet", "truth.case"):
+        assert ch[n].dtype == np.uint32, n
+    assert ch["radiance.band_radiance"].dtype == np.float32
+    # Every plane of the JSON is a channel, with the JSON's unit.
+    for name, unit in j["planes"]:
+        key = next(k for k in ch if k.endswith("." + name))
+        assert h[f"irsig.units.{key}"] == unit
+    # Material indices and the JSON's table agree; UINT_NONE marks no surface.
+    mat = ch["truth.material"]
+    valid = mat != 0xFFFFFFFF
+    assert valid.any() and mat[valid].max() < len(j["materials"])
+    assert h["irsig.image_time_utc"] == j["image_time_utc"]
+    assert float(np.ravel(h["irsig.sun_zenith_deg"])[0]) == pytest.approx(j["sun_zenith_deg"], abs=1e-12)
+    assert float(np.ravel(h["irsig.sun_azimuth_deg"])[0]) == pytest.approx(j["sun_azimuth_deg"], abs=1e-12)
+    assert h["irsig.band"] == j["band"]
+    assert [float(np.ravel(h[k])[0]) for k in ("irsig.band_lo_um", "irsig.band_hi_um")] == j["band_um"]
+    assert j["irsig"]["git_commit"][:12] in h["irsig.version"] and h["software"].startswith("irsig ")
+    assert h["irsig.crs_epsg"] == "EPSG:32618"
+    with rasterio.open(d / "n.tif") as src:
+        assert rasterio.crs.CRS.from_wkt(h["irsig.crs_wkt"]).to_epsg() == 32618
+        g = [float(v) for v in h["irsig.geotransform"].split()]
+        assert g == pytest.approx(list(src.transform.to_gdal()), abs=1e-6)

@@ -1,10 +1,22 @@
-//! OpenEXR output: one part, one 32-bit float channel per plane, channel
-//! names `<plane>` (e.g. `band_radiance`, `apparent_temperature`), units in
-//! the header's `irsig.units` text attribute is not portable across readers,
-//! so units are documented by name and in the JSON stats instead.
+//! OpenEXR output: one part, one channel per plane, named `layer.channel`
+//! in three layers — `radiance` (band and sensor radiance, apparent
+//! temperature, DN), `terms` (the radiometric terms of eqs. 1-4) and
+//! `truth` (everything else: temperature, material, facet, case, range,
+//! angles, ground x/y/z, sun) — OpenEXR's layer naming convention
+//! (OpenEXR Technical Introduction, "Layers": `layer.channel`).
+//!
+//! Float planes are 32-bit float channels; the integer planes (`material`,
+//! `facet`, `case`, `dn`) are UINT channels, with [`UINT_NONE`] standing
+//! for "no surface" (-1 in the planes) in `truth.material` and
+//! `truth.facet`. The header holds every plane's unit
+//! (`irsig.units.<channel>`), irsig's version (`irsig.version` and the
+//! standard `software`), and what the caller adds (time, sun, band, CRS:
+//! [`crate::output::frame::write_rendered`]). docs/render.md lists them.
 
+use std::collections::HashMap;
 use std::path::Path;
 
+use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, WritableImage,
     read_first_flat_layer_from_file,
@@ -12,18 +24,137 @@ use exr::prelude::{
 
 use super::{OutputError, OutputSet, Planes};
 
-/// Writes all planes as float channels of a single-part EXR (ZIP
-/// compression, lossless) at `path`, as a file of the output set `out`.
-pub fn write_exr(out: &mut OutputSet, path: &Path, planes: &Planes) -> Result<(), OutputError> {
+/// The UINT value of "no surface" in `truth.material` and `truth.facet`
+/// (the planes' -1).
+pub const UINT_NONE: u32 = u32::MAX;
+
+/// Planes whose values are whole numbers, written as UINT channels.
+const UINT_PLANES: [&str; 4] = ["material", "facet", "case", "dn"];
+/// Integer planes where -1 means "no surface".
+const NONE_PLANES: [&str; 2] = ["material", "facet"];
+/// Planes of the `radiance` layer.
+const RADIANCE: [&str; 4] = [
+    "band_radiance",
+    "apparent_temperature",
+    "sensor_radiance",
+    "dn",
+];
+/// Planes of the `terms` layer (eqs. 1-4's terms).
+const TERMS: [&str; 6] = [
+    "emitted",
+    "reflected_solar",
+    "reflected_sky",
+    "reflected_background",
+    "path_thermal",
+    "path_scattered",
+];
+
+/// The EXR layer of a plane: `radiance`, `terms` or `truth`.
+pub fn layer_of(plane: &str) -> &'static str {
+    if RADIANCE.contains(&plane) {
+        "radiance"
+    } else if TERMS.contains(&plane) {
+        "terms"
+    } else {
+        "truth"
+    }
+}
+
+/// The EXR channel name of a plane: `layer.plane`.
+pub fn channel_name(plane: &str) -> String {
+    format!("{}.{plane}", layer_of(plane))
+}
+
+/// A header attribute's value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Attr {
+    Text(String),
+    F64(f64),
+}
+
+/// The plane as UINT samples, when it is an integer plane and every value
+/// is a whole number in range (-1 → [`UINT_NONE`] where -1 means none);
+/// otherwise `None` and the plane is written as float.
+fn uint_samples(name: &str, data: &[f32]) -> Option<Vec<u32>> {
+    if !UINT_PLANES.contains(&name) {
+        return None;
+    }
+    let none = NONE_PLANES.contains(&name);
+    data.iter()
+        .map(|&v| {
+            if none && v == -1.0 {
+                Some(UINT_NONE)
+            } else if v >= 0.0 && v.fract() == 0.0 && (v as f64) <= u32::MAX as f64 {
+                Some(v as u32)
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// Writes all planes as channels of a single-part EXR (ZIP compression,
+/// lossless) at `path`, as a file of the output set `out`, with the
+/// header attributes `attrs` (each stored as `irsig.<key>`) besides the
+/// units and version that every file gets.
+pub fn write_exr(
+    out: &mut OutputSet,
+    path: &Path,
+    planes: &Planes,
+    attrs: &[(String, Attr)],
+) -> Result<(), OutputError> {
     let size = (planes.width as usize, planes.height as usize);
+    let mut other: HashMap<Text, AttributeValue> = HashMap::new();
+    let mut put = |key: String, value: AttributeValue| {
+        other.insert(Text::from(key.as_str()), value);
+    };
+    put(
+        "irsig.version".into(),
+        AttributeValue::Text(Text::from(crate::version::LONG_VERSION)),
+    );
     let channels: Vec<AnyChannel<FlatSamples>> = planes
         .planes
         .iter()
-        .map(|p| AnyChannel::new(p.name.as_str(), FlatSamples::F32(p.data.clone())))
+        .map(|p| {
+            let name = channel_name(&p.name);
+            put(
+                format!("irsig.units.{name}"),
+                AttributeValue::Text(Text::from(p.unit.as_str())),
+            );
+            let samples = match uint_samples(&p.name, &p.data) {
+                Some(u) => FlatSamples::U32(u),
+                None => FlatSamples::F32(p.data.clone()),
+            };
+            AnyChannel::new(name.as_str(), samples)
+        })
         .collect();
+    if planes
+        .planes
+        .iter()
+        .any(|p| NONE_PLANES.contains(&p.name.as_str()))
+    {
+        put(
+            "irsig.uint_none".into(),
+            AttributeValue::Text(Text::from(
+                format!("{UINT_NONE} in truth.material and truth.facet: no surface").as_str(),
+            )),
+        );
+    }
+    for (key, value) in attrs {
+        let v = match value {
+            Attr::Text(s) => AttributeValue::Text(Text::from(s.as_str())),
+            Attr::F64(x) => AttributeValue::F64(*x),
+        };
+        put(format!("irsig.{key}"), v);
+    }
+    let mut layer_attrs = LayerAttributes::named("irsig");
+    layer_attrs.software_name = Some(Text::from(
+        format!("irsig {}", crate::version::LONG_VERSION).as_str(),
+    ));
+    layer_attrs.other = other;
     let layer = Layer::new(
         size,
-        LayerAttributes::named("irsig"),
+        layer_attrs,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels.into_iter().collect()),
     );
@@ -42,8 +173,10 @@ pub fn write_exr(out: &mut OutputSet, path: &Path, planes: &Planes) -> Result<()
 /// Named float channels read back from an EXR.
 pub type Channels = Vec<(String, Vec<f32>)>;
 
-/// Reads back the named float channels of an EXR written by [`write_exr`]
-/// (for tests and tools): (width, height, channels).
+/// Reads back the planes of an EXR written by [`write_exr`] (for tests and
+/// tools): (width, height, channels), each channel under its plane name
+/// (the layer prefix removed) as f32, UINT channels converted back
+/// ([`UINT_NONE`] → -1 in `material` and `facet`).
 pub fn read_exr(path: &Path) -> Result<(u32, u32, Channels), String> {
     let image =
         read_first_flat_layer_from_file(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -53,7 +186,54 @@ pub fn read_exr(path: &Path) -> Result<(u32, u32, Channels), String> {
         .channel_data
         .list
         .into_iter()
-        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .map(|c| {
+            let full = c.name.to_string();
+            let name = full.rsplit('.').next().unwrap_or(&full).to_string();
+            let none = NONE_PLANES.contains(&name.as_str());
+            let values = match &c.sample_data {
+                FlatSamples::U32(u) => u
+                    .iter()
+                    .map(|&v| {
+                        if none && v == UINT_NONE {
+                            -1.0
+                        } else {
+                            v as f32
+                        }
+                    })
+                    .collect(),
+                s => s.values_as_f32().collect(),
+            };
+            (name, values)
+        })
         .collect();
     Ok((w, h, chans))
+}
+
+/// The header attributes `irsig.*` and `software` of an EXR, as text
+/// (doubles formatted with `{}`), for tests and tools.
+pub fn read_exr_attributes(path: &Path) -> Result<Vec<(String, String)>, String> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let header = meta
+        .headers
+        .first()
+        .ok_or_else(|| format!("{}: no header", path.display()))?;
+    let text = |v: &AttributeValue| match v {
+        AttributeValue::Text(t) => Some(t.to_string()),
+        AttributeValue::F64(x) => Some(format!("{x}")),
+        AttributeValue::F32(x) => Some(format!("{x}")),
+        AttributeValue::I32(x) => Some(format!("{x}")),
+        _ => None,
+    };
+    let mut out: Vec<(String, String)> = header
+        .own_attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| text(v).map(|t| (k.to_string(), t)))
+        .collect();
+    if let Some(s) = &header.own_attributes.software_name {
+        out.push(("software".into(), s.to_string()));
+    }
+    out.sort();
+    Ok(out)
 }

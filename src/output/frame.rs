@@ -2,7 +2,9 @@
 //! summary (written last): the PNG quicklook of `sensor_radiance` (2-98 %
 //! stretch, stated in the PNG and the JSON), and in the formats asked for
 //!
-//! * EXR: every plane (`x.exr`);
+//! * EXR: every plane (`x.exr`), channels `radiance.*`, `terms.*`,
+//!   `truth.*`, integer planes as UINT, units/time/sun/band/CRS in the
+//!   header;
 //! * GeoTIFF: every plane as float32 bands (`x.tif`) and the geolocation in
 //!   float64 (`x_geo.tif`: lat, lon, map x, map y), georeferenced;
 //! * ENVI: the radiance cube (`x.img`: the planes at the sensor band, with
@@ -19,8 +21,9 @@ use anyhow::bail;
 use serde::Serialize;
 
 use super::envi::{list, write_cube};
+use super::exr::{Attr, write_exr};
 use super::geotiff::{Band, Placement, placement, write_geotiff};
-use super::{OutputSet, exr::write_exr, quicklook::write_png};
+use super::{OutputSet, quicklook::write_png};
 use crate::render::{Frame, Rendered, Stats};
 use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 
@@ -109,7 +112,7 @@ pub struct Summary<'a> {
     /// The other files of this output set (names beside this JSON, which
     /// is written last: a JSON whose files all exist is a complete set).
     pub files: Vec<String>,
-    /// (name, unit) of every plane, in EXR order.
+    /// (name, unit) of every plane, in render order.
     pub planes: Vec<(String, String)>,
     pub stats: &'a Stats,
 }
@@ -139,7 +142,7 @@ pub fn write_frame(
     let json_path = exr.with_extension("json");
     let mut set = OutputSet::new(&json_path)?;
     let p = &frame.planes;
-    write_exr(&mut set, exr, p)?;
+    write_exr(&mut set, exr, p, &[])?;
     let ql = p
         .get("sensor_radiance")
         .expect("render writes sensor_radiance");
@@ -321,9 +324,6 @@ pub fn write_rendered(
     let geo = Geo::for_georef(g)?;
     let geoloc = geolocate(&geo, g.ground_origin_m, gx, gy, gz);
 
-    if formats.exr {
-        write_exr(&mut set, &path.with_extension("exr"), p)?;
-    }
     let ql = p
         .get("sensor_radiance")
         .expect("render writes sensor_radiance");
@@ -359,6 +359,35 @@ pub fn write_rendered(
             serde_json::to_string(&materials).unwrap_or_default(),
         ),
     ];
+    if formats.exr {
+        let mut attrs: Vec<(String, Attr)> = common_meta
+            .iter()
+            .filter(|(k, _)| {
+                !matches!(
+                    k.as_str(),
+                    "irsig_version" | "sun_azimuth_deg" | "sun_elevation_deg"
+                )
+            })
+            .map(|(k, v)| (k.clone(), Attr::Text(v.clone())))
+            .collect();
+        attrs.extend([
+            ("sun_zenith_deg".into(), Attr::F64(r.sun_zenith_deg)),
+            ("sun_azimuth_deg".into(), Attr::F64(r.sun_azimuth_deg)),
+            ("sun_elevation_deg".into(), Attr::F64(sun_el)),
+            ("band_lo_um".into(), Attr::F64(r.band_um.0)),
+            ("band_hi_um".into(), Attr::F64(r.band_um.1)),
+            ("crs_wkt".into(), Attr::Text(g.crs.wkt.clone())),
+            ("crs_proj".into(), Attr::Text(g.crs.proj.clone())),
+        ]);
+        if let Some(epsg) = g.crs.epsg {
+            attrs.push(("crs_epsg".into(), Attr::Text(format!("EPSG:{epsg}"))));
+        }
+        if let Some(t) = g.geotransform {
+            let t: Vec<String> = t.iter().map(|v| v.to_string()).collect();
+            attrs.push(("geotransform".into(), Attr::Text(t.join(" "))));
+        }
+        write_exr(&mut set, &path.with_extension("exr"), p, &attrs)?;
+    }
     if formats.geotiff {
         let bands: Vec<Band<f32>> = p
             .planes
