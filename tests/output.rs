@@ -141,6 +141,30 @@ fn exr_groups_channels_types_integers_and_states_units() {
     assert!(get("software").starts_with("irsig "));
 }
 
+/// The header's attributes come from a hash map in the exr crate; the file
+/// must still be the same bytes every time (reproducible outputs).
+#[test]
+fn exr_bytes_are_reproducible() {
+    use irsig::output::exr::Attr;
+    let dir = tempfile::tempdir().unwrap();
+    let p = planes_with_truth();
+    let attrs: Vec<(String, Attr)> = (0..20)
+        .map(|i| (format!("key_{i}"), Attr::F64(i as f64)))
+        .collect();
+    let bytes: Vec<Vec<u8>> = (0..3)
+        .map(|k| {
+            let path = dir.path().join(format!("x{k}.exr"));
+            let mut set = OutputSet::new(&path).unwrap();
+            write_exr(&mut set, &path, &p, &attrs).unwrap();
+            set.commit().unwrap();
+            std::fs::read(&path).unwrap()
+        })
+        .collect();
+    assert!(bytes[0] == bytes[1] && bytes[1] == bytes[2]);
+    let (_, _, chans) = read_exr(&dir.path().join("x2.exr")).unwrap();
+    assert_eq!(chans.len(), p.planes.len());
+}
+
 #[test]
 fn envi_writes_bsq_float32_and_header() {
     let dir = tempfile::tempdir().unwrap();

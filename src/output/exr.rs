@@ -166,8 +166,56 @@ pub fn write_exr(
             .non_parallel()
             .to_buffered(&mut cursor)
             .map_err(|e| e.to_string())?;
-        std::io::Write::write_all(w, cursor.get_ref()).map_err(|e| e.to_string())
+        let mut bytes = cursor.into_inner();
+        sort_header_attributes(&mut bytes)?;
+        std::io::Write::write_all(w, &bytes).map_err(|e| e.to_string())
     })
+}
+
+/// Sorts the attributes of a single-part EXR's header by name, in place.
+///
+/// The exr crate keeps custom attributes in a `HashMap` and writes them in
+/// its (per-process random) iteration order, so the same image would give
+/// different bytes from run to run; irsig's outputs must be bit-identical.
+/// A header is the magic number and version (8 bytes), then attributes —
+/// name\0, type\0, a little-endian i32 size, the value — ended by a null
+/// byte (OpenEXR File Layout, "Header"). Reordering them keeps the header's
+/// length, so the offset table after it stays valid.
+fn sort_header_attributes(bytes: &mut [u8]) -> Result<(), String> {
+    let bad = || "EXR header: unexpected layout".to_string();
+    let mut attrs: Vec<(&[u8], &[u8])> = Vec::new();
+    let mut pos = 8;
+    loop {
+        let nul = |from: usize| {
+            bytes[from..]
+                .iter()
+                .position(|&b| b == 0)
+                .map(|n| from + n)
+                .ok_or_else(bad)
+        };
+        if *bytes.get(pos).ok_or_else(bad)? == 0 {
+            break;
+        }
+        let name_end = nul(pos)?;
+        let type_end = nul(name_end + 1)?;
+        let size_at = type_end + 1;
+        let size: [u8; 4] = bytes
+            .get(size_at..size_at + 4)
+            .ok_or_else(bad)?
+            .try_into()
+            .map_err(|_| bad())?;
+        let size = usize::try_from(i32::from_le_bytes(size)).map_err(|_| bad())?;
+        let end = size_at + 4 + size;
+        if end > bytes.len() {
+            return Err(bad());
+        }
+        attrs.push((&bytes[pos..name_end], &bytes[pos..end]));
+        pos = end;
+    }
+    attrs.sort_by(|a, b| a.0.cmp(b.0));
+    let sorted: Vec<u8> = attrs.iter().flat_map(|(_, a)| a.iter().copied()).collect();
+    bytes[8..8 + sorted.len()].copy_from_slice(&sorted);
+    Ok(())
 }
 
 /// Named float channels read back from an EXR.
