@@ -343,7 +343,9 @@ impl Band {
             .sum()
     }
 
-    fn planck_dt(&self, temp_k: f64) -> f64 {
+    /// dL/dT of the band-averaged Planck radiance, W m⁻² sr⁻¹ µm⁻¹ K⁻¹
+    /// (the band weights applied to ∂B/∂T).
+    pub fn planck_dt(&self, temp_k: f64) -> f64 {
         self.weights
             .iter()
             .zip(&self.wavenumber_cm1)
