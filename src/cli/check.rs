@@ -184,6 +184,10 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = super::render::parse_overrides(&a.set)?;
     let s = scene::load_with_overrides(&a.scene, &overrides)?;
+    // The weather must read and cover the render's history, as a render
+    // would need it (a scene whose weather cannot be read fails here).
+    let image_time = s.scene.time.utc(&s.scene.site);
+    crate::render::prepare::frame_weather(&s, image_time)?;
     let r = check_report(&s);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

@@ -66,8 +66,10 @@ pub struct Args {
     /// Weather file (TMY3, EnergyPlus EPW or plain CSV).
     #[arg(long, conflicts_with = "forcing", required_unless_present = "forcing")]
     pub weather: Option<PathBuf>,
-    /// Treat the weather file as a typical year (TMY3/EPW): its records
-    /// take the year of the spin-up start.
+    /// The weather file is a typical year (TMY2/TMY3/EPW/PVGIS...: each
+    /// month from a different year): it is laid on every year of the run,
+    /// wrapping from 31 December to its own 1 January (the scene key
+    /// `typical_year = true` in [weather.file]).
     #[arg(long)]
     pub typical_year: bool,
     /// A ready forcing CSV instead of a weather file (see module docs).

@@ -21,7 +21,7 @@ use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
 use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
-use crate::therm::weather::{ReadOptions, WeatherHistory, read_weather_file_with};
+use crate::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather_file_with};
 use crate::trace::sky_view::blocked_sky_fraction;
 use crate::trace::{self, Backend, Geometry, Tracer};
 
@@ -342,11 +342,17 @@ pub fn scene_weather(
 ) -> anyhow::Result<WeatherHistory> {
     let sc = &scene.scene;
     Ok(match &sc.weather {
-        WeatherSpec::File { path, .. } => {
+        WeatherSpec::File {
+            path, typical_year, ..
+        } => {
             // The reader recognises TMY3/EPW/CSV from the file itself; the
             // scene's `format` key is not cross-checked (yet).
             let p = scene.resolve(path);
-            read_weather_file_with(&p, &ReadOptions::default())
+            let opts = ReadOptions {
+                typical_year: typical_year.then(|| YearSpan::around(from, to)),
+                ..ReadOptions::default()
+            };
+            read_weather_file_with(&p, &opts)
                 .with_context(|| format!("weather file of {}", scene.path.display()))?
                 .history
         }
@@ -369,10 +375,30 @@ pub fn scene_weather(
     })
 }
 
-/// Builds the conditions of a frame at `image_time` (UTC) from the scene's
-/// weather, history length and sampling.
-pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
-    let sc = &st.scene.scene;
+/// The thermal forcing of a frame at `image_time` (UTC): the scene's
+/// weather read over the window the frame needs, the forcing of its
+/// history and the deep-ground temperature.
+pub struct FrameWeather {
+    pub site: Site,
+    /// Start of the history (UTC) and its shadow-sampling interval and count.
+    pub start: DateTime<Utc>,
+    pub interval_s: i64,
+    pub n_sun: i64,
+    /// Thermal step, s.
+    pub step_s: f64,
+    pub forcing: Vec<crate::therm::forcing::Forcing>,
+    pub estimators: crate::therm::forcing::EstimatorReport,
+    pub deep_ground_k: f64,
+}
+
+/// Reads the scene's weather and builds the forcing of a frame at
+/// `image_time` (what [`prepare_conditions`] starts from, and what
+/// `irsig check` validates).
+pub fn frame_weather(
+    scene: &LoadedScene,
+    image_time: DateTime<Utc>,
+) -> anyhow::Result<FrameWeather> {
+    let sc = &scene.scene;
     let opts = &sc.render;
     let site = Site {
         lat_deg: sc.site.latitude_deg,
@@ -390,14 +416,41 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let step_s = history_s as f64 / n_steps as f64;
 
     let history = scene_weather(
-        &st.scene,
+        scene,
         deep_ground_window_start(start, image_time) - chrono::Duration::hours(2),
         image_time + chrono::Duration::hours(2),
     )?;
-    let (mut forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
-        .with_context(|| format!("weather for {}", st.scene.path.display()))?;
+    let (forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
+        .with_context(|| format!("weather for {}", scene.path.display()))?;
     let deep_ground_k = deep_ground_temp_k(&history, &site, start, image_time)
-        .with_context(|| format!("weather for {}", st.scene.path.display()))?;
+        .with_context(|| format!("weather for {}", scene.path.display()))?;
+    Ok(FrameWeather {
+        site,
+        start,
+        interval_s,
+        n_sun,
+        step_s,
+        forcing,
+        estimators,
+        deep_ground_k,
+    })
+}
+
+/// Builds the conditions of a frame at `image_time` (UTC) from the scene's
+/// weather, history length and sampling.
+pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
+    let sc = &st.scene.scene;
+    let opts = &sc.render;
+    let FrameWeather {
+        site,
+        start,
+        interval_s,
+        n_sun,
+        step_s,
+        mut forcing,
+        estimators,
+        deep_ground_k,
+    } = frame_weather(&st.scene, image_time)?;
     let mut slabs: Vec<SlabMaterial> = st
         .slabs
         .iter()

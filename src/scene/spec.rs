@@ -328,6 +328,11 @@ pub enum WeatherSpec {
         path: PathBuf,
         /// File format.
         format: WeatherFormat,
+        /// A typical year (TMY3, most EPW: each month from a different
+        /// source year): laid on the years of the render, wrapping from
+        /// 31 December to the file's own 1 January.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        typical_year: bool,
     },
     /// Constant conditions repeated every day of the history.
     Constant(ConstantWeather),

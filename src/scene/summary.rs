@@ -141,9 +141,15 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
         centre_gsd_m: s.camera.centre_gsd_m(ground_z),
         band_um,
         weather: match &sc.weather {
-            WeatherSpec::File { path, format } => {
-                format!("{format:?} file {}", s.resolve(path).display())
-            }
+            WeatherSpec::File {
+                path,
+                format,
+                typical_year,
+            } => format!(
+                "{format:?} file {}{}",
+                s.resolve(path).display(),
+                if *typical_year { " (typical year)" } else { "" }
+            ),
             WeatherSpec::Constant(w) => format!(
                 "constant: wind {} m/s, air {}..{} °C, dew point {} °C, cloud {}",
                 w.wind_m_s, w.air_min_c, w.air_max_c, w.dew_point_c, w.cloud_fraction

@@ -106,8 +106,8 @@ pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
 /// Where the forcing comes from.
 #[derive(Clone, Debug)]
 pub enum ForcingSource {
-    /// A weather file (TMY3, EnergyPlus EPW or plain CSV); `typical_year`:
-    /// its records take the year of the spin-up start.
+    /// A weather file (any format of [`super::weather::read_weather`]);
+    /// `typical_year`: a typical year, laid on every year of the run.
     Weather { path: PathBuf, typical_year: bool },
     /// A ready forcing CSV (see [`super::forcing_csv`]).
     ForcingCsv(PathBuf),
@@ -172,9 +172,9 @@ fn forcing_from_weather(
     step_s: f64,
     n_steps: usize,
 ) -> anyhow::Result<(Vec<Forcing>, Vec<String>)> {
-    use chrono::Datelike;
+    let end = start + Duration::milliseconds((step_s * n_steps as f64 * 1e3).round() as i64);
     let opts = super::weather::ReadOptions {
-        coerce_year: typical_year.then(|| start.year()),
+        typical_year: typical_year.then(|| super::weather::YearSpan::around(start, end)),
         ..Default::default()
     };
     let history = super::weather::read_weather_file_with(path, &opts)?.history;

@@ -86,7 +86,10 @@ fn weather_campaign(target: &str, seeds: Vec<Vec<u8>>, parse: WeatherParser, fil
     let opts = [
         ReadOptions::default(),
         ReadOptions {
-            coerce_year: Some(2001),
+            typical_year: Some(irsig::therm::weather::YearSpan {
+                first: 2000,
+                last: 2001,
+            }),
             ..ReadOptions::default()
         },
     ];

@@ -50,10 +50,7 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
                 .parse::<i64>()
                 .map_err(|_| c.malformed(format!("{what} '{}' is not an integer", f[i].trim())))
         };
-        let year = opts
-            .coerce_year
-            .map(i64::from)
-            .map_or_else(|| int(0, "year"), Ok)?;
+        let year = int(0, "year")?;
         let (month, day, hour, minute) = (
             int(1, "month")?,
             int(2, "day")?,
@@ -69,10 +66,6 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
         // Hour h, minute m covers ((h−1):00 + m − interval, (h−1):00 + m];
         // hourly files write minute 60 (or 0, meaning the full hour).
         let end_min = if minute == 0 { 60 } else { minute };
-        let local = date.and_hms_opt(0, 0, 0).unwrap()
-            + Duration::hours(hour - 1)
-            + Duration::minutes(end_min);
-        let time = c.local_to_utc(tz, local)?;
         let val = |i: usize, what: &str, missing: f64| -> Result<Option<f64>, WeatherError> {
             let v = c.num(&f[i], what)?;
             Ok((v < missing).then_some(v))
@@ -112,14 +105,15 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
             sky_temp_c,
             precip_mm_h: precip,
         };
-        raws.push(Raw {
+        raws.push(Stamped {
             line: lineno,
-            time,
+            date,
+            minutes: (hour - 1) * 60 + end_min,
             sample: build_sample(&c, met)?,
         });
     }
     Ok(WeatherFile {
-        history: assemble(raws, file, opts, true, TYPICAL_YEAR_HINT)?,
+        history: place(raws, tz, file, opts, true)?,
         format: WeatherFormat::Epw,
         station: Some(station),
     })

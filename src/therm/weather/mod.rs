@@ -106,7 +106,7 @@ pub enum WeatherError {
         expected: String,
     },
     #[error(
-        "{file}:{line}: time {} is earlier than {} on line {prev_line}: records must be sorted by time{hint}",
+        "{file}:{line}: time {} is earlier than {} on line {prev_line}: records must be sorted by time",
         fmt_time(*.time),
         fmt_time(*.prev)
     )]
@@ -116,7 +116,6 @@ pub enum WeatherError {
         prev_line: usize,
         time: DateTime<Utc>,
         prev: DateTime<Utc>,
-        hint: &'static str,
     },
     #[error("{file}:{line}: time {} repeats line {prev_line}: duplicate record", fmt_time(*.time))]
     Duplicate {
@@ -126,7 +125,7 @@ pub enum WeatherError {
         time: DateTime<Utc>,
     },
     #[error(
-        "{file}:{line}: gap of {:.2} h since line {prev_line} ({} to {}); the largest allowed gap is {:.2} h{hint}",
+        "{file}:{line}: gap of {:.2} h since line {prev_line} ({} to {}); the largest allowed gap is {:.2} h",
         secs_between(*.prev, *.time) / 3600.0,
         fmt_time(*.prev),
         fmt_time(*.time),
@@ -139,7 +138,6 @@ pub enum WeatherError {
         prev: DateTime<Utc>,
         time: DateTime<Utc>,
         max_gap_s: f64,
-        hint: &'static str,
     },
     #[error("{file}: no weather records (expected {expected})")]
     Empty { file: String, expected: String },
@@ -160,6 +158,20 @@ pub enum WeatherError {
         /// The missing intervals, UTC.
         missing: Vec<(DateTime<Utc>, DateTime<Utc>)>,
     },
+    #[error(
+        "{file}:{line}: the records jump from {prev_date} (line {prev_line}) to {date}: this is a \
+         typical-year file (its months come from different years, {first_year} to {last_year}); \
+         set `typical_year = true` in the scene's [weather.file] (irsig therm: --typical-year)"
+    )]
+    TypicalYear {
+        file: String,
+        line: usize,
+        prev_line: usize,
+        prev_date: NaiveDate,
+        date: NaiveDate,
+        first_year: i32,
+        last_year: i32,
+    },
     #[error("{0}")]
     Invalid(String),
 }
@@ -170,9 +182,11 @@ pub struct ReadOptions {
     /// UTC offset of plain-CSV times written without one (local standard
     /// time). Ignored for TMY3/EPW, which carry their own offset.
     pub utc_offset: Option<FixedOffset>,
-    /// Replace the year of every TMY3/EPW record (typical-year files mix
-    /// source years month by month). Records then wrap: see [`read_weather_file_with`].
-    pub coerce_year: Option<i32>,
+    /// Read the file as a typical year (TMY3, most EPW: each month taken
+    /// from a different source year) and lay it on every calendar year of
+    /// this span, so that a window crossing 31 Dec → 1 Jan wraps to the
+    /// file's own January (see [`YearSpan`]). Ignored for the plain CSV.
+    pub typical_year: Option<YearSpan>,
     /// Largest allowed spacing between consecutive records, seconds.
     pub max_gap_s: f64,
 }
@@ -181,8 +195,33 @@ impl Default for ReadOptions {
     fn default() -> Self {
         Self {
             utc_offset: None,
-            coerce_year: None,
+            typical_year: None,
             max_gap_s: DEFAULT_MAX_GAP_S,
+        }
+    }
+}
+
+/// The calendar years (first to last, inclusive) onto which a typical-year
+/// file is laid: every year gets a copy of the file's records with the
+/// year replaced (month, day and local time kept). In a leap year a file
+/// without 29 February repeats its 28 February for it (as EnergyPlus does,
+/// Input Output Reference, "RunPeriod"); in other years a file's 29
+/// February records are dropped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct YearSpan {
+    pub first: i32,
+    pub last: i32,
+}
+
+impl YearSpan {
+    /// The years a window `[start, end]` (UTC) needs: one year either side
+    /// (a file in local time reaches up to 14 h into the neighbouring UTC
+    /// year), clipped to [`crate::bounds::time::YEAR`].
+    pub fn around(start: DateTime<Utc>, end: DateTime<Utc>) -> Self {
+        let (lo, hi) = (bounds::time::YEAR.lo as i32, bounds::time::YEAR.hi as i32);
+        Self {
+            first: (start.year() - 1).clamp(lo, hi),
+            last: (end.year() + 1).clamp(lo, hi),
         }
     }
 }
@@ -480,8 +519,10 @@ pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, Weat
         file: file.clone(),
         err,
     })?;
-    // TMY3/EPW files are sometimes Latin-1: keep the bytes we can.
+    // TMY3/EPW files are sometimes Latin-1: keep the bytes we can. Excel's
+    // "CSV UTF-8" starts with a byte-order mark: drop it.
     let text = String::from_utf8_lossy(&bytes);
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_epw = path
         .extension()
         .map(|e| e.eq_ignore_ascii_case("epw"))
@@ -669,7 +710,6 @@ fn assemble(
     file: &str,
     opts: &ReadOptions,
     period_fields: bool,
-    hint: &'static str,
 ) -> Result<WeatherHistory, WeatherError> {
     if raws.is_empty() {
         return Err(WeatherError::Empty {
@@ -694,7 +734,6 @@ fn assemble(
                 prev_line: a.line,
                 time: b.time,
                 prev: a.time,
-                hint,
             });
         }
         let gap = secs_between(a.time, b.time);
@@ -706,7 +745,6 @@ fn assemble(
                 prev: a.time,
                 time: b.time,
                 max_gap_s: opts.max_gap_s,
-                hint,
             });
         }
     }
@@ -784,8 +822,108 @@ pub fn parse_utc_offset(s: &str) -> Result<FixedOffset, String> {
         .ok_or_else(|| format!("cannot read UTC offset '{s}': expected e.g. -05:00, +01:00 or Z"))
 }
 
-const TYPICAL_YEAR_HINT: &str =
-    " (typical-year files mix source years month by month: read them with a coerce_year)";
+/// One record of a file in local standard time, before it is laid on the
+/// UTC time axis by [`place`]: the date written in the file and the stamp's
+/// minutes after that date's midnight (1440 for TMY3's `24:00`).
+struct Stamped {
+    line: usize,
+    date: NaiveDate,
+    minutes: i64,
+    sample: WeatherSample,
+}
+
+/// Lays local-time records on the UTC axis and assembles the history. A
+/// typical-year file read without [`ReadOptions::typical_year`] is refused
+/// where its source year changes ([`WeatherError::TypicalYear`]); with it,
+/// the records are laid on every year of the span (see [`YearSpan`]).
+fn place(
+    recs: Vec<Stamped>,
+    tz: FixedOffset,
+    file: &str,
+    opts: &ReadOptions,
+    period_fields: bool,
+) -> Result<WeatherHistory, WeatherError> {
+    let at = |r: &Stamped, date: NaiveDate| {
+        let local = date.and_hms_opt(0, 0, 0).unwrap() + Duration::minutes(r.minutes);
+        Ctx { file, line: r.line }.local_to_utc(tz, local)
+    };
+    let Some(span) = opts.typical_year else {
+        let mut raws = Vec::with_capacity(recs.len());
+        for r in &recs {
+            raws.push(Raw {
+                line: r.line,
+                time: at(r, r.date)?,
+                sample: r.sample,
+            });
+        }
+        for (w, r) in raws.windows(2).zip(recs.windows(2)) {
+            let gap = secs_between(w[0].time, w[1].time);
+            if r[0].date.year() != r[1].date.year() && (gap <= 0.0 || gap > opts.max_gap_s) {
+                let years = recs.iter().map(|r| r.date.year());
+                return Err(WeatherError::TypicalYear {
+                    file: file.into(),
+                    line: r[1].line,
+                    prev_line: r[0].line,
+                    prev_date: r[0].date,
+                    date: r[1].date,
+                    first_year: years.clone().min().unwrap_or(0),
+                    last_year: years.max().unwrap_or(0),
+                });
+            }
+        }
+        return assemble(raws, file, opts, period_fields);
+    };
+    // Within the typical year the records must run in calendar order.
+    let key = |r: &Stamped| (r.date.month(), r.date.day(), r.minutes);
+    for w in recs.windows(2) {
+        if key(&w[1]) <= key(&w[0]) {
+            return Err(Ctx {
+                file,
+                line: w[1].line,
+            }
+            .malformed(format!(
+                "{:02}-{:02} {:02}:{:02} does not follow {:02}-{:02} {:02}:{:02} (line {}): a typical \
+                 year's records must run from January to December",
+                w[1].date.month(),
+                w[1].date.day(),
+                w[1].minutes / 60,
+                w[1].minutes % 60,
+                w[0].date.month(),
+                w[0].date.day(),
+                w[0].minutes / 60,
+                w[0].minutes % 60,
+                w[0].line
+            )));
+        }
+    }
+    let has_feb29 = recs
+        .iter()
+        .any(|r| (r.date.month(), r.date.day()) == (2, 29));
+    let mut raws = Vec::with_capacity(recs.len() * (span.last - span.first + 1).max(0) as usize);
+    for y in span.first..=span.last {
+        let leap = NaiveDate::from_ymd_opt(y, 2, 29).is_some();
+        for r in &recs {
+            let (m, d) = (r.date.month(), r.date.day());
+            let days: &[u32] = match (m, d) {
+                (2, 29) if !leap => &[],
+                (2, 28) if leap && !has_feb29 => &[28, 29],
+                _ => &[d],
+            };
+            for &d in days {
+                let date = Ctx { file, line: r.line }.date(y.into(), m.into(), d.into())?;
+                raws.push(Raw {
+                    line: r.line,
+                    time: at(r, date)?,
+                    sample: r.sample,
+                });
+            }
+        }
+    }
+    // The repeated 28 February interleaves with the original: restore time
+    // order (stable, and the file's own order was checked above).
+    raws.sort_by_key(|r| r.time);
+    assemble(raws, file, opts, period_fields)
+}
 
 #[cfg(test)]
 mod tests;

@@ -246,7 +246,8 @@ fn tmy3_and_epw_errors() {
         e.starts_with("t.csv:4: time '25:00': expected HH:MM from 01:00 to 24:00"),
         "{e}"
     );
-    // Month boundary of a typical year: July of another year → hint.
+    // Month boundary of a typical year: July of another year → the error
+    // names the scene key and the CLI flag, and no internal API name.
     let tmy3 = tmy.replace(
         "06/18/1989,02:00,0,0,0,0,-9900",
         "07/01/1981,01:00,0,0,0,0,18",
@@ -254,9 +255,17 @@ fn tmy3_and_epw_errors() {
     let e = parse_tmy3(&tmy3, "t.csv", &ReadOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("coerce_year"), "{e}");
+    assert_eq!(
+        e,
+        "t.csv:4: the records jump from 1989-06-18 (line 3) to 1981-07-01: this is a typical-year \
+         file (its months come from different years, 1981 to 1989); set `typical_year = true` in \
+         the scene's [weather.file] (irsig therm: --typical-year)"
+    );
     let opts = ReadOptions {
-        coerce_year: Some(1989),
+        typical_year: Some(YearSpan {
+            first: 1989,
+            last: 1989,
+        }),
         max_gap_s: 400.0 * 3600.0,
         ..ReadOptions::default()
     };
@@ -395,4 +404,59 @@ fn utc_offset_parsing() {
             .unwrap_err()
             .contains("expected e.g. -05:00")
     );
+}
+
+/// A typical year without 29 February laid on a leap year repeats its 28
+/// February (EnergyPlus's rule), so the record stays hourly; on a common
+/// year 28 February 24:00 runs straight into 1 March.
+#[test]
+fn typical_year_leap_day() {
+    let mut tmy = String::from(
+        "723170,\"GREENSBORO\",NC,-5.0,36.1,-79.95,273\n\
+         Date (MM/DD/YYYY),Time (HH:MM),GHI (W/m^2),DNI (W/m^2),DHI (W/m^2),TotCld (tenths),Dry-bulb (C),Dew-point (C),RHum (%),Pressure (mbar),Wspd (m/s)\n",
+    );
+    for (date, t0) in [("02/28/1985", 0.0), ("03/01/1979", 100.0)] {
+        for h in 1..=24 {
+            let t = (t0 + h as f64) / 10.0;
+            tmy += &format!("{date},{h:02}:00,0,0,0,5,{t},-20,50,1000,2\n");
+        }
+    }
+    let read = |y: i32| {
+        let opts = ReadOptions {
+            typical_year: Some(YearSpan { first: y, last: y }),
+            ..ReadOptions::default()
+        };
+        parse_tmy3(&tmy, "t.csv", &opts).unwrap().history
+    };
+    // 1992: 28 Feb (24 h) + 29 Feb (copy, 24 h) + 1 Mar (24 h), hourly.
+    let h = read(1992);
+    let stamps: Vec<_> = h
+        .times
+        .iter()
+        .filter(|t| t.timestamp() % 3600 == 0)
+        .collect();
+    assert_eq!(stamps.len(), 72);
+    assert!(
+        h.check_covers(utc("1992-02-28T06:00:00Z"), utc("1992-03-02T05:00:00Z"))
+            .is_ok()
+    );
+    // 29 Feb 12:00 local (17:00 UTC) holds 28 Feb 12:00's air temperature, 1.2 °C.
+    let s = h.at(utc("1992-02-29T17:00:00Z"));
+    assert!(
+        (s.air_temp_k - ZERO_C_K - 1.2).abs() < 1e-12,
+        "{}",
+        s.air_temp_k
+    );
+    // 1991: 48 hourly stamps, 28 Feb 24:00 (1 Mar 05:00 UTC) then 1 Mar 01:00 (06:00 UTC).
+    let h = read(1991);
+    assert_eq!(
+        h.times.iter().filter(|t| t.timestamp() % 3600 == 0).count(),
+        48
+    );
+    assert!(
+        h.check_covers(utc("1991-02-28T06:00:00Z"), utc("1991-03-02T05:00:00Z"))
+            .is_ok()
+    );
+    let s = h.at(utc("1991-03-01T06:00:00Z"));
+    assert!((s.air_temp_k - ZERO_C_K - 10.1).abs() < 1e-12);
 }

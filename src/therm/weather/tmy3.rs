@@ -68,14 +68,6 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
         }
         let date = NaiveDate::parse_from_str(f[0].trim(), "%m/%d/%Y")
             .map_err(|_| c.malformed(format!("date '{}': expected MM/DD/YYYY", f[0].trim())))?;
-        let date = match opts.coerce_year {
-            Some(y) => date.with_year(y).ok_or_else(|| {
-                c.malformed(format!(
-                    "date {date} does not exist in the coerced year {y}"
-                ))
-            })?,
-            None => date,
-        };
         c.date(date.year().into(), date.month().into(), date.day().into())?;
         let (hh, mm) = f[1]
             .trim()
@@ -88,9 +80,6 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
                     f[1].trim()
                 ))
             })?;
-        let local =
-            date.and_hms_opt(0, 0, 0).unwrap() + Duration::hours(hh) + Duration::minutes(mm);
-        let time = c.local_to_utc(tz, local)?;
         let req = |i: usize, what: &str| -> Result<f64, WeatherError> {
             let v = c.num(&f[i], what)?;
             if v == -9900.0 {
@@ -134,14 +123,15 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
             sky_temp_c: None,
             precip_mm_h: precip,
         };
-        raws.push(Raw {
+        raws.push(Stamped {
             line: k + 3,
-            time,
+            date,
+            minutes: hh * 60 + mm,
             sample: build_sample(&c, met)?,
         });
     }
     Ok(WeatherFile {
-        history: assemble(raws, file, opts, true, TYPICAL_YEAR_HINT)?,
+        history: place(raws, tz, file, opts, true)?,
         format: WeatherFormat::Tmy3,
         station: Some(station),
     })
