@@ -82,7 +82,7 @@ fn clear_sky_estimate_vs_measured_hours() {
             ghi_w_m2: None,
             dni_w_m2: None,
             dhi_w_m2: None,
-            cloud_fraction: 0.0,
+            cloud_fraction: Some(0.0),
             ..*s
         };
     }
@@ -95,7 +95,7 @@ fn clear_sky_estimate_vs_measured_hours() {
     let (mut near_clear, mut high_sun) = (0, 0);
     for k in 0..=n {
         let t = start + Duration::hours(k as i64);
-        let cloud = f.history.at(t).cloud_fraction;
+        let cloud = f.history.at(t).cloud_fraction.unwrap();
         if est[k].sun_dir_enu[2] > 15f64.to_radians().sin() {
             let r = meas[k].ghi_w_m2 / est[k].ghi_w_m2;
             assert!(

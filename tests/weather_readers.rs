@@ -86,7 +86,7 @@ fn tmy3_matches_pvlib_read_tmy3() {
         );
         assert!((s.wind_speed_m_s - get(r, "wind_speed")).abs() < TOL, "{t}");
         assert!(
-            (s.cloud_fraction * 10.0 - get(r, "TotCld (tenths)")).abs() < TOL,
+            (s.cloud_fraction.unwrap() * 10.0 - get(r, "TotCld (tenths)")).abs() < TOL,
             "{t}"
         );
         if i > 0 {
@@ -154,7 +154,7 @@ fn epw_matches_pvlib_read_epw() {
         );
         assert!((s.wind_speed_m_s - get(r, "wind_speed")).abs() < TOL, "{t}");
         assert!(
-            (s.cloud_fraction * 10.0 - get(r, "total_sky_cover")).abs() < TOL,
+            (s.cloud_fraction.unwrap() * 10.0 - get(r, "total_sky_cover")).abs() < TOL,
             "{t}"
         );
         if i > 0 {

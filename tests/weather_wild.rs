@@ -71,7 +71,7 @@ fn check_tmy3_like(h: &WeatherHistory, rows: &[Row]) {
         close(s.pressure_pa / 100.0, r.get("pressure"), "pressure", t);
         close(s.wind_speed_m_s, r.get("wind_speed"), "wind", t);
         close(
-            s.cloud_fraction * 10.0,
+            s.cloud_fraction.unwrap() * 10.0,
             r.get("TotCld (tenths)"),
             "cloud",
             t,
@@ -205,4 +205,50 @@ fn utf8_bom_is_stripped() {
     let b = read_weather(&bom, &ReadOptions::default()).unwrap();
     assert_eq!(a.history.samples, b.history.samples);
     assert_eq!(a.history.times, b.history.times);
+}
+
+/// A plain CSV with measured sky temperature and irradiances but no cloud
+/// column reads, and drives the forcing without any cloud estimate in the
+/// sky term (the measured sky temperature is used) and with cloud derived
+/// from the measured GHI where it would be needed.
+#[test]
+fn csv_without_cloud_but_with_measured_sky_temperature() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/stations/bon-19950510.csv");
+    let text = std::fs::read_to_string(&src).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| !header[i].starts_with("cloud"))
+        .collect();
+    assert!(keep.len() < header.len() && header.contains(&"sky_temp_c"));
+    let cut = |l: &str| {
+        let f: Vec<&str> = l.split(',').collect();
+        keep.iter().map(|&i| f[i]).collect::<Vec<_>>().join(",")
+    };
+    let mut out: Vec<String> = text
+        .lines()
+        .filter(|l| l.starts_with('#'))
+        .map(String::from)
+        .collect();
+    out.extend(text.lines().filter(|l| !l.starts_with('#')).map(cut));
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("no-cloud.csv");
+    std::fs::write(&p, out.join("\n")).unwrap();
+    let f = read_weather(&p, &ReadOptions::default()).unwrap();
+    assert!(f.history.samples.iter().all(|s| s.cloud_fraction.is_none()));
+    let site = irsig::sun::Site {
+        lat_deg: 40.05,
+        lon_deg: -88.37,
+        elevation_m: 213.0,
+    };
+    let start = f.history.start();
+    let n = ((f.history.end() - start).num_seconds() / 1800) as usize;
+    let (forcing, rep) =
+        irsig::therm::forcing::build_forcing(&f.history, &site, start, 1800.0, n).unwrap();
+    assert_eq!(rep.sky_temp_measured, n + 1);
+    assert_eq!(rep.clear_sky_cloud, 0);
+    for (k, x) in forcing.iter().enumerate() {
+        let want = f.history.at(start + Duration::seconds(1800 * k as i64));
+        assert_eq!(x.sky_temp_k, want.sky_temp_k.unwrap());
+    }
 }

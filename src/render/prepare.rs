@@ -555,7 +555,7 @@ mod tests {
                 dew_point_k: 273.15,
                 wind_speed_m_s: 2.0,
                 pressure_pa: 101_325.0,
-                cloud_fraction: 0.0,
+                cloud_fraction: Some(0.0),
                 ghi_w_m2: None,
                 dni_w_m2: None,
                 dhi_w_m2: None,

@@ -122,6 +122,9 @@ pub struct EstimatorReport {
     pub sky_temp_measured: usize,
     /// Berdahl–Martin clear sky + Crawford–Duchon cloud correction.
     pub sky_temp_estimated: usize,
+    /// Cloud cover not in the record: derived from the clear-sky index of
+    /// the measured GHI ([`cloud_from_clear_sky_index`]).
+    pub cloud_derived: usize,
     pub linke_turbidity: f64,
 }
 
@@ -163,6 +166,14 @@ impl EstimatorReport {
                 self.linke_turbidity
             ),
         );
+        if self.cloud_derived > 0 {
+            v.push(format!(
+                "cloud cover at {} of {n} samples: not in the record, derived from the clear-sky index of \
+                 the measured GHI (Kasten-Czeplak inverted, C = ((1 - GHI/GHI_clear)/0.75)^(1/3.4)); \
+                 sun below {} deg: interpolated in time",
+                self.cloud_derived, MIN_ELEVATION_FOR_CLOUD_DEG
+            ));
+        }
         if self.sky_temp_measured > 0 {
             v.push(format!(
                 "sky temperature at {} of {n} samples: measured",
@@ -273,6 +284,19 @@ pub fn ineichen_perez(
 pub fn kasten_czeplak_ghi_w_m2(ghi_clear_w_m2: f64, cloud_fraction: f64) -> f64 {
     ghi_clear_w_m2 * (1.0 - 0.75 * cloud_fraction.clamp(0.0, 1.0).powf(3.4))
 }
+
+/// Cloud cover from the clear-sky index k_c = GHI/GHI_clear, by inverting
+/// the Kasten & Czeplak (1980) relation the clear-sky path uses
+/// ([`kasten_czeplak_ghi_w_m2`], k_c = 1 − 0.75·C^3.4):
+/// C = ((1 − k_c)/0.75)^(1/3.4), with k_c clipped to [0.25, 1] (C in [0, 1]).
+pub fn cloud_from_clear_sky_index(kc: f64) -> f64 {
+    ((1.0 - kc).clamp(0.0, 0.75) / 0.75).powf(1.0 / 3.4)
+}
+
+/// Lowest solar elevation at which cloud cover is derived from measured
+/// GHI, degrees; lower suns (and nights) take it interpolated in time
+/// between the neighbouring derived values.
+pub const MIN_ELEVATION_FOR_CLOUD_DEG: f64 = 10.0;
 
 /// Erbs, Klein & Duffie (1982), Solar Energy 28, 293-302, eq. 1: diffuse
 /// fraction DHI/GHI from the clearness index k_t:
@@ -391,6 +415,7 @@ enum IrrPath {
 /// Irradiance of one step from the (interpolated) weather and the sun.
 fn step_irradiance(
     w: &WeatherSample,
+    cloud_fraction: f64,
     apparent_zenith_deg: f64,
     earth_sun_distance_au: f64,
     elevation_m: f64,
@@ -449,7 +474,7 @@ fn step_irradiance(
                 Some(am) => ineichen_perez(z, am, linke_turbidity, elevation_m, e0),
                 None => ineichen_perez(90.0, f64::NAN, linke_turbidity, elevation_m, e0),
             };
-            let ghi = kasten_czeplak_ghi_w_m2(cs.ghi_w_m2, w.cloud_fraction);
+            let ghi = kasten_czeplak_ghi_w_m2(cs.ghi_w_m2, cloud_fraction);
             (erbs_split(ghi, z, e0).0, IrrPath::ClearSky)
         }
     };
@@ -510,18 +535,25 @@ pub fn build_forcing_with(
         linke_turbidity: opts.linke_turbidity,
         ..EstimatorReport::default()
     };
+    let steps: Vec<_> = (0..=n_steps)
+        .map(|k| {
+            let t = at(k);
+            let w = history.at(t);
+            let spa = SpaOptions {
+                pressure_hpa: w.pressure_pa / 100.0,
+                temp_c: w.air_temp_k - ZERO_C_K,
+                ..SpaOptions::default()
+            };
+            let sun = solar_position_with(t, site.lat_deg, site.lon_deg, site.elevation_m, &spa);
+            (t, w, sun)
+        })
+        .collect();
+    let cloud = step_cloud(history, &steps, site, opts, &mut report)?;
     let mut out = Vec::with_capacity(n_steps + 1);
-    for k in 0..=n_steps {
-        let t = at(k);
-        let w = history.at(t);
-        let spa = SpaOptions {
-            pressure_hpa: w.pressure_pa / 100.0,
-            temp_c: w.air_temp_k - ZERO_C_K,
-            ..SpaOptions::default()
-        };
-        let sun = solar_position_with(t, site.lat_deg, site.lon_deg, site.elevation_m, &spa);
+    for (k, ((t, w, sun), cloud)) in steps.into_iter().zip(cloud).enumerate() {
         let (irr, path) = step_irradiance(
             &w,
+            cloud,
             sun.zenith_deg,
             sun.earth_sun_distance_au,
             site.elevation_m,
@@ -545,7 +577,7 @@ pub fn build_forcing_with(
                 estimate_sky_temp_k(
                     w.air_temp_k,
                     w.dew_point_k,
-                    w.cloud_fraction,
+                    cloud,
                     local_mean_solar_hour(t, site.lon_deg),
                     w.pressure_pa,
                 )
@@ -567,6 +599,76 @@ pub fn build_forcing_with(
         });
     }
     Ok((out, report))
+}
+
+/// The cloud cover of every step: the record's where it has one; else
+/// derived from the clear-sky index of the measured GHI (or DHI + DNI·cos z)
+/// with the sun at least [`MIN_ELEVATION_FOR_CLOUD_DEG`] up
+/// ([`cloud_from_clear_sky_index`], Ineichen–Perez clear sky as in the
+/// clear-sky path); at lower suns, interpolated linearly in time between
+/// the nearest derived values (held before the first and after the last).
+fn step_cloud(
+    history: &WeatherHistory,
+    steps: &[(DateTime<Utc>, WeatherSample, crate::sun::SolarPosition)],
+    site: &Site,
+    opts: &ForcingOptions,
+    report: &mut EstimatorReport,
+) -> Result<Vec<f64>, WeatherError> {
+    if steps.iter().all(|(_, w, _)| w.cloud_fraction.is_some()) {
+        return Ok(steps.iter().map(|(_, w, _)| w.cloud_fraction.unwrap()).collect());
+    }
+    let derived: Vec<Option<f64>> = steps
+        .iter()
+        .map(|(_, w, sun)| {
+            let z = sun.zenith_deg;
+            let cos_z = z.to_radians().cos();
+            let ghi = w
+                .ghi_w_m2
+                .or_else(|| Some(w.dhi_w_m2? + w.dni_w_m2? * cos_z.max(0.0)))?;
+            if 90.0 - z < MIN_ELEVATION_FOR_CLOUD_DEG {
+                return None;
+            }
+            let am = kasten_young_airmass(z)? * w.pressure_pa / 101_325.0;
+            let e0 = extraterrestrial_normal_w_m2(sun.earth_sun_distance_au);
+            let cs = ineichen_perez(z, am, opts.linke_turbidity, site.elevation_m, e0);
+            Some(cloud_from_clear_sky_index(ghi / cs.ghi_w_m2))
+        })
+        .collect();
+    let known: Vec<usize> = (0..steps.len()).filter(|&k| derived[k].is_some()).collect();
+    let mut out = Vec::with_capacity(steps.len());
+    for (k, (t, w, _)) in steps.iter().enumerate() {
+        if let Some(c) = w.cloud_fraction {
+            out.push(c);
+            continue;
+        }
+        report.cloud_derived += 1;
+        let i = known.partition_point(|&j| j < k);
+        let c = match (i.checked_sub(1).map(|i| known[i]), known.get(i)) {
+            (_, Some(&b)) if b == k => derived[k].unwrap(),
+            (Some(a), Some(&b)) => {
+                let w = (k - a) as f64 / (b - a) as f64;
+                derived[a].unwrap() + (derived[b].unwrap() - derived[a].unwrap()) * w
+            }
+            (Some(a), None) => derived[a].unwrap(),
+            (None, Some(&b)) => derived[b].unwrap(),
+            (None, None) => {
+                return Err(WeatherError::Invalid(format!(
+                    "weather '{}' has no cloud cover at {}, and no measured GHI with the sun {} deg \
+                     or more above the horizon between {} and {} to derive it from: add total \
+                     cloud cover to the file",
+                    history.source,
+                    t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+                    MIN_ELEVATION_FOR_CLOUD_DEG,
+                    steps[0].0.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+                    steps[steps.len() - 1]
+                        .0
+                        .to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+                )));
+            }
+        };
+        out.push(c);
+    }
+    Ok(out)
 }
 
 /// σT⁴ of a sky temperature, W/m² (downwelling longwave), for reports.
@@ -611,6 +713,62 @@ mod tests {
         // Downwelling longwave of that clear sky: ε·σ·T⁴ = 0.7743·σ·293.15⁴ ≈ 325.8 W/m².
         let lw = sky_longwave_w_m2(274.9901977574314);
         assert!((lw - 0.7743 * STEFAN_BOLTZMANN * 293.15f64.powi(4)).abs() < 1e-9);
+    }
+
+    /// The clear-sky-index cloud estimate inverts the published Kasten &
+    /// Czeplak (1980) relation k_c = 1 − 0.75·C^3.4 (to 1e-12), and clips
+    /// outside it: k_c ≥ 1 → clear, k_c ≤ 0.25 → overcast.
+    #[test]
+    fn cloud_from_clear_sky_index_inverts_kasten_czeplak() {
+        for i in 0..=20 {
+            let c = i as f64 / 20.0;
+            let kc = kasten_czeplak_ghi_w_m2(1.0, c);
+            assert!((kc - (1.0 - 0.75 * c.powf(3.4))).abs() < 1e-15);
+            assert!((cloud_from_clear_sky_index(kc) - c).abs() < 1e-12, "{c}");
+        }
+        assert_eq!(cloud_from_clear_sky_index(1.2), 0.0);
+        assert_eq!(cloud_from_clear_sky_index(0.1), 1.0);
+        // Half cover: k_c = 1 − 0.75·0.5^3.4 = 0.9289508.
+        assert!((cloud_from_clear_sky_index(0.9289508) - 0.5).abs() < 1e-6);
+    }
+
+    /// A record without cloud cover but with measured GHI: the forcing
+    /// derives the cloud from the clear-sky index. GHI made by the
+    /// clear-sky path from cloud 0.6 gives back cloud 0.6 at every step
+    /// (daytime derived, night interpolated), hence the same sky
+    /// temperature as the record with cloud 0.6 (to 1e-9 K).
+    #[test]
+    fn cloud_derived_from_measured_ghi() {
+        let site = Site {
+            lat_deg: 43.1,
+            lon_deg: -77.6,
+            elevation_m: 150.0,
+        };
+        let start = utc("1992-07-15T00:00:00Z");
+        let p = ConstantWeather {
+            cloud_fraction: 0.6,
+            ..ConstantWeather::default()
+        };
+        let h = constant_weather(&p, 43.1, -77.6, start, start + Duration::hours(48), 900.0)
+            .unwrap();
+        let n = h.times.len() - 1;
+        let (f, rep) = build_forcing(&h, &site, start, 900.0, n).unwrap();
+        assert_eq!((rep.clear_sky_cloud, rep.cloud_derived), (n + 1, 0));
+        let mut g = h.clone();
+        for (s, x) in g.samples.iter_mut().zip(&f) {
+            s.cloud_fraction = None;
+            s.ghi_w_m2 = Some(x.ghi_w_m2);
+        }
+        let (f2, rep2) = build_forcing(&g, &site, start, 900.0, n).unwrap();
+        assert_eq!((rep2.erbs_from_measured_ghi, rep2.cloud_derived), (n + 1, n + 1));
+        assert!(rep2.to_string().contains("clear-sky index"));
+        for (a, b) in f.iter().zip(&f2) {
+            assert!((a.sky_temp_k - b.sky_temp_k).abs() < 1e-9, "{} {}", a.sky_temp_k, b.sky_temp_k);
+        }
+        // No daylight GHI at all (a night-only window): a clear error.
+        let night = start + Duration::hours(4);
+        let e = build_forcing(&g, &site, night, 900.0, 4).unwrap_err().to_string();
+        assert!(e.contains("no cloud cover") && e.contains("add total cloud cover"), "{e}");
     }
 
     /// Erbs diffuse fraction at the published branch points (eq. 1):

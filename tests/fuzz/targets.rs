@@ -63,7 +63,7 @@ fn weather_ok(w: &WeatherFile) -> R {
         in_bound(&B::DEW_POINT, s.dew_point_k - 273.15, "sample")?;
         in_bound(&B::WIND, s.wind_speed_m_s, "sample")?;
         in_bound(&B::PRESSURE, s.pressure_pa / 100.0, "sample")?;
-        in_bound(&B::CLOUD, s.cloud_fraction, "sample")?;
+        in_bound(&B::CLOUD, s.cloud_fraction.unwrap_or(0.0), "sample")?;
         in_bound(&B::PRECIPITATION, s.precip_mm_h, "sample")?;
         for v in [s.ghi_w_m2, s.dni_w_m2, s.dhi_w_m2].into_iter().flatten() {
             in_bound(&B::IRRADIANCE, v, "sample")?;

@@ -149,7 +149,7 @@ pub fn constant_weather(
             rh_percent: None,
             wind_m_s: p.wind_speed_m_s,
             pressure_hpa: p.pressure_hpa,
-            cloud_fraction: p.cloud_fraction,
+            cloud_fraction: Some(p.cloud_fraction),
             ghi: None,
             dni: None,
             dhi: None,

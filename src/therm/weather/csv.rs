@@ -118,7 +118,6 @@ pub fn parse_plain_csv(
             need(1, None, "air_temp_c")?;
             need(2, Some(3), "dew_point_c or rh_percent")?;
             need(4, None, "wind_m_s")?;
-            need(6, Some(7), "cloud_fraction or cloud_tenths")?;
             header = Some((i + 1, names));
             continue;
         };
@@ -138,11 +137,11 @@ pub fn parse_plain_csv(
         let time = parse_plain_time(&c, req(0)?, tz)?;
         c.bound(time.year().into(), &bounds::time::YEAR)?;
         let cloud_fraction = match (opt(6)?, opt(7)?) {
-            (Some(f), _) => f,
-            (None, Some(tenths)) => c.range(tenths, "cloud_tenths", 0.0, 10.0, "tenths")? / 10.0,
-            (None, None) => {
-                return Err(c.malformed("cloud_fraction and cloud_tenths are both empty"));
+            (Some(f), _) => Some(f),
+            (None, Some(tenths)) => {
+                Some(c.range(tenths, "cloud_tenths", 0.0, 10.0, "tenths")? / 10.0)
             }
+            (None, None) => None,
         };
         let met = Met {
             air_temp_c: c.num(req(1)?, "air_temp_c")?,

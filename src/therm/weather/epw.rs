@@ -91,14 +91,12 @@ pub fn parse_epw(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherFi
             dew_point_c: val(7, "dew point temperature", 99.9)?,
             rh_percent: val(8, "relative humidity", 999.0)?,
             wind_m_s: req(21, "wind speed", 999.0)?,
-            pressure_hpa: req(9, "atmospheric pressure", 999999.0)? / 100.0,
-            cloud_fraction: c.range(
-                req(22, "total sky cover", 99.0)?,
-                "total sky cover",
-                0.0,
-                10.0,
-                "tenths",
-            )? / 10.0,
+            pressure_hpa: val(9, "atmospheric pressure", 999999.0)?
+                .map_or_else(|| standard_pressure_hpa(station.elevation_m), |p| p / 100.0),
+            cloud_fraction: val(22, "total sky cover", 99.0)?
+                .map(|v| c.range(v, "total sky cover", 0.0, 10.0, "tenths"))
+                .transpose()?
+                .map(|v| v / 10.0),
             ghi: val(13, "GHI", 9999.0)?,
             dni: val(14, "DNI", 9999.0)?,
             dhi: val(15, "DHI", 9999.0)?,

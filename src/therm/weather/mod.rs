@@ -61,8 +61,10 @@ pub struct WeatherSample {
     pub dew_point_k: f64,
     pub wind_speed_m_s: f64,
     pub pressure_pa: f64,
-    /// Total cloud cover, 0 (clear) to 1 (overcast).
-    pub cloud_fraction: f64,
+    /// Total cloud cover, 0 (clear) to 1 (overcast); `None` where the
+    /// record does not carry it but has measured irradiance the forcing
+    /// derives it from (see [`crate::therm::forcing`]).
+    pub cloud_fraction: Option<f64>,
     /// Measured global horizontal irradiance, W/m².
     pub ghi_w_m2: Option<f64>,
     /// Measured direct normal irradiance, W/m².
@@ -290,7 +292,7 @@ impl WeatherSample {
             dew_point_k: lerp(a.dew_point_k, b.dew_point_k, w),
             wind_speed_m_s: lerp(a.wind_speed_m_s, b.wind_speed_m_s, w),
             pressure_pa: lerp(a.pressure_pa, b.pressure_pa, w),
-            cloud_fraction: lerp(a.cloud_fraction, b.cloud_fraction, w),
+            cloud_fraction: lerp_opt(a.cloud_fraction, b.cloud_fraction, w),
             ghi_w_m2: lerp_opt(a.ghi_w_m2, b.ghi_w_m2, w),
             dni_w_m2: lerp_opt(a.dni_w_m2, b.dni_w_m2, w),
             dhi_w_m2: lerp_opt(a.dhi_w_m2, b.dhi_w_m2, w),
@@ -471,6 +473,13 @@ pub fn rh_percent_from_dew_point(air_temp_c: f64, dew_point_c: f64) -> f64 {
 /// EPW "horizontal infrared radiation intensity" field.
 pub fn sky_temp_k_from_irradiance(lw_down_w_m2: f64) -> f64 {
     (lw_down_w_m2 / STEFAN_BOLTZMANN).powf(0.25)
+}
+
+/// Pressure of the standard atmosphere at a station's elevation, hPa: what
+/// a reader takes for a record without a pressure
+/// ([`crate::therm::forcing::pressure_pa_from_altitude`]).
+pub fn standard_pressure_hpa(elevation_m: f64) -> f64 {
+    crate::therm::forcing::pressure_pa_from_altitude(elevation_m) / 100.0
 }
 
 /// Stefan–Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018, exact in SI).
@@ -654,8 +663,9 @@ struct Met {
     dew_point_c: Option<f64>,
     rh_percent: Option<f64>,
     wind_m_s: f64,
+    /// Readers whose files may omit it use [`standard_pressure_hpa`].
     pressure_hpa: f64,
-    cloud_fraction: f64,
+    cloud_fraction: Option<f64>,
     ghi: Option<f64>,
     dni: Option<f64>,
     dhi: Option<f64>,
@@ -682,7 +692,16 @@ fn build_sample(c: &Ctx, m: Met) -> Result<WeatherSample, WeatherError> {
     };
     let wind = c.bound(m.wind_m_s, &bounds::weather::WIND)?;
     let p = c.bound(m.pressure_hpa, &bounds::weather::PRESSURE)?;
-    let cf = c.bound(m.cloud_fraction, &bounds::weather::CLOUD)?;
+    let cf = m
+        .cloud_fraction
+        .map(|x| c.bound(x, &bounds::weather::CLOUD))
+        .transpose()?;
+    if cf.is_none() && m.ghi.is_none() && (m.dni.is_none() || m.dhi.is_none()) {
+        return Err(c.malformed(
+            "total cloud cover is missing, and the record has no measured GHI (or DNI and DHI) to \
+             derive it from: cloud cover is needed to estimate the irradiance",
+        ));
+    }
     let irr = |v: Option<f64>, f: &str| v.map(|x| c.irradiance(x, f)).transpose();
     let sky = m
         .sky_temp_c

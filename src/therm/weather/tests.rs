@@ -28,7 +28,7 @@ fn plain_csv_reads_and_interpolates_linearly() {
     let s = h.at(utc("2024-06-21T00:15:00Z"));
     assert!((s.air_temp_k - (283.15 + 0.25 * 4.0)).abs() < 1e-12);
     assert!((s.pressure_pa - 100_250.0).abs() < 1e-9);
-    assert!((s.cloud_fraction - 0.55).abs() < 1e-12);
+    assert!((s.cloud_fraction.unwrap() - 0.55).abs() < 1e-12);
     assert_eq!(
         s.ghi_w_m2, None,
         "GHI is missing at 00:00, so unknown between"
@@ -85,7 +85,7 @@ fn plain_csv_rh_tenths_and_optional_columns() {
         "{}",
         s.dew_point_k
     );
-    assert!((s.cloud_fraction - 0.3).abs() < 1e-12);
+    assert!((s.cloud_fraction.unwrap() - 0.3).abs() < 1e-12);
     assert_eq!(s.pressure_pa, 101_325.0);
     assert!((s.sky_temp_k.unwrap() - 263.15).abs() < 1e-12);
     assert_eq!(s.precip_mm_h, 0.5);
@@ -288,7 +288,7 @@ fn check_covers_lists_missing_hours() {
             dew_point_k: 280.0,
             wind_speed_m_s: 1.0,
             pressure_pa: 101_325.0,
-            cloud_fraction: 0.0,
+            cloud_fraction: Some(0.0),
             ghi_w_m2: None,
             dni_w_m2: None,
             dhi_w_m2: None,
@@ -357,7 +357,7 @@ fn constant_weather_diurnal_cycle() {
         assert!((12.0 - 1e-9..=26.0 + 1e-9).contains(&t));
         assert_eq!(s.wind_speed_m_s, 4.47);
         assert!((s.dew_point_k - ZERO_C_K - 8.0).abs() < 1e-12);
-        assert_eq!(s.cloud_fraction, 0.25);
+        assert_eq!(s.cloud_fraction, Some(0.25));
         assert_eq!(s.ghi_w_m2, None);
     }
     // Rising before the max, falling after (sampled).

@@ -109,14 +109,12 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
             dew_point_c: td,
             rh_percent: rh,
             wind_m_s: req(i_w, "Wspd (m/s)")?,
-            pressure_hpa: req(i_p, "Pressure (mbar)")?,
-            cloud_fraction: c.range(
-                req(i_cld, "TotCld (tenths)")?,
-                "TotCld (tenths)",
-                0.0,
-                10.0,
-                "tenths",
-            )? / 10.0,
+            pressure_hpa: opt(i_p, "Pressure (mbar)")?
+                .unwrap_or_else(|| standard_pressure_hpa(station.elevation_m)),
+            cloud_fraction: opt(i_cld, "TotCld (tenths)")?
+                .map(|v| c.range(v, "TotCld (tenths)", 0.0, 10.0, "tenths"))
+                .transpose()?
+                .map(|v| v / 10.0),
             ghi: opt(i_ghi, "GHI")?,
             dni: opt(i_dni, "DNI")?,
             dhi: opt(i_dhi, "DHI")?,
