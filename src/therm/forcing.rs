@@ -615,7 +615,10 @@ fn step_cloud(
     report: &mut EstimatorReport,
 ) -> Result<Vec<f64>, WeatherError> {
     if steps.iter().all(|(_, w, _)| w.cloud_fraction.is_some()) {
-        return Ok(steps.iter().map(|(_, w, _)| w.cloud_fraction.unwrap()).collect());
+        return Ok(steps
+            .iter()
+            .map(|(_, w, _)| w.cloud_fraction.unwrap())
+            .collect());
     }
     let derived: Vec<Option<f64>> = steps
         .iter()
@@ -659,7 +662,9 @@ fn step_cloud(
                     history.source,
                     t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
                     MIN_ELEVATION_FOR_CLOUD_DEG,
-                    steps[0].0.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
+                    steps[0]
+                        .0
+                        .to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
                     steps[steps.len() - 1]
                         .0
                         .to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
@@ -749,8 +754,8 @@ mod tests {
             cloud_fraction: 0.6,
             ..ConstantWeather::default()
         };
-        let h = constant_weather(&p, 43.1, -77.6, start, start + Duration::hours(48), 900.0)
-            .unwrap();
+        let h =
+            constant_weather(&p, 43.1, -77.6, start, start + Duration::hours(48), 900.0).unwrap();
         let n = h.times.len() - 1;
         let (f, rep) = build_forcing(&h, &site, start, 900.0, n).unwrap();
         assert_eq!((rep.clear_sky_cloud, rep.cloud_derived), (n + 1, 0));
@@ -760,15 +765,28 @@ mod tests {
             s.ghi_w_m2 = Some(x.ghi_w_m2);
         }
         let (f2, rep2) = build_forcing(&g, &site, start, 900.0, n).unwrap();
-        assert_eq!((rep2.erbs_from_measured_ghi, rep2.cloud_derived), (n + 1, n + 1));
+        assert_eq!(
+            (rep2.erbs_from_measured_ghi, rep2.cloud_derived),
+            (n + 1, n + 1)
+        );
         assert!(rep2.to_string().contains("clear-sky index"));
         for (a, b) in f.iter().zip(&f2) {
-            assert!((a.sky_temp_k - b.sky_temp_k).abs() < 1e-9, "{} {}", a.sky_temp_k, b.sky_temp_k);
+            assert!(
+                (a.sky_temp_k - b.sky_temp_k).abs() < 1e-9,
+                "{} {}",
+                a.sky_temp_k,
+                b.sky_temp_k
+            );
         }
         // No daylight GHI at all (a night-only window): a clear error.
         let night = start + Duration::hours(4);
-        let e = build_forcing(&g, &site, night, 900.0, 4).unwrap_err().to_string();
-        assert!(e.contains("no cloud cover") && e.contains("add total cloud cover"), "{e}");
+        let e = build_forcing(&g, &site, night, 900.0, 4)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no cloud cover") && e.contains("add total cloud cover"),
+            "{e}"
+        );
     }
 
     /// Erbs diffuse fraction at the published branch points (eq. 1):
