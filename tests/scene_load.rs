@@ -75,10 +75,16 @@ fn airfield_matches_the_paper_scene() {
     assert!(s.materials[engine].internal_power_w_m2 > 0.0);
     assert!(s.tri_material.iter().any(|&m| m as usize == engine));
     // the weather record exists and is a TMY3 excerpt with its header
-    let scene::WeatherSpec::File { path, format } = &s.scene.weather else {
+    let scene::WeatherSpec::File {
+        path,
+        format,
+        typical_year,
+    } = &s.scene.weather
+    else {
         panic!("weather file expected")
     };
     assert_eq!(*format, scene::WeatherFormat::Tmy3);
+    assert!(!typical_year, "the excerpt is one real year");
     let text = std::fs::read_to_string(s.resolve(path)).unwrap();
     assert!(text.starts_with("723170,\"GREENSBORO PIEDMONT TRIAD INT\""));
     assert_eq!(text.lines().count(), 2 + 144);

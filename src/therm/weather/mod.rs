@@ -538,15 +538,15 @@ pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, Weat
         .unwrap_or(false)
         || text.starts_with("LOCATION,");
     if is_epw {
-        return parse_epw(&text, &file, opts);
+        return parse_epw(text, &file, opts);
     }
     let mut lines = text.lines();
     let l1 = lines.next().unwrap_or("");
     let l2 = lines.next().unwrap_or("");
     if split_csv(l1).len() == 7 && l2.trim_start().starts_with("Date (MM/DD/YYYY)") {
-        return parse_tmy3(&text, &file, opts);
+        return parse_tmy3(text, &file, opts);
     }
-    parse_plain_csv(&text, &file, opts)
+    parse_plain_csv(text, &file, opts)
 }
 
 /// Splits one CSV line; double-quoted fields may contain commas.
