@@ -72,25 +72,81 @@ pub enum Attr {
     F64(f64),
 }
 
-/// The plane as UINT samples, when it is an integer plane and every value
-/// is a whole number in range (-1 → [`UINT_NONE`] where -1 means none);
-/// otherwise `None` and the plane is written as float.
-fn uint_samples(name: &str, data: &[f32]) -> Option<Vec<u32>> {
-    if !UINT_PLANES.contains(&name) {
-        return None;
-    }
+/// Whether the plane is written as UINT: an integer plane whose every value
+/// is a whole number in range (-1 allowed where it means none).
+fn is_uint(name: &str, data: &[f32]) -> bool {
     let none = NONE_PLANES.contains(&name);
-    data.iter()
-        .map(|&v| {
-            if none && v == -1.0 {
-                Some(UINT_NONE)
-            } else if v >= 0.0 && v.fract() == 0.0 && (v as f64) <= u32::MAX as f64 {
-                Some(v as u32)
-            } else {
-                None
-            }
+    UINT_PLANES.contains(&name)
+        && data.iter().all(|&v| {
+            (none && v == -1.0) || (v >= 0.0 && v.fract() == 0.0 && (v as f64) <= u32::MAX as f64)
         })
-        .collect()
+}
+
+/// A plane's samples as the EXR writer reads them: borrowed from the plane
+/// (no copy of the image), UINT planes converted line by line.
+struct PlaneSamples<'a> {
+    data: &'a [f32],
+    uint: bool,
+    /// -1 → [`UINT_NONE`].
+    none: bool,
+}
+
+/// The line writer of a [`PlaneSamples`].
+struct PlaneWriter<'s, 'a> {
+    width: usize,
+    samples: &'s PlaneSamples<'a>,
+}
+
+impl<'s, 'a: 's> exr::image::write::samples::WritableSamples<'s> for PlaneSamples<'a> {
+    type Writer = PlaneWriter<'s, 'a>;
+
+    fn sample_type(&self) -> exr::meta::attribute::SampleType {
+        if self.uint {
+            exr::meta::attribute::SampleType::U32
+        } else {
+            exr::meta::attribute::SampleType::F32
+        }
+    }
+
+    fn infer_level_modes(&self) -> (exr::meta::attribute::LevelMode, exr::math::RoundingMode) {
+        (
+            exr::meta::attribute::LevelMode::Singular,
+            exr::math::RoundingMode::Down,
+        )
+    }
+
+    fn create_samples_writer(&'s self, header: &exr::meta::header::Header) -> Self::Writer {
+        PlaneWriter {
+            width: header.layer_size.width(),
+            samples: self,
+        }
+    }
+}
+
+impl exr::image::write::samples::SamplesWriter for PlaneWriter<'_, '_> {
+    fn extract_line(&self, line: exr::block::lines::LineRefMut<'_>) {
+        let start = line.location.position.y() * self.width + line.location.position.x();
+        let src = &self.samples.data[start..start + line.location.sample_count];
+        let written = if self.samples.uint {
+            let none = self.samples.none;
+            let u: Vec<u32> = src
+                .iter()
+                .map(|&v| {
+                    if none && v == -1.0 {
+                        UINT_NONE
+                    } else {
+                        v as u32
+                    }
+                })
+                .collect();
+            line.write_samples_from_slice(&u)
+        } else {
+            line.write_samples_from_slice(src)
+        };
+        // The line buffer is sized by the exr crate from the same channel
+        // list and sample type, so this cannot fail short of a crate bug.
+        written.expect("EXR line buffer matches its channel");
+    }
 }
 
 /// Writes all planes as channels of a single-part EXR (ZIP compression,
@@ -112,7 +168,7 @@ pub fn write_exr(
         "irsig.version".into(),
         AttributeValue::Text(Text::from(crate::version::LONG_VERSION)),
     );
-    let channels: Vec<AnyChannel<FlatSamples>> = planes
+    let channels: Vec<AnyChannel<PlaneSamples>> = planes
         .planes
         .iter()
         .map(|p| {
@@ -121,9 +177,10 @@ pub fn write_exr(
                 format!("irsig.units.{name}"),
                 AttributeValue::Text(Text::from(p.unit.as_str())),
             );
-            let samples = match uint_samples(&p.name, &p.data) {
-                Some(u) => FlatSamples::U32(u),
-                None => FlatSamples::F32(p.data.clone()),
+            let samples = PlaneSamples {
+                data: &p.data,
+                uint: is_uint(&p.name, &p.data),
+                none: NONE_PLANES.contains(&p.name.as_str()),
             };
             AnyChannel::new(name.as_str(), samples)
         })
@@ -161,9 +218,11 @@ pub fn write_exr(
     let image = Image::from_layer(layer);
     out.stage(path, |w| {
         let mut cursor = std::io::Cursor::new(Vec::new());
+        // Blocks are compressed in parallel; with increasing line order the
+        // exr crate writes them in order, so the bytes do not depend on the
+        // thread count.
         image
             .write()
-            .non_parallel()
             .to_buffered(&mut cursor)
             .map_err(|e| e.to_string())?;
         let mut bytes = cursor.into_inner();
