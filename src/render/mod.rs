@@ -35,7 +35,8 @@ use serde::Serialize;
 
 use crate::sensor::camera::Camera;
 use crate::therm::balance::Orientation;
-use crate::therm::slab::{SunHistory, ThermSolution};
+use crate::therm::cache::{HistoryRef, ThermMemo, ThermQuery};
+use crate::therm::slab::{ThermError, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
 pub use image::{Rendered, render_at, render_conditions, render_scene};
@@ -279,35 +280,52 @@ pub fn thermal_solution(
     cond: &Conditions,
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
-    let hist = SunHistory {
-        start_s: 0,
-        interval_s: cond.interval_s,
-        sunlit: s.history.clone(),
-    };
-    let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
     let m = s.material as usize;
     cond.cache
-        .solve_in_scene(
-            s.material,
-            &cond.slabs[m],
-            o,
-            Some(&hist),
-            0,
-            &cond.forcing,
-            s.point.z as f64 - cond.ground_z_m,
-            st.blocked_sky(s.prim, s.normal),
-        )
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "thermal model, material {}: {e}",
-                st.scene.materials[m].name
-            )
-        })
+        .solve_query(&therm_query(st, cond, s), &cond.slabs[m], &cond.forcing)
+        .map_err(|e| therm_error(st, m, e))
 }
 
-/// Step 4: the temperature of a surface at the image time, K.
-fn temperature(st: &Static, cond: &Conditions, s: &Surface) -> anyhow::Result<f64> {
-    thermal_solution(st, cond, s).map(|sol| sol.surface_temp_k)
+/// The thermal cache's key of a surface (borrows its history).
+fn therm_query<'a>(st: &Static, cond: &Conditions, s: &'a Surface) -> ThermQuery<'a> {
+    cond.cache.query(
+        s.material,
+        Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
+        Some(HistoryRef {
+            start_s: 0,
+            interval_s: cond.interval_s,
+            sunlit: &s.history,
+        }),
+        0,
+        s.point.z as f64 - cond.ground_z_m,
+        st.blocked_sky(s.prim, s.normal),
+    )
+}
+
+fn therm_error(st: &Static, m: usize, e: ThermError) -> anyhow::Error {
+    anyhow::anyhow!(
+        "thermal model, material {}: {e}",
+        st.scene.materials[m].name
+    )
+}
+
+/// Step 4: the temperature of a surface at the image time, K (through
+/// the worker's memo of its last key).
+fn temperature(
+    st: &Static,
+    cond: &Conditions,
+    s: &Surface,
+    memo: &mut ThermMemo,
+) -> anyhow::Result<f64> {
+    let m = s.material as usize;
+    cond.cache
+        .surface_temp_k_memo(
+            &therm_query(st, cond, s),
+            &cond.slabs[m],
+            &cond.forcing,
+            memo,
+        )
+        .map_err(|e| therm_error(st, m, e))
 }
 
 /// A rendered frame: the output planes (at output resolution) and stats.
@@ -414,14 +432,18 @@ fn solve_temperatures(
         .par_chunks_mut(PROGRESS_CHUNK)
         .try_for_each(|chunk| -> anyhow::Result<()> {
             cancel::check()?;
-            for s in chunk.iter_mut() {
+            let mut memo = ThermMemo::default();
+            let solved = chunk.iter_mut().try_for_each(|s| -> anyhow::Result<()> {
                 if let Some(surf) = s.surface.as_mut() {
-                    surf.temp_k = temperature(st, cond, surf)?;
+                    surf.temp_k = temperature(st, cond, surf, &mut memo)?;
                 }
                 if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                    bg.temp_k = temperature(st, cond, bg)?;
+                    bg.temp_k = temperature(st, cond, bg, &mut memo)?;
                 }
-            }
+                Ok(())
+            });
+            cond.cache.absorb_memo(&memo);
+            solved?;
             if let Some(f) = progress {
                 let d = done.fetch_add(chunk.len() as u64, Ordering::Relaxed) + chunk.len() as u64;
                 f(Progress {

@@ -8,19 +8,33 @@
 //! output does not depend on which pixel (or thread) asked first, i.e. it is
 //! deterministic whatever the thread count.
 //!
-//! Concurrency: 64 shards, each a `Mutex<HashMap<key, Arc<OnceLock<…>>>>`.
-//! The shard lock is held only to find or insert the entry; the solve runs
-//! outside it, inside `OnceLock::get_or_init`, so every key is solved exactly
-//! once and concurrent askers of the same key wait for that one solve.
+//! Lookups: a [`ThermQuery`] borrows the pixel's history (nothing is cloned
+//! or allocated); its 64-bit hash is computed once and picks the shard and
+//! the map slot; equality is decided on the full key (hash collisions only
+//! cost a comparison). A [`ThermMemo`] remembers the last key a worker
+//! asked for and its temperature: neighbouring pixels mostly share keys, and
+//! a memo hit skips the hash and the shard lock.
+//!
+//! Concurrency: 64 shards, each a `Mutex<HashMap<hash, [(key, slot)]>>`.
+//! The shard lock is held only to find or insert the entry (and to read an
+//! entry already solved); a solve runs outside it, inside
+//! `OnceLock::get_or_init`, so every key is solved exactly once and
+//! concurrent askers of the same key wait for that one solve.
+//!
+//! Meshes: the graded mesh depends only on the material's ρ, c, k, L and
+//! the settings; it is built once per such material and shared by every
+//! solve of it.
 
 use std::collections::HashMap;
-use std::hash::{DefaultHasher, Hash, Hasher};
+use std::hash::{BuildHasherDefault, DefaultHasher, Hash, Hasher};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use super::balance::Orientation;
 use super::forcing::Forcing;
-use super::slab::{SlabMaterial, SlabModel, SunHistory, ThermError, ThermSettings, ThermSolution};
+use super::slab::{
+    Mesh, SlabMaterial, SlabModel, SunHistory, ThermError, ThermSettings, ThermSolution,
+};
 
 const SHARDS: usize = 64;
 
@@ -45,6 +59,184 @@ pub struct ThermKey {
     pub blocked_q: i32,
 }
 
+/// A borrowed sun/shadow history: `sunlit[i]` at `start_s + i·interval_s`
+/// (the same rules as [`SunHistory`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryRef<'a> {
+    pub start_s: i64,
+    pub interval_s: i64,
+    pub sunlit: &'a [bool],
+}
+
+impl<'a> From<&'a SunHistory> for HistoryRef<'a> {
+    fn from(h: &'a SunHistory) -> Self {
+        HistoryRef {
+            start_s: h.start_s,
+            interval_s: h.interval_s,
+            sunlit: &h.sunlit,
+        }
+    }
+}
+
+/// A cache key that borrows its history: what a lookup needs, built
+/// without allocating by [`ThermCache::query`].
+#[derive(Clone, Copy, Debug)]
+pub struct ThermQuery<'a> {
+    material_id: u32,
+    slope_q: i32,
+    aspect_q: i32,
+    /// `None`: always sunlit (no history, or an all-sunlit one).
+    history: Option<HistoryRef<'a>>,
+    weather_id: u64,
+    height_q: i32,
+    blocked_q: i32,
+}
+
+/// The flags packed 64 to a word (bit i of word i/64 = sample i), one word
+/// at a time.
+fn packed_words(sunlit: &[bool]) -> impl Iterator<Item = u64> + '_ {
+    sunlit.chunks(64).map(|c| {
+        c.iter()
+            .enumerate()
+            .fold(0u64, |w, (i, &b)| w | (u64::from(b) << i))
+    })
+}
+
+impl ThermQuery<'_> {
+    /// The 64-bit hash of the key (SipHash-1-3 of its fields and packed
+    /// history words; the same for equal keys, whatever built them).
+    fn hash64(&self) -> u64 {
+        let mut h = DefaultHasher::new();
+        (self.material_id, self.slope_q, self.aspect_q).hash(&mut h);
+        (self.weather_id, self.height_q, self.blocked_q).hash(&mut h);
+        if let Some(s) = &self.history {
+            (s.start_s, s.interval_s, s.sunlit.len()).hash(&mut h);
+            for w in packed_words(s.sunlit) {
+                h.write_u64(w);
+            }
+        }
+        h.finish()
+    }
+
+    /// True when `k` is this key.
+    fn matches(&self, k: &ThermKey) -> bool {
+        let scalars = k.material_id == self.material_id
+            && k.slope_q == self.slope_q
+            && k.aspect_q == self.aspect_q
+            && k.weather_id == self.weather_id
+            && k.height_q == self.height_q
+            && k.blocked_q == self.blocked_q;
+        scalars
+            && match &self.history {
+                None => k.shadow_len == 0,
+                Some(s) => {
+                    k.shadow_start_s == s.start_s
+                        && k.shadow_interval_s == s.interval_s
+                        && k.shadow_len as usize == s.sunlit.len()
+                        && packed_words(s.sunlit).eq(k.shadow_bits.iter().copied())
+                }
+            }
+    }
+
+    /// The owned key (allocates the history words).
+    fn to_key(self) -> ThermKey {
+        let (start, interval, len, bits) = match self.history {
+            Some(s) => (
+                s.start_s,
+                s.interval_s,
+                s.sunlit.len() as u32,
+                packed_words(s.sunlit).collect(),
+            ),
+            None => (0, 0, 0, Box::default()),
+        };
+        ThermKey {
+            material_id: self.material_id,
+            slope_q: self.slope_q,
+            aspect_q: self.aspect_q,
+            shadow_start_s: start,
+            shadow_interval_s: interval,
+            shadow_len: len,
+            shadow_bits: bits,
+            weather_id: self.weather_id,
+            height_q: self.height_q,
+            blocked_q: self.blocked_q,
+        }
+    }
+}
+
+/// A worker's memo of the last key it asked for and the surface
+/// temperature found (see the module docs). Start one per worker (or per
+/// chunk of pixels) with `ThermMemo::default()`; it keeps its own copy of
+/// the last history (a buffer reused from key to key).
+#[derive(Debug, Default)]
+pub struct ThermMemo {
+    valid: bool,
+    scalars: (u32, i32, i32, u64, i32, i32),
+    /// (start, interval) of the history; `None`: always sunlit.
+    clock: Option<(i64, i64)>,
+    sunlit: Vec<bool>,
+    temp_k: f64,
+    /// Lookups answered by the memo.
+    pub hits: u64,
+}
+
+impl ThermMemo {
+    fn scalars(q: &ThermQuery) -> (u32, i32, i32, u64, i32, i32) {
+        (
+            q.material_id,
+            q.slope_q,
+            q.aspect_q,
+            q.weather_id,
+            q.height_q,
+            q.blocked_q,
+        )
+    }
+
+    /// The remembered temperature if `q` is the last key.
+    fn get(&self, q: &ThermQuery) -> Option<f64> {
+        let same = self.valid
+            && self.scalars == Self::scalars(q)
+            && match &q.history {
+                None => self.clock.is_none(),
+                Some(h) => self.clock == Some((h.start_s, h.interval_s)) && self.sunlit == h.sunlit,
+            };
+        same.then_some(self.temp_k)
+    }
+
+    fn set(&mut self, q: &ThermQuery, temp_k: f64) {
+        self.valid = true;
+        self.scalars = Self::scalars(q);
+        self.clock = q.history.map(|h| (h.start_s, h.interval_s));
+        self.sunlit.clear();
+        if let Some(h) = &q.history {
+            self.sunlit.extend_from_slice(h.sunlit);
+        }
+        self.temp_k = temp_k;
+    }
+}
+
+/// Keys are stored under their precomputed hash; this hasher passes it on.
+#[derive(Default)]
+struct PassHash(u64);
+
+impl Hasher for PassHash {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        // Only `write_u64` is used (the map's key is the u64 hash).
+        for &b in bytes {
+            self.0 = self.0.rotate_left(8) ^ u64::from(b);
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = v;
+    }
+}
+
+/// One shard: entries by hash; a bucket holds the keys that share a hash.
+type Shard = HashMap<u64, Vec<(ThermKey, Slot)>, BuildHasherDefault<PassHash>>;
+
 /// Quantum of the blocked sky fraction in the cache key (and the solve):
 /// ±0.01 of the hemisphere, about ±1 W/m² of longwave, ≤ 0.1 K.
 pub const SKY_QUANTUM: f64 = 0.02;
@@ -59,13 +251,17 @@ pub struct CacheStats {
 
 type Slot = Arc<OnceLock<Result<Arc<ThermSolution>, ThermError>>>;
 
+/// What the graded mesh depends on in a material: ρ, c, k, L (bit patterns).
+type MeshKey = [u64; 4];
+
 /// Concurrent memoising cache of [`ThermSolution`]s for one set of
 /// [`ThermSettings`].
 pub struct ThermCache {
     settings: ThermSettings,
     orientation_quantum_deg: f64,
     with_series: bool,
-    shards: Vec<Mutex<HashMap<ThermKey, Slot>>>,
+    shards: Vec<Mutex<Shard>>,
+    meshes: Mutex<Vec<(MeshKey, Arc<Mesh>)>>,
     hits: AtomicU64,
     misses: AtomicU64,
 }
@@ -90,7 +286,8 @@ impl ThermCache {
                 Self::DEFAULT_QUANTUM_DEG
             },
             with_series,
-            shards: (0..SHARDS).map(|_| Mutex::new(HashMap::new())).collect(),
+            shards: (0..SHARDS).map(|_| Mutex::new(Shard::default())).collect(),
+            meshes: Mutex::new(Vec::new()),
             hits: AtomicU64::new(0),
             misses: AtomicU64::new(0),
         }
@@ -126,6 +323,14 @@ impl ThermCache {
         )
     }
 
+    /// The orientation that the integer key parts stand for.
+    fn dequantise(&self, slope_q: i32, aspect_q: i32) -> Orientation {
+        Orientation {
+            slope_deg: slope_q as f64 * self.orientation_quantum_deg,
+            aspect_deg: aspect_q as f64 * self.orientation_quantum_deg,
+        }
+    }
+
     /// Quantises a facet's height above the ground: steps of 5 % in
     /// `ln((z + 2 m)/2 m)` (the log-law wind changes by well under 1 % per
     /// step); returns the key part and the height it stands for, m.
@@ -136,7 +341,48 @@ impl ThermCache {
             0.0
         };
         let q = (((z + 2.0) / 2.0).ln() / 0.05).round() as i32;
-        (q, (2.0 * (0.05 * q as f64).exp() - 2.0).max(0.0))
+        (q, Self::height_of(q))
+    }
+
+    /// The height that key part `q` stands for, m.
+    fn height_of(q: i32) -> f64 {
+        (2.0 * (0.05 * q as f64).exp() - 2.0).max(0.0)
+    }
+
+    /// The key part of a blocked sky fraction (see [`SKY_QUANTUM`]).
+    fn quantise_blocked(blocked_sky: f64) -> i32 {
+        if blocked_sky.is_finite() {
+            (blocked_sky.clamp(0.0, 1.0) / SKY_QUANTUM).round() as i32
+        } else {
+            0
+        }
+    }
+
+    /// The borrowed key of a (material, orientation, history, weather)
+    /// combination for a facet `height_m` above the ground whose sky is
+    /// partly hidden by the scene (`blocked_sky`, see `trace::sky_view`).
+    /// Allocates nothing.
+    #[allow(clippy::too_many_arguments)]
+    pub fn query<'a>(
+        &self,
+        material_id: u32,
+        o: Orientation,
+        shadow: Option<HistoryRef<'a>>,
+        weather_id: u64,
+        height_m: f64,
+        blocked_sky: f64,
+    ) -> ThermQuery<'a> {
+        let (slope_q, aspect_q, _) = self.quantise(o);
+        ThermQuery {
+            material_id,
+            slope_q,
+            aspect_q,
+            // An all-sunlit history is the same as no history.
+            history: shadow.filter(|h| h.sunlit.iter().any(|b| !b)),
+            weather_id,
+            height_q: Self::quantise_height(height_m).0,
+            blocked_q: Self::quantise_blocked(blocked_sky),
+        }
     }
 
     /// The key of a (material, orientation, history, weather) combination
@@ -160,29 +406,15 @@ impl ThermCache {
         weather_id: u64,
         height_m: f64,
     ) -> ThermKey {
-        let (slope_q, aspect_q, _) = self.quantise(o);
-        let (start, interval, len, bits) = match shadow {
-            // An all-sunlit history is the same as no history.
-            Some(h) if h.sunlit.iter().any(|b| !b) => (
-                h.start_s,
-                h.interval_s,
-                h.sunlit.len() as u32,
-                h.packed_bits().into_boxed_slice(),
-            ),
-            _ => (0, 0, 0, Box::default()),
-        };
-        ThermKey {
+        self.query(
             material_id,
-            slope_q,
-            aspect_q,
-            shadow_start_s: start,
-            shadow_interval_s: interval,
-            shadow_len: len,
-            shadow_bits: bits,
+            o,
+            shadow.map(HistoryRef::from),
             weather_id,
-            height_q: Self::quantise_height(height_m).0,
-            blocked_q: 0,
-        }
+            height_m,
+            0.0,
+        )
+        .to_key()
     }
 
     /// The solution for this key, solving it (once) on a miss. `material`
@@ -248,44 +480,131 @@ impl ThermCache {
         height_m: f64,
         blocked_sky: f64,
     ) -> Result<Arc<ThermSolution>, ThermError> {
-        let mut key = self.key_at(material_id, orientation, shadow, weather_id, height_m);
-        key.blocked_q = if blocked_sky.is_finite() {
-            (blocked_sky.clamp(0.0, 1.0) / SKY_QUANTUM).round() as i32
-        } else {
-            0
-        };
-        let blocked_q = key.blocked_q;
-        let mut hasher = DefaultHasher::new();
-        key.hash(&mut hasher);
-        let shard = &self.shards[(hasher.finish() as usize) % SHARDS];
+        let q = self.query(
+            material_id,
+            orientation,
+            shadow.map(HistoryRef::from),
+            weather_id,
+            height_m,
+            blocked_sky,
+        );
+        self.solve_query(&q, material, forcing)
+    }
+
+    /// The solution of key `q` (see [`ThermCache::solve`] for what
+    /// `material` and `forcing` must be).
+    pub fn solve_query(
+        &self,
+        q: &ThermQuery,
+        material: &SlabMaterial,
+        forcing: &[Forcing],
+    ) -> Result<Arc<ThermSolution>, ThermError> {
+        self.lookup(q, material, forcing, |r| r.clone())
+    }
+
+    /// The surface temperature at the image time of key `q`, K, through the
+    /// worker's `memo` (see [`ThermCache::solve`] for what `material` and
+    /// `forcing` must be). A memo hit counts as a cache hit.
+    pub fn surface_temp_k_memo(
+        &self,
+        q: &ThermQuery,
+        material: &SlabMaterial,
+        forcing: &[Forcing],
+        memo: &mut ThermMemo,
+    ) -> Result<f64, ThermError> {
+        if let Some(t) = memo.get(q) {
+            memo.hits += 1;
+            return Ok(t);
+        }
+        let t = self.lookup(q, material, forcing, |r| {
+            r.as_ref().map(|s| s.surface_temp_k).map_err(Clone::clone)
+        })?;
+        memo.set(q, t);
+        Ok(t)
+    }
+
+    /// Adds the memo's hits to the cache's counters (call once per memo,
+    /// when its worker is done).
+    pub fn absorb_memo(&self, memo: &ThermMemo) {
+        self.hits.fetch_add(memo.hits, Ordering::Relaxed);
+    }
+
+    /// Finds or solves key `q` and reads the entry with `read` (under the
+    /// shard lock when the entry is already solved, so that no reference
+    /// count is touched on the common path).
+    fn lookup<R>(
+        &self,
+        q: &ThermQuery,
+        material: &SlabMaterial,
+        forcing: &[Forcing],
+        read: impl Fn(&Result<Arc<ThermSolution>, ThermError>) -> R,
+    ) -> R {
+        let hash = q.hash64();
+        // The shard from bits the map's own slot choice does not use.
+        let shard = &self.shards[((hash >> 32) as usize) % SHARDS];
         let slot: Slot = {
             let mut map = shard.lock().unwrap_or_else(|e| e.into_inner());
-            match map.get(&key) {
-                Some(s) => {
+            let bucket = map.entry(hash).or_default();
+            match bucket.iter().find(|(k, _)| q.matches(k)) {
+                Some((_, s)) => {
                     self.hits.fetch_add(1, Ordering::Relaxed);
+                    if let Some(r) = s.get() {
+                        return read(r);
+                    }
                     s.clone()
                 }
                 None => {
                     self.misses.fetch_add(1, Ordering::Relaxed);
                     let s: Slot = Arc::new(OnceLock::new());
-                    map.insert(key, s.clone());
+                    bucket.push((q.to_key(), s.clone()));
                     s
                 }
             }
         };
-        slot.get_or_init(|| {
-            let (_, _, oq) = self.quantise(orientation);
-            let history = shadow.filter(|h| h.sunlit.iter().any(|b| !b));
-            let (_, zq) = Self::quantise_height(height_m);
-            SlabModel::new(material, oq, &self.settings)
-                .and_then(|m| {
-                    m.with_height(zq)
-                        .with_blocked_sky(blocked_q as f64 * SKY_QUANTUM)
-                        .solve(forcing, history, self.with_series)
-                })
-                .map(Arc::new)
-        })
-        .clone()
+        read(slot.get_or_init(|| self.solve_key(q, material, forcing)))
+    }
+
+    /// The graded mesh of `material` under this cache's settings (built
+    /// once per distinct ρ, c, k, L).
+    fn mesh(&self, material: &SlabMaterial) -> Arc<Mesh> {
+        let key = [
+            material.density_kg_m3,
+            material.specific_heat_j_kgk,
+            material.conductivity_w_mk,
+            material.thickness_m,
+        ]
+        .map(f64::to_bits);
+        let mut meshes = self.meshes.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, m)) = meshes.iter().find(|(k, _)| *k == key) {
+            return m.clone();
+        }
+        let m = Arc::new(Mesh::graded(material, &self.settings));
+        meshes.push((key, m.clone()));
+        m
+    }
+
+    /// Solves the facet that key `q` stands for (quantised orientation,
+    /// height and blocked sky).
+    fn solve_key(
+        &self,
+        q: &ThermQuery,
+        material: &SlabMaterial,
+        forcing: &[Forcing],
+    ) -> Result<Arc<ThermSolution>, ThermError> {
+        let history = q.history.map(|h| SunHistory {
+            start_s: h.start_s,
+            interval_s: h.interval_s,
+            sunlit: h.sunlit.to_vec(),
+        });
+        material.validate()?;
+        let oq = self.dequantise(q.slope_q, q.aspect_q);
+        SlabModel::with_mesh(material, oq, &self.settings, self.mesh(material))
+            .and_then(|m| {
+                m.with_height(Self::height_of(q.height_q))
+                    .with_blocked_sky(q.blocked_q as f64 * SKY_QUANTUM)
+                    .solve(forcing, history.as_ref(), self.with_series)
+            })
+            .map(Arc::new)
     }
 
     /// Surface temperature at the last forcing time (the image time), K.
@@ -313,7 +632,10 @@ impl ThermCache {
         let entries = self
             .shards
             .iter()
-            .map(|s| s.lock().unwrap_or_else(|e| e.into_inner()).len() as u64)
+            .map(|s| {
+                let map = s.lock().unwrap_or_else(|e| e.into_inner());
+                map.values().map(|b| b.len() as u64).sum::<u64>()
+            })
             .sum();
         CacheStats {
             hits: self.hits.load(Ordering::Relaxed),

@@ -48,6 +48,8 @@
 //! start within hours) must be marched in. The caller chooses how far before
 //! the image time the forcing starts (`ThermSettings::spin_up_h`).
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -600,7 +602,8 @@ pub struct SlabModel {
     pub material: SlabMaterial,
     pub orientation: Orientation,
     pub settings: ThermSettings,
-    pub mesh: Mesh,
+    /// The graded mesh (shared by the solves of one material in a cache).
+    pub mesh: Arc<Mesh>,
     normal: [f64; 3],
     f_sky: f64,
     optics: SurfaceOptics,
@@ -630,6 +633,23 @@ impl SlabModel {
         settings: &ThermSettings,
     ) -> Result<Self, ThermError> {
         material.validate()?;
+        Self::with_mesh(
+            material,
+            orientation,
+            settings,
+            Arc::new(Mesh::graded(material, settings)),
+        )
+    }
+
+    /// [`SlabModel::new`] with a mesh built before; `mesh` must be
+    /// `Mesh::graded(material, settings)`.
+    pub(crate) fn with_mesh(
+        material: &SlabMaterial,
+        orientation: Orientation,
+        settings: &ThermSettings,
+        mesh: Arc<Mesh>,
+    ) -> Result<Self, ThermError> {
+        material.validate()?;
         if !(settings.step_s.is_finite() && settings.step_s > 0.0) {
             return Err(ThermError::BadInput(format!(
                 "step_s must be > 0, got {}",
@@ -647,7 +667,6 @@ impl SlabModel {
         if let Some(l) = settings.convection.surface_layer() {
             l.validate().map_err(ThermError::BadInput)?;
         }
-        let mesh = Mesh::graded(material, settings);
         let n = mesh.z_m.len();
         let sw_fraction = match material.surface {
             SurfaceKind::Water(w) => {
