@@ -244,11 +244,30 @@ pub mod render {
     pub const MAX_MEMORY: Bound = Bound::new("max_memory_mib", 1.0, 1e9, "MiB");
 }
 
+/// `[[terrain]]` keys of the scene (docs/scene-format.md).
+pub mod terrain {
+    use super::Bound;
+    /// Mesh spacing: 1 cm to 10 km.
+    pub const RESOLUTION: Bound = Bound::new("resolution_m", 0.01, 10_000.0, "m");
+    /// `extent_m` box coordinates, scene frame (the tracer's frame reaches
+    /// 1,048,576 m from the camera target).
+    pub const EXTENT: Bound = Bound::new("extent_m", -1e6, 1e6, "m");
+    /// `extent_m` as the side of a square centred on the site.
+    pub const EXTENT_SIDE: Bound = Bound::new("extent_m", 0.01, 2e6, "m");
+
+    pub const ALL: &[Bound] = &[RESOLUTION, EXTENT, EXTENT_SIDE];
+}
+
 /// Sizes derived from the inputs, bounded before allocation.
 pub mod sizes {
     /// Bins of a band's spectral grid (0.2-100 µm at the finest step,
     /// 0.1 cm⁻¹, would be 5e5 bins; the shipped tables have 2 000).
     pub const MAX_SPECTRAL_BINS: usize = 200_000;
+    /// Pixels of a DEM or land-cover raster (a 1°×1° tile of USGS 3DEP at
+    /// 1/3″, 10,812², has 1.17e8; decoded as f32 that is 470 MB).
+    pub const MAX_RASTER_PIXELS: usize = 1 << 27;
+    /// Vertices of one terrain mesh (4,000 × 4,000).
+    pub const MAX_TERRAIN_VERTICES: usize = 16_000_000;
 }
 
 /// Every bound the docs must list, with the doc file that lists it.
@@ -258,6 +277,7 @@ pub fn documented() -> Vec<(&'static str, Bound)> {
     v.extend(data::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.push(("docs/scene-format.md", time::YEAR));
     v.push(("docs/scene-format.md", render::MAX_MEMORY));
+    v.extend(terrain::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.extend(weather::ALL.iter().map(|b| ("docs/weather-format.md", *b)));
     v
 }

@@ -172,6 +172,27 @@ impl Geo {
         Some((q.1.to_degrees(), q.0.to_degrees(), q.2))
     }
 
+    /// The scene point of geodetic latitude and longitude (degrees) and
+    /// ellipsoidal height `h_m` (m): PROJ's geocentric forward, then the
+    /// inverse of EPSG 9836 (the transpose of the rotation above):
+    ///
+    /// e = −sinλ₀·ΔX + cosλ₀·ΔY
+    /// n = −sinφ₀·cosλ₀·ΔX − sinφ₀·sinλ₀·ΔY + cosφ₀·ΔZ
+    /// u = cosφ₀·cosλ₀·ΔX + cosφ₀·sinλ₀·ΔY + sinφ₀·ΔZ
+    pub fn scene_point(&self, lat_deg: f64, lon_deg: f64, h_m: f64) -> Option<[f64; 3]> {
+        let mut q = (lon_deg.to_radians(), lat_deg.to_radians(), h_m);
+        proj4rs::transform::transform(&self.longlat, &self.geocent, &mut q).ok()?;
+        let d = DVec3::new(q.0, q.1, q.2) - self.origin_ecef;
+        let (sp, cp) = self.lat0.to_radians().sin_cos();
+        let (sl, cl) = self.lon0.to_radians().sin_cos();
+        let p = [
+            -sl * d.x + cl * d.y,
+            -sp * cl * d.x - sp * sl * d.y + cp * d.z,
+            cp * cl * d.x + cp * sl * d.y + sp * d.z,
+        ];
+        p.iter().all(|v| v.is_finite()).then_some(p)
+    }
+
     /// Map coordinates (x, y), metres, of latitude and longitude (degrees).
     pub fn map_xy(&self, lat_deg: f64, lon_deg: f64) -> Option<[f64; 2]> {
         let mut q = (lon_deg.to_radians(), lat_deg.to_radians(), 0.0);
@@ -375,6 +396,34 @@ mod tests {
             (dlat - 100.0).abs() < 1e-3 && (dlon - 100.0).abs() < 1e-3,
             "{dlat} {dlon}"
         );
+    }
+
+    /// `scene_point` inverts `geodetic` (to 0.1 mm over 10 km and 1 km of
+    /// height), and the ellipsoid falls below the tangent plane by d²/2R
+    /// (R the radius of curvature along the direction, WGS 84).
+    #[test]
+    fn scene_point_inverts_geodetic_and_follows_the_curvature() {
+        let g = Geo::new(&site(43.1566, -77.6088), &OutputCrs::Utm).unwrap();
+        for p in [
+            [0.0, 0.0, 0.0],
+            [10_000.0, -7_000.0, 950.0],
+            [-3.5, 2.25, -40.0],
+        ] {
+            let (lat, lon, h) = g.geodetic(p).unwrap();
+            let q = g.scene_point(lat, lon, h).unwrap();
+            let d = (0..3).map(|i| (p[i] - q[i]).abs()).fold(0.0, f64::max);
+            assert!(d < 1e-4, "{p:?} -> {q:?}");
+        }
+        let (a, e2) = (6_378_137.0f64, 6.694_379_990_14e-3);
+        let phi = 43.1566f64.to_radians();
+        let w = (1.0 - e2 * phi.sin().powi(2)).sqrt();
+        let (m, n) = (a * (1.0 - e2) / w.powi(3), a / w);
+        for (dir, r) in [([2000.0, 0.0], n), ([0.0, 2000.0], m)] {
+            let (lat, lon, _) = g.geodetic([dir[0], dir[1], 0.0]).unwrap();
+            let z = g.scene_point(lat, lon, 169.0).unwrap()[2];
+            let want = -2000.0f64.powi(2) / (2.0 * r);
+            assert!((z - want).abs() < 2e-3, "{dir:?}: {z} vs {want}");
+        }
     }
 
     /// Planes relative to the ground origin keep millimetres at UTM-scale

@@ -18,6 +18,7 @@ pub mod material;
 pub mod obj;
 pub mod spec;
 pub mod summary;
+pub mod terrain;
 pub mod tomlsrc;
 
 use std::collections::HashMap;
@@ -42,9 +43,11 @@ use tomlsrc::{Seg, TomlSource};
 pub struct ObjectInfo {
     /// Object name; instances get `name#k` (k = 1, 2, ...).
     pub name: String,
-    /// The OBJ file (as resolved from the scene file's folder).
+    /// The OBJ file (as resolved from the scene file's folder); for a
+    /// terrain, the DEM file.
     pub file: PathBuf,
-    /// Index of the `[[object]]` entry in the scene file.
+    /// Index of the `[[object]]` entry in the scene file (for a terrain,
+    /// of its `[[terrain]]` entry; terrains follow the objects).
     pub spec_index: usize,
     /// Instance number within that entry (0 without `instance` tables).
     pub instance: usize,
@@ -465,16 +468,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                     )
                 })?;
             let count = out.triangles.len() as u32 - first;
-            let (lo, hi) = bounds(
-                out.triangles[first as usize..]
-                    .iter()
-                    .flatten()
-                    .map(|&i| out.positions[i as usize]),
-            );
-            let (lo, hi) = (
-                std::array::from_fn(|i| lo[i] as f64 + origin[i]),
-                std::array::from_fn(|i| hi[i] as f64 + origin[i]),
-            );
+            let (lo, hi) = out.world_bounds(first, origin);
             objects.push(ObjectInfo {
                 name: if n_inst > 1 {
                     format!("{base_name}#{}", k + 1)
@@ -492,6 +486,46 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                 bounds_max_m: hi,
             });
         }
+    }
+    for (ti, t) in scene.terrain.iter().enumerate() {
+        let mesh = terrain::load(&src, ti, t, &scene.site, &|name, at| {
+            by_name
+                .get(name)
+                .copied()
+                .ok_or_else(|| undefined(src.loc_of(at), name))
+        })?;
+        let first = out.triangles.len() as u32;
+        let object_id = objects.len() as u32;
+        let skipped = out.add_terrain(&mesh, origin, object_id).map_err(|far_m| {
+            src.invalid(
+                &[key("terrain"), Seg::Index(ti), key("extent_m")],
+                format!(
+                    "the terrain reaches {far_m:.0} m from the tracer's origin at the camera target \
+                     ({:.0}, {:.0}) m, more than {:.0} m; use a smaller extent_m or aim the camera \
+                     nearer its centre",
+                    origin[0],
+                    origin[1],
+                    frame::MAX_EXTENT_M
+                ),
+            )
+        })?;
+        let (lo, hi) = out.world_bounds(first, origin);
+        let file = resolve(path, &t.file);
+        objects.push(ObjectInfo {
+            name: t.name.clone().unwrap_or_else(|| {
+                file.file_stem()
+                    .map_or("terrain".into(), |s| s.to_string_lossy().into_owned())
+            }),
+            file,
+            spec_index: ti,
+            instance: 0,
+            first_triangle: first,
+            triangle_count: out.triangles.len() as u32 - first,
+            face_count: mesh.cells - mesh.holes,
+            degenerate_skipped: skipped,
+            bounds_min_m: lo,
+            bounds_max_m: hi,
+        });
     }
     let degenerate_skipped = objects.iter().map(|o| o.degenerate_skipped as usize).sum();
     let extent_m = out
@@ -529,6 +563,62 @@ struct Geometry {
     tri_material: Vec<u32>,
     tri_object: Vec<u32>,
     tri_facet: Vec<u32>,
+}
+
+impl Geometry {
+    /// Bounds (world coordinates, m) of the triangles from `first` on.
+    fn world_bounds(&self, first: u32, origin: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let (lo, hi) = bounds(
+            self.triangles[first as usize..]
+                .iter()
+                .flatten()
+                .map(|&i| self.positions[i as usize]),
+        );
+        (
+            std::array::from_fn(|i| lo[i] as f64 + origin[i]),
+            std::array::from_fn(|i| hi[i] as f64 + origin[i]),
+        )
+    }
+
+    /// Appends a terrain mesh (world coordinates) in the local frame of
+    /// `origin`; returns the zero-area triangles skipped, or `Err(distance)`
+    /// when a vertex lies beyond [`frame::MAX_EXTENT_M`] from the origin.
+    fn add_terrain(
+        &mut self,
+        mesh: &terrain::TerrainMesh,
+        origin: [f64; 3],
+        object: u32,
+    ) -> Result<u32, f64> {
+        let base = self.positions.len() as u32;
+        let local: Vec<glam::DVec3> = mesh
+            .positions_m
+            .iter()
+            .map(|p| glam::DVec3::from(*p) - glam::DVec3::from(origin))
+            .collect();
+        if let Some(far) = local
+            .iter()
+            .map(|l| l.abs().max_element())
+            .find(|&d| d > frame::MAX_EXTENT_M)
+        {
+            return Err(far);
+        }
+        let local: Vec<glam::Vec3> = local.iter().map(|l| l.as_vec3()).collect();
+        let mut skipped = 0;
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            let q = t.map(|i| local[i as usize].as_dvec3());
+            let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
+            if area2.is_nan() || area2 <= 0.0 {
+                skipped += 1;
+                continue;
+            }
+            self.triangles.push(t.map(|i| base + i));
+            self.tri_material.push(mesh.tri_material[k]);
+            self.tri_object.push(object);
+            self.tri_facet.push(mesh.tri_facet[k]);
+        }
+        self.positions.extend(local.iter().map(|l| l.to_array()));
+        Ok(skipped)
+    }
 }
 
 /// World coordinates beyond this (metres) are refused (projected
@@ -772,11 +862,14 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         14.0,
         " hours",
     )?;
-    if s.objects.is_empty() {
+    if s.objects.is_empty() && s.terrain.is_empty() {
         return Err(SceneError::Invalid {
             loc: Location::file(&src.path),
-            msg: "no objects: expected at least one `[[object]]` table".into(),
+            msg: "no objects: expected at least one `[[object]]` or `[[terrain]]` table".into(),
         });
+    }
+    for (i, t) in s.terrain.iter().enumerate() {
+        terrain::validate(&c, i, t)?;
     }
     let check_xf = |base: Vec<Seg>, t: &Transform| -> Result<(), SceneError> {
         for (k, v) in [("translate_m", t.translate_m), ("rotate_deg", t.rotate_deg)] {

@@ -29,8 +29,11 @@ pub struct Scene {
     #[serde(default)]
     pub render: RenderOptions,
     /// Objects placed in the scene (`[[object]]` tables).
-    #[serde(rename = "object")]
+    #[serde(rename = "object", default)]
     pub objects: Vec<ObjectSpec>,
+    /// Terrain meshed from DEMs (`[[terrain]]` tables).
+    #[serde(rename = "terrain", default, skip_serializing_if = "Vec::is_empty")]
+    pub terrain: Vec<crate::scene::terrain::TerrainSpec>,
 }
 
 /// `[site]`.

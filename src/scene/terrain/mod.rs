@@ -1,0 +1,581 @@
+//! Terrain from a digital elevation model: a `[[terrain]]` table names a
+//! GeoTIFF DEM ([`raster`]), an extent of the scene frame and a mesh
+//! spacing; the loader meshes the DEM there into a triangle mesh with one
+//! material per cell (one library material, or a land-cover raster of
+//! class ids and a class → material table), which the scene takes like an
+//! OBJ object.
+//!
+//! Placement. The scene frame is the site's east-north-up frame
+//! ([`crate::scene::georef`]: EPSG 9836 topocentric coordinates about the
+//! site at `site.elevation_m`). A mesh vertex at scene (x, y) is the DEM's
+//! surface point above the geodetic position (φ, λ) of scene point
+//! (x, y, 0): its height H is the DEM's bilinear interpolation between
+//! pixel centres at (φ, λ) (mapped to the DEM's CRS by PROJ's formulas in
+//! `proj4rs`), and the vertex is the scene point of (φ, λ, H). So every
+//! vertex lies on the DEM surface, z ≈ H − `site.elevation_m` near the
+//! site, and the Earth's curvature is kept (the ground falls d²/2R below
+//! the tangent plane: 0.31 m at 2 km). The DEM's heights are taken in the
+//! vertical datum of `site.elevation_m` (which the georeferencing takes as
+//! the WGS 84 ellipsoidal height); the geoid undulation, constant to
+//! centimetres over a few km, cancels in z.
+//!
+//! Mesh. The extent is split into nx × ny cells of at most `resolution_m`
+//! (nx = ⌈width / resolution_m⌉), each cell two triangles (counter-clockwise
+//! from above, normal up) sharing one facet id. Between vertices the mesh
+//! is linear, so it departs from the DEM's bilinear surface by at most
+//! about r²/8·|h''| (r the cell size, h'' the surface's second derivative).
+
+pub mod raster;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use proj4rs::proj::Proj;
+use rayon::prelude::*;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::bounds::terrain as B;
+use crate::scene::error::SceneError;
+use crate::scene::georef::Geo;
+use crate::scene::material::Check;
+use crate::scene::spec::{OutputCrs, Site};
+use crate::scene::tomlsrc::{Seg, TomlSource};
+use raster::{Raster, RasterCrs, Sample};
+
+/// One `[[terrain]]`: a DEM meshed over an extent of the scene frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainSpec {
+    /// Object name (default: the DEM file stem).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The DEM: a single-band GeoTIFF (EPSG:4326 or WGS 84 / UTM), heights
+    /// in metres; relative to the scene file.
+    pub file: PathBuf,
+    /// The part of the scene frame to mesh, metres: a number (the side of
+    /// a square centred on the site) or `[x_min, y_min, x_max, y_max]`.
+    pub extent_m: Extent,
+    /// Mesh spacing, m: cells are at most this wide.
+    pub resolution_m: f64,
+    /// The material of the whole terrain (or `land_cover`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// A land-cover raster and its class → material table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub land_cover: Option<LandCover>,
+    /// What DEM pixels without data inside the extent do: `"error"`
+    /// (default) or `"hole"` (the cells that need them are left out).
+    #[serde(default)]
+    pub nodata: NoData,
+}
+
+/// `extent_m`: a square centred on the site, or a box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Extent {
+    /// Side of a square centred on the scene origin, m.
+    Square(f64),
+    /// `[x_min, y_min, x_max, y_max]`, m.
+    Box([f64; 4]),
+}
+
+impl Extent {
+    /// `[x_min, y_min, x_max, y_max]`, m.
+    pub fn bbox(&self) -> [f64; 4] {
+        match *self {
+            Extent::Square(s) => [-s / 2.0, -s / 2.0, s / 2.0, s / 2.0],
+            Extent::Box(b) => b,
+        }
+    }
+}
+
+impl Serialize for Extent {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Extent::Square(v) => v.serialize(s),
+            Extent::Box(v) => v.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Extent {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Extent;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "an extent in metres: one number (the side of a square centred on the \
+                     site), or [x_min, y_min, x_max, y_max]",
+                )
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Extent, E> {
+                Ok(Extent::Square(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Extent, E> {
+                Ok(Extent::Square(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Extent, E> {
+                Ok(Extent::Square(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Extent, A::Error> {
+                let mut v = [0.0; 4];
+                for (i, slot) in v.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<f64>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(5, &self));
+                }
+                Ok(Extent::Box(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `[terrain.land_cover]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LandCover {
+    /// A single-band GeoTIFF of integer class ids (any grid, EPSG:4326 or
+    /// WGS 84 / UTM); relative to the scene file.
+    pub file: PathBuf,
+    /// Class id (as a string, e.g. `"41"`) → material name; `"*"`: the
+    /// material of every other class and of no-data pixels.
+    pub classes: BTreeMap<String, String>,
+}
+
+/// `nodata`: what DEM pixels without data inside the extent do.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoData {
+    /// An error naming the pixel.
+    #[default]
+    Error,
+    /// The cells that need the pixel are left out (a hole in the terrain).
+    Hole,
+}
+
+/// A meshed terrain in scene (world) coordinates.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TerrainMesh {
+    /// Vertices, scene frame, metres.
+    pub positions_m: Vec<[f64; 3]>,
+    /// Triangles (indices into `positions_m`), counter-clockwise from above.
+    pub triangles: Vec<[u32; 3]>,
+    /// Material id of each triangle.
+    pub tri_material: Vec<u32>,
+    /// Cell (facet) id of each triangle: row-major over the grid.
+    pub tri_facet: Vec<u32>,
+    /// Grid cells, nx × ny (holes included).
+    pub cells: u32,
+    /// Cells left out for missing DEM data (`nodata = "hole"`).
+    pub holes: u32,
+}
+
+/// Maps geodetic coordinates into a raster's CRS.
+struct CrsMap {
+    longlat: Proj,
+    utm: Option<Proj>,
+}
+
+impl CrsMap {
+    fn new(crs: RasterCrs) -> CrsMap {
+        let proj = |s: &str| Proj::from_proj_string(s).expect("a valid PROJ string");
+        CrsMap {
+            longlat: proj("+proj=longlat +datum=WGS84 +no_defs"),
+            utm: match crs {
+                RasterCrs::Geographic => None,
+                RasterCrs::Utm { zone, north } => Some(proj(&format!(
+                    "+proj=utm +zone={zone}{} +datum=WGS84 +units=m +no_defs",
+                    if north { "" } else { " +south" }
+                ))),
+            },
+        }
+    }
+
+    /// CRS coordinates (x, y) of latitude and longitude, degrees.
+    fn forward(&self, lat_deg: f64, lon_deg: f64) -> Option<[f64; 2]> {
+        match &self.utm {
+            None => Some([lon_deg, lat_deg]),
+            Some(utm) => {
+                let mut q = (lon_deg.to_radians(), lat_deg.to_radians(), 0.0);
+                proj4rs::transform::transform(&self.longlat, utm, &mut q).ok()?;
+                Some([q.0, q.1])
+            }
+        }
+    }
+
+    /// Latitude and longitude (degrees) of CRS coordinates.
+    fn inverse(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        match &self.utm {
+            None => Some((y, x)),
+            Some(utm) => {
+                let mut q = (x, y, 0.0);
+                proj4rs::transform::transform(utm, &self.longlat, &mut q).ok()?;
+                Some((q.1.to_degrees(), q.0.to_degrees()))
+            }
+        }
+    }
+}
+
+/// Why a scene point has no surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Miss {
+    /// Outside the raster.
+    Outside,
+    /// A DEM pixel (col, row) the interpolation needs has no data.
+    NoData([u32; 2]),
+}
+
+/// A DEM placed in a site's scene frame.
+pub struct Surface<'a> {
+    dem: &'a Raster,
+    geo: Geo,
+    map: CrsMap,
+    /// The site's height (`site.elevation_m`), m.
+    site_height_m: f64,
+}
+
+impl<'a> Surface<'a> {
+    /// The DEM `dem` placed at `site`.
+    pub fn new(dem: &'a Raster, site: &Site) -> anyhow::Result<Surface<'a>> {
+        Ok(Surface {
+            dem,
+            geo: Geo::new(site, &OutputCrs::Enu)?,
+            map: CrsMap::new(dem.crs),
+            site_height_m: site.elevation_m,
+        })
+    }
+
+    /// The CRS point of a raster with map `map` under scene point (x, y, 0).
+    fn crs_point(geo: &Geo, map: &CrsMap, x: f64, y: f64) -> Option<[f64; 2]> {
+        let (lat, lon, _) = geo.geodetic([x, y, 0.0])?;
+        map.forward(lat, lon)
+    }
+
+    /// The DEM surface point above scene point (x, y, 0), scene metres
+    /// (see the module notes).
+    pub fn point(&self, x: f64, y: f64) -> Result<[f64; 3], Miss> {
+        let (lat, lon, _) = self.geo.geodetic([x, y, 0.0]).ok_or(Miss::Outside)?;
+        let [cx, cy] = self.map.forward(lat, lon).ok_or(Miss::Outside)?;
+        match self.dem.bilinear(cx, cy) {
+            Sample::Value(h) => self.geo.scene_point(lat, lon, h).ok_or(Miss::Outside),
+            Sample::NoData(px) => Err(Miss::NoData(px)),
+            Sample::Outside => Err(Miss::Outside),
+        }
+    }
+
+    /// The bounding box of a raster's corners in the scene frame
+    /// `[x_min, y_min, x_max, y_max]` (at the site's elevation).
+    fn coverage(&self, r: &Raster) -> Option<[f64; 4]> {
+        let map = CrsMap::new(r.crs);
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for [x, y] in r.corners() {
+            let (lat, lon) = map.inverse(x, y)?;
+            let p = self.geo.scene_point(lat, lon, self.site_height_m)?;
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
+        }
+        Some(b)
+    }
+}
+
+/// The grid of an extent: (nx, ny) cells of at most `resolution_m`.
+pub fn grid_cells(extent: [f64; 4], resolution_m: f64) -> (usize, usize) {
+    let n = |a: f64, b: f64| (((b - a) / resolution_m).ceil() as usize).max(1);
+    (n(extent[0], extent[2]), n(extent[1], extent[3]))
+}
+
+/// Range checks of a `[[terrain]]` table (index `i`).
+pub(crate) fn validate(c: &Check, i: usize, t: &TerrainSpec) -> Result<(), SceneError> {
+    let at = |k: &str| {
+        vec![
+            Seg::Key("terrain".into()),
+            Seg::Index(i),
+            Seg::Key(k.into()),
+        ]
+    };
+    c.bound(&at("resolution_m"), &B::RESOLUTION, t.resolution_m)?;
+    match t.extent_m {
+        Extent::Square(s) => c.bound(&at("extent_m"), &B::EXTENT_SIDE, s)?,
+        Extent::Box(b) => {
+            for (k, v) in b.iter().enumerate() {
+                let mut p = at("extent_m");
+                p.push(Seg::Index(k));
+                c.bound(&p, &B::EXTENT, *v)?;
+            }
+            if !(b[0] < b[2] && b[1] < b[3]) {
+                return Err(c.src.invalid(
+                    &at("extent_m"),
+                    format!(
+                        "`extent_m` = {b:?}: expected [x_min, y_min, x_max, y_max] with \
+                         x_min < x_max and y_min < y_max"
+                    ),
+                ));
+            }
+        }
+    }
+    let (nx, ny) = grid_cells(t.extent_m.bbox(), t.resolution_m);
+    let vertices = (nx as f64 + 1.0) * (ny as f64 + 1.0);
+    let max = crate::bounds::sizes::MAX_TERRAIN_VERTICES;
+    if vertices > max as f64 {
+        return Err(c.src.invalid(
+            &at("resolution_m"),
+            format!(
+                "`resolution_m` = {} over `extent_m` gives {vertices:.0} vertices, more than \
+                 the {max} a terrain may have: use a coarser resolution_m or a smaller extent",
+                t.resolution_m
+            ),
+        ));
+    }
+    match (&t.material, &t.land_cover) {
+        (Some(_), None) => {}
+        (None, Some(lc)) => {
+            for k in lc.classes.keys() {
+                if k != "*" && k.trim().parse::<i64>().is_err() {
+                    let mut p = at("land_cover");
+                    p.extend([Seg::Key("classes".into()), Seg::Key(k.clone())]);
+                    return Err(c.src.invalid(
+                        &p,
+                        format!(
+                            "land-cover class `{k}`: expected an integer class id (e.g. \"41\") \
+                             or \"*\" (every other class)"
+                        ),
+                    ));
+                }
+            }
+        }
+        _ => {
+            return Err(c.src.invalid(
+                &[Seg::Key("terrain".into()), Seg::Index(i)],
+                "a terrain needs exactly one of `material` (one material for all of it) and \
+                 `land_cover` (a class raster and a class → material table)"
+                    .into(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Reads, places and meshes `[[terrain]]` table `i` of the scene `src`
+/// (its `site`); `material` gives a material's id or the error naming it
+/// at a key.
+pub(crate) fn load(
+    src: &TomlSource,
+    i: usize,
+    t: &TerrainSpec,
+    site: &Site,
+    material: &dyn Fn(&str, &[Seg]) -> Result<u32, SceneError>,
+) -> Result<TerrainMesh, SceneError> {
+    let at = |k: &[&str]| {
+        let mut p = vec![Seg::Key("terrain".into()), Seg::Index(i)];
+        p.extend(k.iter().map(|s| Seg::Key(s.to_string())));
+        p
+    };
+    let must_exist = |p: &Path, key: &[&str], what: &str| -> Result<PathBuf, SceneError> {
+        let r = super::resolve(&src.path, p);
+        if r.is_file() {
+            Ok(r)
+        } else {
+            Err(src.invalid(
+                &at(key),
+                format!(
+                    "{what} `{}` not found (looked for {})",
+                    p.display(),
+                    r.display()
+                ),
+            ))
+        }
+    };
+    let dem_file = must_exist(&t.file, &["file"], "DEM file")?;
+    let dem = raster::read_raster(&dem_file)?;
+    let surface =
+        Surface::new(&dem, site).map_err(|e| src.invalid(&at(&["file"]), e.to_string()))?;
+    let extent = t.extent_m.bbox();
+    let (nx, ny) = grid_cells(extent, t.resolution_m);
+    let gx = |i: usize| extent[0] + (extent[2] - extent[0]) * i as f64 / nx as f64;
+    let gy = |j: usize| extent[1] + (extent[3] - extent[1]) * j as f64 / ny as f64;
+    let outside = |what: &str, file: &Path, r: &Raster, x: f64, y: f64, key: &[&str]| {
+        let cover = surface
+            .coverage(r)
+            .map(|b| {
+                format!(
+                    "; it covers scene x {:.0} to {:.0} m, y {:.0} to {:.0} m",
+                    b[0], b[2], b[1], b[3]
+                )
+            })
+            .unwrap_or_default();
+        src.invalid(
+            &at(key),
+            format!(
+                "`extent_m` {extent:?} reaches outside the {what} {}: scene point ({x:.1}, \
+                 {y:.1}) m is not in it{cover}",
+                file.display()
+            ),
+        )
+    };
+
+    // Vertices, row by row (rows in parallel: each vertex on its own).
+    let verts: Vec<Result<[f64; 3], Miss>> = (0..=ny)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let s = &surface;
+            (0..=nx).map(move |i| s.point(gx(i), gy(j)))
+        })
+        .collect();
+    let mut index = vec![u32::MAX; verts.len()];
+    let mut positions_m = Vec::with_capacity(verts.len());
+    for (k, v) in verts.iter().enumerate() {
+        match *v {
+            Ok(p) => {
+                index[k] = positions_m.len() as u32;
+                positions_m.push(p);
+            }
+            Err(Miss::Outside) => {
+                let (x, y) = (gx(k % (nx + 1)), gy(k / (nx + 1)));
+                return Err(outside("DEM", &dem_file, &dem, x, y, &["extent_m"]));
+            }
+            Err(Miss::NoData([c, r])) if t.nodata == NoData::Error => {
+                let (x, y) = (gx(k % (nx + 1)), gy(k / (nx + 1)));
+                return Err(src.invalid(
+                    &at(&["extent_m"]),
+                    format!(
+                        "{}: DEM pixel (col {c}, row {r}) has no data, and the terrain needs it \
+                         at scene point ({x:.1}, {y:.1}) m inside `extent_m`; set `nodata = \
+                         \"hole\"` to leave holes there, fill the DEM first (e.g. \
+                         `gdal_fillnodata.py`), or choose another extent",
+                        dem_file.display()
+                    ),
+                ));
+            }
+            Err(Miss::NoData(_)) => {}
+        }
+    }
+
+    // Cell materials.
+    let cell_material: Vec<u32> = match (&t.material, &t.land_cover) {
+        (Some(m), _) => vec![material(m, &at(&["material"]))?; nx * ny],
+        (None, Some(lc)) => {
+            let file = must_exist(&lc.file, &["land_cover", "file"], "land-cover file")?;
+            let cover = raster::read_raster(&file)?;
+            let map = CrsMap::new(cover.crs);
+            let geo = &surface.geo;
+            let classes: Vec<Option<f32>> = (0..ny)
+                .into_par_iter()
+                .flat_map_iter(|j| {
+                    let (map, cover) = (&map, &cover);
+                    (0..nx).map(move |i| {
+                        let (x, y) = ((gx(i) + gx(i + 1)) / 2.0, (gy(j) + gy(j + 1)) / 2.0);
+                        let [cx, cy] = Surface::crs_point(geo, map, x, y)?;
+                        cover.nearest(cx, cy)
+                    })
+                })
+                .collect();
+            let key = |k: &str| at(&["land_cover", "classes", k]);
+            let mut ids: BTreeMap<i64, u32> = BTreeMap::new();
+            let mut default = None;
+            for (k, name) in &lc.classes {
+                let id = material(name, &key(k))?;
+                match k.trim().parse::<i64>() {
+                    Ok(c) => {
+                        ids.insert(c, id);
+                    }
+                    Err(_) => default = Some(id),
+                }
+            }
+            let mut unmapped: BTreeSet<String> = BTreeSet::new();
+            let mut out = Vec::with_capacity(classes.len());
+            for (k, c) in classes.iter().enumerate() {
+                let Some(c) = *c else {
+                    let (i, j) = (k % nx, k / nx);
+                    let (x, y) = ((gx(i) + gx(i + 1)) / 2.0, (gy(j) + gy(j + 1)) / 2.0);
+                    return Err(outside(
+                        "land-cover raster",
+                        &file,
+                        &cover,
+                        x,
+                        y,
+                        &["land_cover", "file"],
+                    ));
+                };
+                let id = if c.is_nan() {
+                    default.ok_or_else(|| "no-data".to_string())
+                } else if c.fract() != 0.0 {
+                    return Err(src.invalid(
+                        &at(&["land_cover", "file"]),
+                        format!(
+                            "{}: class {c} is not an integer: expected integer class ids",
+                            file.display()
+                        ),
+                    ));
+                } else {
+                    ids.get(&(c as i64))
+                        .copied()
+                        .or(default)
+                        .ok_or_else(|| format!("{}", c as i64))
+                };
+                match id {
+                    Ok(id) => out.push(id),
+                    Err(name) => {
+                        unmapped.insert(name);
+                        out.push(0);
+                    }
+                }
+            }
+            if !unmapped.is_empty() {
+                let list: Vec<&str> = unmapped.iter().map(String::as_str).collect();
+                return Err(src.invalid(
+                    &at(&["land_cover", "classes"]),
+                    format!(
+                        "land-cover classes {} of {} (inside `extent_m`) have no material: map \
+                         each in `classes` (e.g. \"{}\" = \"grass_irrigated\") or give a default \
+                         \"*\" = \"...\"",
+                        list.join(", "),
+                        file.display(),
+                        list[0]
+                    ),
+                ));
+            }
+            out
+        }
+        (None, None) => unreachable!("validate requires material or land_cover"),
+    };
+
+    // Cells: two triangles each, counter-clockwise seen from above.
+    let mut m = TerrainMesh {
+        positions_m,
+        cells: (nx * ny) as u32,
+        ..TerrainMesh::default()
+    };
+    let v = |i: usize, j: usize| index[j * (nx + 1) + i];
+    for j in 0..ny {
+        for i in 0..nx {
+            let q = [v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)];
+            if q.contains(&u32::MAX) {
+                m.holes += 1;
+                continue;
+            }
+            let cell = (j * nx + i) as u32;
+            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+                m.triangles.push(t);
+                m.tri_material.push(cell_material[cell as usize]);
+                m.tri_facet.push(cell);
+            }
+        }
+    }
+    Ok(m)
+}
