@@ -154,7 +154,7 @@ fn dem_corners_crs_and_values_match_gdal() {
     });
     geo_nd.values[3][5] = f64::NAN;
     geo_nd.values[18][30] = f64::NAN;
-    let south = Grid::from_fn(261_000.5, 6_243_000.25, 2.5, 40, 9, |x, y| f(x, y));
+    let south = Grid::from_fn(261_000.5, 6_243_000.25, 2.5, 40, 9, f);
     let cases: Vec<(&str, &Grid, Vec<&str>, RasterCrs)> = vec![
         (
             "utm-f32-deflate",

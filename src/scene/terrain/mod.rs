@@ -371,6 +371,9 @@ pub(crate) fn validate(c: &Check, i: usize, t: &TerrainSpec) -> Result<(), Scene
     Ok(())
 }
 
+/// A material's id by name, or the error naming it at a key.
+pub(crate) type MaterialId<'a> = dyn Fn(&str, &[Seg]) -> Result<u32, SceneError> + 'a;
+
 /// Reads, places and meshes `[[terrain]]` table `i` of the scene `src`
 /// (its `site`); `material` gives a material's id or the error naming it
 /// at a key.
@@ -379,7 +382,7 @@ pub(crate) fn load(
     i: usize,
     t: &TerrainSpec,
     site: &Site,
-    material: &dyn Fn(&str, &[Seg]) -> Result<u32, SceneError>,
+    material: &MaterialId,
 ) -> Result<TerrainMesh, SceneError> {
     let at = |k: &[&str]| {
         let mut p = vec![Seg::Key("terrain".into()), Seg::Index(i)];
