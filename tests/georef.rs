@@ -11,29 +11,15 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::{gdalinfo, run_command as run};
+
 fn irsig() -> Command {
     Command::new(env!("CARGO_BIN_EXE_irsig"))
 }
 
 fn plate() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/plate/scene.toml")
-}
-
-/// Runs a command; panics with its stderr on failure; returns stdout.
-fn run(c: &mut Command) -> String {
-    let out = c
-        .output()
-        .unwrap_or_else(|e| panic!("{c:?}: {e} (is gdal-bin installed?)"));
-    assert!(
-        out.status.success(),
-        "{c:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-fn gdalinfo(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&run(Command::new("gdalinfo").arg("-json").arg(p))).unwrap()
 }
 
 /// `gdaltransform` from `s_srs` to `t_srs` of (x, y) points.

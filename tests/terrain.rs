@@ -19,23 +19,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::{gdalinfo, run_command as run};
+
 use irsig::scene::terrain::raster::{RasterCrs, read_raster};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs a command; panics with its stderr on failure; returns stdout.
-fn run(c: &mut Command) -> String {
-    let out = c
-        .output()
-        .unwrap_or_else(|e| panic!("{c:?}: {e} (is gdal-bin installed?)"));
-    assert!(
-        out.status.success(),
-        "{c:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
 }
 
 /// A north-up grid: `values[row][col]`, row 0 at the top (north).
@@ -132,10 +122,6 @@ impl Grid {
         (1.0 - fy) * ((1.0 - fx) * z[j][i] + fx * z[j][i + 1])
             + fy * ((1.0 - fx) * z[j + 1][i] + fx * z[j + 1][i + 1])
     }
-}
-
-fn gdalinfo(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&run(Command::new("gdalinfo").arg("-json").arg(p))).unwrap()
 }
 
 #[test]
@@ -392,6 +378,16 @@ fn site_utm() -> [f64; 3] {
     scene_to_utm(&[[0.0, 0.0, 0.0]])[0]
 }
 
+/// The upper left corner of a grid reaching `margin_m` west and north of
+/// the site (on whole 10 m).
+fn upper_left(margin_m: f64) -> (f64, f64) {
+    let s = site_utm();
+    (
+        (s[0] / 10.0).round() * 10.0 - margin_m,
+        (s[1] / 10.0).round() * 10.0 + margin_m,
+    )
+}
+
 /// Renders `text` and returns, per pixel with a hit, the scene point
 /// camera + range · direction and the ground_x/y/z point.
 fn hits(dir: &Path, text: &str) -> Vec<([f64; 3], [f64; 3])> {
@@ -457,10 +453,7 @@ fn max_curvature(g: &Grid) -> f64 {
 fn dem_scene_range_agrees_with_the_dem() {
     let dir = tempfile::tempdir().unwrap();
     let s = site_utm();
-    let (e0, n0) = (
-        (s[0] / 10.0).round() * 10.0 - 900.0,
-        (s[1] / 10.0).round() * 10.0 + 900.0,
-    );
+    let (e0, n0) = upper_left(900.0);
     let plane = Grid::from_fn(e0, n0, 20.0, 90, 90, |e, n| {
         ELEV + 0.04 * (e - s[0]) - 0.025 * (n - s[1]) + 3.0
     });
@@ -518,11 +511,7 @@ fn dem_scene_range_agrees_with_the_dem() {
 #[test]
 fn land_cover_maps_classes_to_materials_and_holes_stay_open() {
     let dir = tempfile::tempdir().unwrap();
-    let s = site_utm();
-    let (e0, n0) = (
-        (s[0] / 10.0).round() * 10.0 - 600.0,
-        (s[1] / 10.0).round() * 10.0 + 600.0,
-    );
+    let (e0, n0) = upper_left(600.0);
     let mut dem = Grid::from_fn(e0, n0, 20.0, 60, 60, |_, _| ELEV);
     let dem_tif = dem.write_tif(
         dir.path(),
@@ -601,11 +590,7 @@ fn land_cover_maps_classes_to_materials_and_holes_stay_open() {
 fn bad_dem_inputs_name_the_file_the_key_and_what_was_expected() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let s = site_utm();
-    let (e0, n0) = (
-        (s[0] / 10.0).round() * 10.0 - 600.0,
-        (s[1] / 10.0).round() * 10.0 + 600.0,
-    );
+    let (e0, n0) = upper_left(600.0);
     let flat = Grid::from_fn(e0, n0, 20.0, 60, 60, |_, _| ELEV);
     let good = flat.write_tif(d, "good", &["-a_srs", "EPSG:32618", "-ot", "Float32"]);
     let nad83 = flat.write_tif(d, "nad83", &["-a_srs", "EPSG:26918", "-ot", "Float32"]);

@@ -37,6 +37,25 @@ pub fn run(args: &[String]) -> String {
     String::from_utf8(out.stdout).expect("utf-8 output")
 }
 
+/// Runs a command (e.g. GDAL's tools); panics with its stderr on failure;
+/// returns stdout.
+pub fn run_command(c: &mut Command) -> String {
+    let out = c
+        .output()
+        .unwrap_or_else(|e| panic!("{c:?}: {e} (is gdal-bin installed?)"));
+    assert!(
+        out.status.success(),
+        "{c:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// `gdalinfo -json` of a raster.
+pub fn gdalinfo(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&run_command(Command::new("gdalinfo").arg("-json").arg(p))).unwrap()
+}
+
 /// `--set k=v` arguments.
 pub fn sets(kv: &[&str]) -> Vec<String> {
     kv.iter()
