@@ -24,27 +24,9 @@ fn plate() -> PathBuf {
 
 /// `gdaltransform` from `s_srs` to `t_srs` of (x, y) points.
 fn transform(s_srs: &str, t_srs: &str, pts: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    use std::io::Write;
-    let mut child = Command::new("gdaltransform")
-        .args(["-s_srs", s_srs, "-t_srs", t_srs, "-output_xy"])
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .expect("gdaltransform (gdal-bin)");
-    {
-        let mut stdin = child.stdin.take().unwrap();
-        for p in pts {
-            writeln!(stdin, "{:.6} {:.6}", p[0], p[1]).unwrap();
-        }
-    }
-    let out = child.wait_with_output().unwrap();
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| {
-            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            [v[0], v[1]]
-        })
+    common::gdaltransform(&["-s_srs", s_srs, "-t_srs", t_srs, "-output_xy"], pts)
+        .iter()
+        .map(|v| [v[0], v[1]])
         .collect()
 }
 

@@ -345,31 +345,13 @@ fn scene_text(terrain: &str, pose: &str) -> String {
 /// The UTM 18N easting, northing and ellipsoidal height of scene points
 /// (PROJ: topocentric at the site → geocentric → UTM).
 fn scene_to_utm(pts: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    use std::io::Write;
     let ct = format!(
         "+proj=pipeline +step +inv +proj=topocentric +ellps=WGS84 +lat_0={LAT} +lon_0={LON} \
          +h_0={ELEV} +step +inv +proj=cart +ellps=WGS84 +step +proj=utm +zone=18 +ellps=WGS84"
     );
-    let mut child = Command::new("gdaltransform")
-        .args(["-ct", &ct])
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .expect("gdaltransform (gdal-bin)");
-    {
-        let mut stdin = child.stdin.take().unwrap();
-        for p in pts {
-            writeln!(stdin, "{:.6} {:.6} {:.6}", p[0], p[1], p[2]).unwrap();
-        }
-    }
-    let out = child.wait_with_output().unwrap();
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| {
-            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            [v[0], v[1], v[2]]
-        })
+    common::gdaltransform(&["-ct", &ct], pts)
+        .iter()
+        .map(|v| [v[0], v[1], v[2]])
         .collect()
 }
 

@@ -56,6 +56,31 @@ pub fn gdalinfo(p: &Path) -> serde_json::Value {
     serde_json::from_str(&run_command(Command::new("gdalinfo").arg("-json").arg(p))).unwrap()
 }
 
+/// `gdaltransform ARGS` of points (each line: the point's coordinates,
+/// 6 decimals); the output coordinates of each point.
+pub fn gdaltransform<const N: usize>(args: &[&str], pts: &[[f64; N]]) -> Vec<Vec<f64>> {
+    use std::io::Write;
+    let mut child = Command::new("gdaltransform")
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("gdaltransform (gdal-bin)");
+    {
+        let mut stdin = child.stdin.take().unwrap();
+        for p in pts {
+            let line: Vec<String> = p.iter().map(|v| format!("{v:.6}")).collect();
+            writeln!(stdin, "{}", line.join(" ")).unwrap();
+        }
+    }
+    let out = child.wait_with_output().unwrap();
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
 /// `--set k=v` arguments.
 pub fn sets(kv: &[&str]) -> Vec<String> {
     kv.iter()
