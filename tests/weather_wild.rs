@@ -252,3 +252,264 @@ fn csv_without_cloud_but_with_measured_sky_temperature() {
         assert_eq!(x.sky_temp_k, want.sky_temp_k.unwrap());
     }
 }
+
+/// Where a reference field belongs in irsig's history.
+#[derive(Clone, Copy)]
+enum At {
+    /// At the record's stamp (instantaneous values; all NSRDB/PVGIS CSV values).
+    Stamp,
+    /// At the middle of the hour before the stamp (hour-ending averages of
+    /// TMY2/TMY3/EPW irradiance and infrared).
+    MidHour,
+}
+
+type Get = fn(&irsig::therm::weather::WeatherSample) -> f64;
+
+/// Every reference row's values in irsig's history: (column, where, what
+/// irsig holds there in the column's unit).
+fn compare(h: &WeatherHistory, rows: &[Row], fields: &[(&str, At, Get)]) {
+    assert!(!rows.is_empty());
+    for (i, r) in rows.iter().enumerate() {
+        assert!(h.times.binary_search(&r.t).is_ok(), "no record at {}", r.t);
+        for &(col, at, get) in fields {
+            let t = match at {
+                At::Stamp => r.t,
+                At::MidHour if i > 0 && rows[i - 1].t == r.t - Duration::hours(1) => {
+                    r.t - Duration::minutes(30)
+                }
+                At::MidHour => continue,
+            };
+            // Irradiances: small negative night offsets (pvlib keeps -0.0) read as 0.
+            let want = r.get(col);
+            let irradiance = ["ghi", "dni", "dhi", "GHI", "DNI", "DHI", "DNI (W/m^2))"];
+            let want = if irradiance.contains(&col) {
+                want.max(0.0)
+            } else {
+                want
+            };
+            close(get(&h.at(t)), want, col, r.t);
+        }
+    }
+}
+
+fn air_c(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.air_temp_k - ZERO_C_K
+}
+fn dew_c(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.dew_point_k - ZERO_C_K
+}
+fn rh(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    irsig::therm::weather::rh_percent_from_dew_point(air_c(s), dew_c(s))
+}
+fn hpa(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.pressure_pa / 100.0
+}
+fn pa(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.pressure_pa
+}
+fn wind(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.wind_speed_m_s
+}
+fn ghi(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.ghi_w_m2.unwrap()
+}
+fn dni(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.dni_w_m2.unwrap()
+}
+fn dhi(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.dhi_w_m2.unwrap()
+}
+fn tenths(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    s.cloud_fraction.unwrap() * 10.0
+}
+/// Downwelling infrared back from the sky temperature, σT⁴.
+fn infrared(s: &irsig::therm::weather::WeatherSample) -> f64 {
+    irsig::therm::weather::STEFAN_BOLTZMANN * s.sky_temp_k.unwrap().powi(4)
+}
+
+fn read_ok(name: &str) -> irsig::therm::weather::WeatherFile {
+    read_weather(&wild(name), &ReadOptions::default()).unwrap()
+}
+
+fn station(f: &irsig::therm::weather::WeatherFile) -> (f64, f64, f64) {
+    let s = f.station.as_ref().unwrap();
+    (s.lat_deg, s.lon_deg, s.utc_offset_h)
+}
+
+/// TMY2 (pvlib's 12839.tm2, Miami) used to fall through to the CSV reader
+/// ("unknown column '12839 miami fl …'"); it is detected and read as
+/// `pvlib.iotools.read_tmy2` reads it.
+#[test]
+fn tmy2_matches_pvlib() {
+    let f = read_ok("tmy2_12839_miami_jan1-3.tm2");
+    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Tmy2);
+    let (lat, lon, tz) = station(&f);
+    assert!((lat - 25.8).abs() < 1e-12 && (lon + 80.0 + 16.0 / 60.0).abs() < 1e-12 && tz == -5.0);
+    let rows = reference("tmy2_12839_miami_pvlib.csv");
+    assert_eq!(rows.len(), 72);
+    compare(
+        &f.history,
+        &rows,
+        &[
+            ("temp_air", At::Stamp, air_c),
+            ("temp_dew", At::Stamp, dew_c),
+            ("Pressure", At::Stamp, hpa),
+            ("wind_speed", At::Stamp, wind),
+            ("TotCld", At::Stamp, tenths),
+            ("GHI", At::MidHour, ghi),
+            ("DNI", At::MidHour, dni),
+            ("DHI", At::MidHour, dhi),
+        ],
+    );
+}
+
+/// NSRDB PSM3 CSV as `pvlib.iotools.read_nsrdb_psm4` reads it; no cloud
+/// cover in the file (derived from GHI by the forcing).
+#[test]
+fn psm3_matches_pvlib() {
+    let f = read_ok("psm3_401182_2017_jan1-3.csv");
+    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Psm3);
+    assert_eq!(station(&f), (40.53, -108.54, -7.0));
+    let rows = reference("psm3_401182_pvlib.csv");
+    assert_eq!(rows.len(), 144);
+    assert_eq!(f.history.times.len(), 144);
+    compare(
+        &f.history,
+        &rows,
+        &[
+            ("temp_air", At::Stamp, air_c),
+            ("temp_dew", At::Stamp, dew_c),
+            ("pressure", At::Stamp, hpa),
+            ("wind_speed", At::Stamp, wind),
+            ("ghi", At::Stamp, ghi),
+            ("dni", At::Stamp, dni),
+            ("dhi", At::Stamp, dhi),
+        ],
+    );
+    assert!(f.history.samples.iter().all(|s| s.cloud_fraction.is_none()));
+}
+
+/// PVGIS TMY CSV as `pvlib.iotools.read_pvgis_tmy` reads it (UTC stamps;
+/// RH → dew point → RH round trip; infrared → sky temperature → σT⁴).
+#[test]
+fn pvgis_csv_matches_pvlib() {
+    let f = read_ok("pvgis_tmy_45N_8E_jan1-3.csv");
+    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::PvgisCsv);
+    assert_eq!(station(&f), (45.0, 8.0, 0.0));
+    let rows = reference("pvgis_tmy_45N_8E_pvlib.csv");
+    assert_eq!(rows.len(), 72);
+    compare(
+        &f.history,
+        &rows,
+        &[
+            ("temp_air", At::Stamp, air_c),
+            ("relative_humidity", At::Stamp, rh),
+            ("pressure", At::Stamp, pa),
+            ("wind_speed", At::Stamp, wind),
+            ("ghi", At::Stamp, ghi),
+            ("dni", At::Stamp, dni),
+            ("dhi", At::Stamp, dhi),
+            ("IR(h)", At::Stamp, infrared),
+        ],
+    );
+}
+
+/// PVGIS's EPW has no total sky cover (99) but measured infrared and
+/// GHI/DNI/DHI: it used to fail on "total sky cover is missing (99)"; it
+/// reads as `pvlib.iotools.read_epw` reads it, and its forcing uses the
+/// measured sky and irradiance without any cloud estimate.
+#[test]
+fn pvgis_epw_without_cloud_matches_pvlib() {
+    let f = read_ok("pvgis_tmy_45N_8E_jan1-3.epw");
+    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Epw);
+    assert_eq!(station(&f), (45.0, 8.0, 1.0));
+    let rows = reference("pvgis_epw_45N_8E_pvlib.csv");
+    assert_eq!(rows.len(), 72);
+    compare(
+        &f.history,
+        &rows,
+        &[
+            ("temp_air", At::Stamp, air_c),
+            ("temp_dew", At::Stamp, dew_c),
+            ("atmospheric_pressure", At::Stamp, pa),
+            ("wind_speed", At::Stamp, wind),
+            ("ghi", At::MidHour, ghi),
+            ("dni", At::MidHour, dni),
+            ("dhi", At::MidHour, dhi),
+            ("ghi_infrared", At::MidHour, infrared),
+        ],
+    );
+    assert!(f.history.samples.iter().all(|s| s.cloud_fraction.is_none()));
+    let site = irsig::sun::Site {
+        lat_deg: 45.0,
+        lon_deg: 8.0,
+        elevation_m: 250.0,
+    };
+    let start = utc("2018-01-01T12:00:00Z");
+    let (_, rep) =
+        irsig::therm::forcing::build_forcing(&f.history, &site, start, 900.0, 96).unwrap();
+    assert_eq!((rep.irradiance_measured, rep.sky_temp_measured), (97, 97));
+}
+
+/// SolarAnywhere's "TMY3 format" (8-field station line, `DNI (W/m^2))`,
+/// blank cells, midnight as 00:00 of the next day) as
+/// `pvlib.iotools.read_tmy3` reads it.
+#[test]
+fn solaranywhere_tmy3_matches_pvlib() {
+    let f = read_ok("solaranywhere_tmy3_burlington_jan1-3.csv");
+    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Tmy3);
+    assert_eq!(station(&f), (44.465, -73.205, -5.0));
+    let rows = reference("solaranywhere_tmy3_burlington_pvlib.csv");
+    assert_eq!(rows.len(), 72);
+    compare(
+        &f.history,
+        &rows,
+        &[
+            ("temp_air", At::Stamp, air_c),
+            ("relative_humidity", At::Stamp, rh),
+            ("wind_speed", At::Stamp, wind),
+            ("ghi", At::MidHour, ghi),
+            ("DNI (W/m^2))", At::MidHour, dni),
+            ("dhi", At::MidHour, dhi),
+        ],
+    );
+    // No pressure in the file: the standard atmosphere at 41 m.
+    let p = f.history.samples[0].pressure_pa;
+    assert!((p - irsig::therm::forcing::pressure_pa_from_altitude(41.0)).abs() < 1e-9);
+}
+
+/// Files that are not a weather format irsig reads are named plainly, with
+/// the list of formats it does read.
+#[test]
+fn unsupported_formats_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "pvgis.json",
+            "{\"inputs\": {\"location\": {\"latitude\": 45.0, \"longitude\": 8.0}}}\n",
+            "looks like a JSON file",
+        ),
+        (
+            "sa.csv",
+            "0,Burlington  United States,NA,-5,44.465,-73.205,41,\"Data Version: 3.6\"\n\
+             ObservationTime(LST),Global Horizontal Irradiance (GHI) W/m2\n",
+            "SolarAnywhere's own \"SA format\"",
+        ),
+        (
+            "bsrn.dat",
+            "station year month day hour\n1 2016 6 1 0\n",
+            "'station year month day hour' is not the start of a weather format",
+        ),
+    ];
+    for (name, text, want) in cases {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        let e = read_weather(&p, &ReadOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(name) && e.contains(want) && e.contains("irsig reads") && e.contains("TMY2"),
+            "{e}"
+        );
+    }
+}

@@ -347,10 +347,16 @@ pub enum WeatherSpec {
 pub enum WeatherFormat {
     /// irsig's plain CSV (see docs/scene-format.md).
     Csv,
-    /// NREL TMY3 CSV.
+    /// NREL TMY3 CSV (also SolarAnywhere's TMY3 format).
     Tmy3,
-    /// EnergyPlus EPW.
+    /// EnergyPlus EPW (also PVGIS's EPW).
     Epw,
+    /// NREL TMY2.
+    Tmy2,
+    /// NSRDB PSM3/PSM4 CSV.
+    Psm3,
+    /// PVGIS TMY CSV.
+    Pvgis,
 }
 
 /// Constant weather: the same diurnal cycle every day (air temperature a

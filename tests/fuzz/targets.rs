@@ -5,7 +5,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use irsig::bounds::{self, Bound};
 use irsig::radiometry::{Band, SpectralGrid, SpectralResponse};
-use irsig::therm::weather::{ReadOptions, WeatherFile, parse_epw, parse_plain_csv, parse_tmy3};
+use irsig::therm::weather::{
+    ReadOptions, WeatherFile, parse_epw, parse_plain_csv, parse_psm3, parse_pvgis_csv, parse_tmy2,
+    parse_tmy3,
+};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
@@ -22,9 +25,11 @@ fn read(rel: &str) -> Vec<u8> {
     std::fs::read(root().join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
 }
 
-/// The first `n` lines of a file (seeds stay small: fast cases).
+/// The first `n` lines of a file (seeds stay small: fast cases); bytes
+/// that are not UTF-8 (a Latin-1 ® in SolarAnywhere's header) replaced, as
+/// the readers do.
 fn head(rel: &str, n: usize) -> Vec<u8> {
-    let text = String::from_utf8(read(rel)).unwrap();
+    let text = String::from_utf8_lossy(&read(rel)).into_owned();
     let mut s: String = text.lines().take(n).collect::<Vec<_>>().join("\n");
     s.push('\n');
     s.into_bytes()
@@ -135,6 +140,11 @@ fn weather_tmy3() {
                 "scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv",
                 30,
             ),
+            head(
+                "tests/data/wild/weather/solaranywhere_tmy3_burlington_jan1-3.csv",
+                30,
+            ),
+            head("tests/data/wild/weather/tmy3_723170_yearend.csv", 30),
         ],
         parse_tmy3,
         "tmy3.csv",
@@ -145,9 +155,48 @@ fn weather_tmy3() {
 fn weather_epw() {
     weather_campaign(
         "weather-epw",
-        vec![head("tests/data/epw_amsterdam_iwec_jun18-22.epw", 36)],
+        vec![
+            head("tests/data/epw_amsterdam_iwec_jun18-22.epw", 36),
+            head("tests/data/wild/weather/pvgis_tmy_45N_8E_jan1-3.epw", 36),
+        ],
         parse_epw,
         "wx.epw",
+    );
+}
+
+#[test]
+fn weather_tmy2() {
+    weather_campaign(
+        "weather-tmy2",
+        vec![head(
+            "tests/data/wild/weather/tmy2_12839_miami_jan1-3.tm2",
+            30,
+        )],
+        parse_tmy2,
+        "wx.tm2",
+    );
+}
+
+#[test]
+fn weather_psm3() {
+    weather_campaign(
+        "weather-psm3",
+        vec![head(
+            "tests/data/wild/weather/psm3_401182_2017_jan1-3.csv",
+            40,
+        )],
+        parse_psm3,
+        "psm3.csv",
+    );
+}
+
+#[test]
+fn weather_pvgis_csv() {
+    weather_campaign(
+        "weather-pvgis-csv",
+        vec![read("tests/data/wild/weather/pvgis_tmy_45N_8E_jan1-3.csv")],
+        parse_pvgis_csv,
+        "pvgis.csv",
     );
 }
 

@@ -41,11 +41,17 @@ use thiserror::Error;
 pub mod constant;
 pub mod csv;
 pub mod epw;
+pub mod psm3;
+pub mod pvgis;
+pub mod tmy2;
 pub mod tmy3;
 
 pub use constant::{ConstantWeather, constant_weather, diurnal_air_temp_c};
 pub use csv::{PLAIN_CSV_COLUMNS, parse_plain_csv};
 pub use epw::parse_epw;
+pub use psm3::parse_psm3;
+pub use pvgis::parse_pvgis_csv;
+pub use tmy2::parse_tmy2;
 pub use tmy3::parse_tmy3;
 
 /// 0 °C in kelvin.
@@ -233,9 +239,21 @@ impl YearSpan {
 #[serde(rename_all = "snake_case")]
 pub enum WeatherFormat {
     PlainCsv,
+    /// NREL TMY3, and SolarAnywhere's "TMY3 format".
     Tmy3,
+    Tmy2,
+    /// EnergyPlus EPW (also PVGIS's EPW output).
     Epw,
+    /// NSRDB PSM3/PSM4 CSV.
+    Psm3,
+    /// PVGIS TMY CSV.
+    PvgisCsv,
 }
+
+/// The formats [`read_weather`] recognises, for error messages.
+pub const SUPPORTED_FORMATS: &str = "irsig plain CSV (docs/weather-format.md), NREL TMY3 (also \
+     SolarAnywhere's TMY3 format), NREL TMY2, EnergyPlus EPW (also PVGIS's EPW), NSRDB PSM3/PSM4 CSV, \
+     PVGIS TMY CSV";
 
 /// Station metadata carried by TMY3 and EPW headers.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -491,9 +509,7 @@ pub const STEFAN_BOLTZMANN: f64 = 5.670374419e-8;
 
 /// Reads a weather file with default [`ReadOptions`] (max gap 3 h) and the
 /// given UTC offset for plain-CSV times written without one. The format is
-/// detected: `.epw` → EnergyPlus EPW; a first line of 7 fields followed by a
-/// `Date (MM/DD/YYYY),Time (HH:MM),…` header → TMY3; otherwise the plain CSV
-/// of docs/weather-format.md.
+/// detected from the file (see [`read_weather`]).
 pub fn read_weather_file(
     path: &Path,
     utc_offset: Option<FixedOffset>,
@@ -508,7 +524,7 @@ pub fn read_weather_file(
     .map(|f| f.history)
 }
 
-/// Reads a weather file (see [`read_weather_file`]) with explicit options,
+/// Reads a weather file (see [`read_weather`]) with explicit options,
 /// returning the station metadata too (the same as [`read_weather`]).
 pub fn read_weather_file_with(
     path: &Path,
@@ -518,35 +534,120 @@ pub fn read_weather_file_with(
 }
 
 /// The one entry to the weather readers: reads a weather file with
-/// explicit options, detecting its format (`.epw` or a `LOCATION,` first
-/// line → [`epw`]; a 7-field first line followed by a `Date (MM/DD/YYYY)`
-/// header → [`tmy3`]; otherwise the plain [`csv`]), and returns the history
-/// with the station metadata.
+/// explicit options, detecting its format from its first lines
+/// ([`detect_format`]), and returns the history with the station metadata.
+/// A UTF-8 byte-order mark is dropped; bytes that are not UTF-8 (Latin-1
+/// station names) are replaced.
 pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
     let file = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|err| WeatherError::Io {
         file: file.clone(),
         err,
     })?;
-    // TMY3/EPW files are sometimes Latin-1: keep the bytes we can. Excel's
-    // "CSV UTF-8" starts with a byte-order mark: drop it.
     let text = String::from_utf8_lossy(&bytes);
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_epw = path
         .extension()
-        .map(|e| e.eq_ignore_ascii_case("epw"))
-        .unwrap_or(false)
-        || text.starts_with("LOCATION,");
-    if is_epw {
-        return parse_epw(text, &file, opts);
+        .is_some_and(|e| e.eq_ignore_ascii_case("epw"));
+    match detect_format(text, is_epw) {
+        Ok(WeatherFormat::Epw) => parse_epw(text, &file, opts),
+        Ok(WeatherFormat::Tmy3) => parse_tmy3(text, &file, opts),
+        Ok(WeatherFormat::Tmy2) => parse_tmy2(text, &file, opts),
+        Ok(WeatherFormat::Psm3) => parse_psm3(text, &file, opts),
+        Ok(WeatherFormat::PvgisCsv) => parse_pvgis_csv(text, &file, opts),
+        Ok(WeatherFormat::PlainCsv) => parse_plain_csv(text, &file, opts),
+        Err((line, what)) => Err(WeatherError::Malformed {
+            file,
+            line,
+            msg: format!("{what}; irsig reads {SUPPORTED_FORMATS}"),
+        }),
     }
-    let mut lines = text.lines();
-    let l1 = lines.next().unwrap_or("");
-    let l2 = lines.next().unwrap_or("");
-    if split_csv(l1).len() == 7 && l2.trim_start().starts_with("Date (MM/DD/YYYY)") {
-        return parse_tmy3(text, &file, opts);
+}
+
+/// The format of a weather file's text, from its first lines: EPW (a
+/// `.epw` name or a `LOCATION,` first line); TMY3 (7 or more fields, then a
+/// `Date (MM/DD/YYYY)` header); TMY2 (a whitespace station line ending
+/// `N|S deg min E|W deg min elevation`); NSRDB PSM3/PSM4 (`Location ID` in
+/// line 1, a `Year,Month,Day,Hour` header in line 3); PVGIS TMY CSV (a
+/// `Latitude (decimal degrees):` line); the plain CSV (a header naming a
+/// `time` column). Otherwise `Err((line, what it looks like))`.
+pub fn detect_format(text: &str, epw_name: bool) -> Result<WeatherFormat, (usize, String)> {
+    let lines: Vec<&str> = text.lines().take(40).collect();
+    let l = |i: usize| lines.get(i).copied().unwrap_or("");
+    if epw_name || text.starts_with("LOCATION,") {
+        return Ok(WeatherFormat::Epw);
     }
-    parse_plain_csv(text, &file, opts)
+    if l(1).trim_start().starts_with("Date (MM/DD/YYYY)") && split_csv(l(0)).len() >= 7 {
+        return Ok(WeatherFormat::Tmy3);
+    }
+    if tmy2::tmy2_station(l(0)).is_some() {
+        return Ok(WeatherFormat::Tmy2);
+    }
+    let first4 = |s: &str| -> Vec<String> {
+        split_csv(s)
+            .iter()
+            .take(4)
+            .map(|x| x.trim().to_string())
+            .collect()
+    };
+    if split_csv(l(0)).iter().any(|x| x.trim() == "Location ID")
+        && first4(l(2)) == ["Year", "Month", "Day", "Hour"]
+    {
+        return Ok(WeatherFormat::Psm3);
+    }
+    if lines
+        .iter()
+        .any(|x| x.starts_with("Latitude (decimal degrees):"))
+    {
+        return Ok(WeatherFormat::PvgisCsv);
+    }
+    let t = text.trim_start();
+    let looks = |what: &str| {
+        Err((
+            1,
+            format!("this looks like {what}, not a weather format irsig reads"),
+        ))
+    };
+    if t.starts_with('{') || t.starts_with('[') {
+        return looks("a JSON file (e.g. PVGIS's JSON output: download its CSV or EPW instead)");
+    }
+    if t.starts_with("PK\u{3}\u{4}") {
+        return looks("a ZIP archive or an Excel workbook (unpack it, or save the sheet as CSV)");
+    }
+    if t.starts_with("\u{1f}\u{fffd}") || t.starts_with("\u{1f}\u{8b}") {
+        return looks("a gzip-compressed file (decompress it first)");
+    }
+    if l(1).starts_with("ObservationTime(LST)") {
+        return looks("SolarAnywhere's own \"SA format\" (download its \"TMY3 format\" instead)");
+    }
+    // The plain CSV: the first line that is neither blank nor a comment
+    // is its header.
+    let Some((i, header)) = lines
+        .iter()
+        .enumerate()
+        .find(|(_, x)| !x.trim().is_empty() && !x.trim_start().starts_with('#'))
+    else {
+        return Ok(WeatherFormat::PlainCsv); // the reader reports "no header"
+    };
+    if split_csv(header)
+        .iter()
+        .any(|x| x.trim().eq_ignore_ascii_case("time"))
+    {
+        return Ok(WeatherFormat::PlainCsv);
+    }
+    let shown: String = header.chars().take(60).collect();
+    Err((
+        i + 1,
+        format!(
+            "'{shown}{}' is not the start of a weather format irsig recognises (a plain CSV's header \
+             names a `time` column)",
+            if header.chars().count() > 60 {
+                "…"
+            } else {
+                ""
+            }
+        ),
+    ))
 }
 
 /// Splits one CSV line; double-quoted fields may contain commas.

@@ -234,7 +234,7 @@ fn tmy3_and_epw_errors() {
     let e = parse_tmy3(tmy, "t.csv", &ReadOptions::default())
         .unwrap_err()
         .to_string();
-    assert_eq!(e, "t.csv:4: Dry-bulb (C) is missing (-9900)");
+    assert_eq!(e, "t.csv:4: Dry-bulb (C) is missing ('-9900')");
     let tmy2 = tmy.replace(
         "06/18/1989,02:00,0,0,0,0,-9900",
         "06/18/1989,25:00,0,0,0,0,18",

@@ -2,7 +2,18 @@
 
 use super::*;
 
-/// Reads an NREL TMY3 CSV from text. Line 1: station id, name, state, UTC
+/// A TMY3 column name as written, trimmed, with SolarAnywhere's doubled
+/// closing parenthesis (`DNI (W/m^2))`) undone.
+fn tmy3_column_name(s: &str) -> String {
+    let mut n = s.trim();
+    while n.ends_with("))") {
+        n = &n[..n.len() - 1];
+    }
+    n.to_string()
+}
+
+/// Reads an NREL TMY3 CSV from text (also SolarAnywhere's "TMY3 format":
+/// an eighth station field, `DNI (W/m^2))`, empty cells for missing values). Line 1: station id, name, state, UTC
 /// offset (h), latitude, longitude, elevation (m); line 2: column names;
 /// then hourly records `MM/DD/YYYY,HH:MM,…` in local standard time with
 /// hour-ending stamps 01:00..24:00 (Wilcox & Marion 2008, NREL/TP-581-43156).
@@ -12,7 +23,9 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
     let mut lines = text.lines();
     let c1 = Ctx { file, line: 1 };
     let meta = split_csv(lines.next().unwrap_or(""));
-    if meta.len() != 7 {
+    // SolarAnywhere's "TMY3 format" adds a quoted eighth field (data
+    // version, licence) and empty ones.
+    if meta.len() < 7 {
         return Err(c1.malformed(format!(
             "{} fields in the TMY3 station line, expected 7 (USAF id, name, state, UTC offset, latitude, longitude, elevation)",
             meta.len()
@@ -29,7 +42,7 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
     let c2 = Ctx { file, line: 2 };
     let names: Vec<String> = split_csv(lines.next().unwrap_or(""))
         .iter()
-        .map(|s| s.trim().to_string())
+        .map(|s| tmy3_column_name(s))
         .collect();
     let find = |n: &str| -> Result<usize, WeatherError> {
         names
@@ -80,16 +93,17 @@ pub fn parse_tmy3(text: &str, file: &str, opts: &ReadOptions) -> Result<WeatherF
                     f[1].trim()
                 ))
             })?;
-        let req = |i: usize, what: &str| -> Result<f64, WeatherError> {
-            let v = c.num(&f[i], what)?;
-            if v == -9900.0 {
-                return Err(c.malformed(format!("{what} is missing (-9900)")));
-            }
-            Ok(v)
-        };
+        // Missing: -9900 (NREL) or an empty cell (SolarAnywhere).
         let opt = |i: usize, what: &str| -> Result<Option<f64>, WeatherError> {
+            if f[i].trim().is_empty() {
+                return Ok(None);
+            }
             let v = c.num(&f[i], what)?;
             Ok((v != -9900.0).then_some(v))
+        };
+        let req = |i: usize, what: &str| -> Result<f64, WeatherError> {
+            opt(i, what)?
+                .ok_or_else(|| c.malformed(format!("{what} is missing ('{}')", f[i].trim())))
         };
         let td = opt(i_td, "Dew-point (C)")?;
         let rh = opt(i_rh, "RHum (%)")?;
