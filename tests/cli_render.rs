@@ -200,3 +200,100 @@ fn bvh_backend_renders_the_same_image() {
         .count();
     assert!(differ <= 64 * 64 / 200, "{differ} of 4096 pixels differ");
 }
+
+/// `--planes` keeps only the named planes in the EXR and the GeoTIFF (and
+/// the JSON's plane list); every plane a render makes is one `--planes`
+/// may name; an unknown name is refused before the render, listing them.
+#[test]
+fn planes_flag_selects_the_written_planes() {
+    use irsig::render::planes::PLANE_NAMES;
+    let dir = tempfile::tempdir().unwrap();
+    let small = [
+        "--set",
+        "sensor.width_px=24",
+        "--set",
+        "sensor.height_px=16",
+    ];
+    let full = dir.path().join("full.exr");
+    let out = irsig()
+        .arg("render")
+        .arg(scene())
+        .arg("-o")
+        .arg(&full)
+        .args(small)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, _, chans) = irsig::output::exr::read_exr(&full).unwrap();
+    let names: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
+    // The airfield quantises, so its render makes every plane.
+    let mut want = PLANE_NAMES.to_vec();
+    want.sort();
+    let mut got = names.clone();
+    got.sort();
+    assert_eq!(got, want);
+
+    let sel = dir.path().join("sel.tif");
+    let out = irsig()
+        .arg("render")
+        .arg(scene())
+        .arg("-o")
+        .arg(&sel)
+        .args(["--exr", "--planes", "apparent_temperature,material"])
+        .args(small)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, _, chans) = irsig::output::exr::read_exr(&sel.with_extension("exr")).unwrap();
+    let mut got: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
+    got.sort();
+    assert_eq!(got, ["apparent_temperature", "material"]);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sel.with_extension("json")).unwrap())
+            .unwrap();
+    assert_eq!(j["planes"].as_array().unwrap().len(), 2);
+    // The selected planes equal the full render's, bit for bit.
+    let (_, _, all) = irsig::output::exr::read_exr(&full).unwrap();
+    for (n, d) in &chans {
+        let f = &all.iter().find(|(m, _)| m == n).unwrap().1;
+        assert!(
+            f.iter().zip(d).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{n}"
+        );
+    }
+    let tif = std::process::Command::new("gdalinfo")
+        .arg(&sel)
+        .output()
+        .expect("gdalinfo (gdal-bin, installed by scripts/setup.sh)");
+    let info = String::from_utf8_lossy(&tif.stdout);
+    assert!(
+        info.contains("Band 2") && !info.contains("Band 3"),
+        "{info}"
+    );
+
+    let bad = dir.path().join("bad.exr");
+    let out = irsig()
+        .arg("render")
+        .arg(scene())
+        .arg("-o")
+        .arg(&bad)
+        .args(["--planes", "apparent_temprature"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--planes apparent_temprature: no such plane")
+            && err.contains("band_radiance"),
+        "{err}"
+    );
+    assert!(!bad.exists() && !bad.with_extension("json").exists());
+}

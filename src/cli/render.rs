@@ -37,6 +37,12 @@ pub struct Args {
     /// Also write the EXR (x.exr), when -o names a .tif.
     #[arg(long)]
     pub exr: bool,
+    /// Write only these planes to the EXR and the GeoTIFF (comma-separated,
+    /// e.g. `--planes band_radiance,apparent_temperature,material`;
+    /// default: all). The PNG, the ENVI cubes and the geolocation are not
+    /// affected.
+    #[arg(long, value_delimiter = ',', value_name = "PLANE,...")]
+    pub planes: Vec<String>,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,
@@ -67,7 +73,7 @@ use crate::render::thread_pool;
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
-    let formats = Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?;
+    let formats = Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?.with_planes(&a.planes)?;
     crate::output::check_output_file(&a.output)?;
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;

@@ -22,7 +22,7 @@ use exr::prelude::{
     read_first_flat_layer_from_file,
 };
 
-use super::{OutputError, OutputSet, Planes};
+use super::{OutputError, OutputSet, Plane, Planes};
 
 /// The UINT value of "no surface" in `truth.material` and `truth.facet`
 /// (the planes' -1).
@@ -159,7 +159,19 @@ pub fn write_exr(
     planes: &Planes,
     attrs: &[(String, Attr)],
 ) -> Result<(), OutputError> {
-    let size = (planes.width as usize, planes.height as usize);
+    let all: Vec<&Plane> = planes.planes.iter().collect();
+    write_exr_planes(out, path, (planes.width, planes.height), &all, attrs)
+}
+
+/// [`write_exr`] of some planes of one size (`size` = width, height).
+pub fn write_exr_planes(
+    out: &mut OutputSet,
+    path: &Path,
+    size: (u32, u32),
+    planes: &[&Plane],
+    attrs: &[(String, Attr)],
+) -> Result<(), OutputError> {
+    let size = (size.0 as usize, size.1 as usize);
     let mut other: HashMap<Text, AttributeValue> = HashMap::new();
     let mut put = |key: String, value: AttributeValue| {
         other.insert(Text::from(key.as_str()), value);
@@ -169,7 +181,6 @@ pub fn write_exr(
         AttributeValue::Text(Text::from(crate::version::LONG_VERSION)),
     );
     let channels: Vec<AnyChannel<PlaneSamples>> = planes
-        .planes
         .iter()
         .map(|p| {
             let name = channel_name(&p.name);
@@ -186,7 +197,6 @@ pub fn write_exr(
         })
         .collect();
     if planes
-        .planes
         .iter()
         .any(|p| NONE_PLANES.contains(&p.name.as_str()))
     {

@@ -21,7 +21,7 @@ use anyhow::bail;
 use serde::Serialize;
 
 use super::envi::{list, write_cube};
-use super::exr::{Attr, write_exr};
+use super::exr::{Attr, write_exr, write_exr_planes};
 use super::geotiff::{Band, Placement, placement, write_geotiff};
 use super::{OutputSet, quicklook::write_png};
 use crate::render::{Frame, Rendered, Stats};
@@ -29,11 +29,14 @@ use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 
 /// The formats of a render's output (the PNG and the JSON are always
 /// written).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Formats {
     pub exr: bool,
     pub geotiff: bool,
     pub envi: bool,
+    /// The planes the EXR and the GeoTIFF hold (`None`: all; the ENVI
+    /// cubes, the PNG and the geolocation are not affected).
+    pub planes: Option<Vec<String>>,
 }
 
 impl Formats {
@@ -44,7 +47,12 @@ impl Formats {
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        let mut f = Formats { exr, geotiff, envi };
+        let mut f = Formats {
+            exr,
+            geotiff,
+            envi,
+            planes: None,
+        };
         match ext.as_deref() {
             Some("exr") => f.exr = true,
             Some("tif" | "tiff") => f.geotiff = true,
@@ -54,6 +62,33 @@ impl Formats {
             ),
         }
         Ok(f)
+    }
+
+    /// Keeps only `planes` (names from
+    /// [`crate::render::planes::PLANE_NAMES`]) in the EXR and the GeoTIFF;
+    /// an empty list keeps all.
+    pub fn with_planes(mut self, planes: &[String]) -> anyhow::Result<Formats> {
+        use crate::render::planes::PLANE_NAMES;
+        if planes.is_empty() {
+            return Ok(self);
+        }
+        for p in planes {
+            if !PLANE_NAMES.contains(&p.as_str()) {
+                bail!(
+                    "--planes {p}: no such plane; the planes are {}",
+                    PLANE_NAMES.join(", ")
+                );
+            }
+        }
+        self.planes = Some(planes.to_vec());
+        Ok(self)
+    }
+
+    /// Whether the EXR and the GeoTIFF hold the plane `name`.
+    pub fn keeps(&self, name: &str) -> bool {
+        self.planes
+            .as_ref()
+            .is_none_or(|l| l.iter().any(|p| p == name))
     }
 }
 
@@ -112,19 +147,10 @@ pub struct Summary<'a> {
     /// The other files of this output set (names beside this JSON, which
     /// is written last: a JSON whose files all exist is a complete set).
     pub files: Vec<String>,
-    /// (name, unit) of every plane, in render order.
+    /// (name, unit) of every plane of the EXR/GeoTIFF (all, or those of
+    /// `--planes`), in render order.
     pub planes: Vec<(String, String)>,
     pub stats: &'a Stats,
-}
-
-/// (name, unit) of every plane of `frame`.
-pub fn plane_list(frame: &Frame) -> Vec<(String, String)> {
-    frame
-        .planes
-        .planes
-        .iter()
-        .map(|p| (p.name.clone(), p.unit.clone()))
-        .collect()
 }
 
 /// Writes a bare frame's outputs as one [`OutputSet`]: the EXR at `exr`,
@@ -359,6 +385,11 @@ pub fn write_rendered(
             serde_json::to_string(&materials).unwrap_or_default(),
         ),
     ];
+    let kept: Vec<&crate::render::planes::Plane> = p
+        .planes
+        .iter()
+        .filter(|pl| formats.keeps(&pl.name))
+        .collect();
     if formats.exr {
         let mut attrs: Vec<(String, Attr)> = common_meta
             .iter()
@@ -386,11 +417,10 @@ pub fn write_rendered(
             let t: Vec<String> = t.iter().map(|v| v.to_string()).collect();
             attrs.push(("geotransform".into(), Attr::Text(t.join(" "))));
         }
-        write_exr(&mut set, &path.with_extension("exr"), p, &attrs)?;
+        write_exr_planes(&mut set, &path.with_extension("exr"), (w, h), &kept, &attrs)?;
     }
     if formats.geotiff {
-        let bands: Vec<Band<f32>> = p
-            .planes
+        let bands: Vec<Band<f32>> = kept
             .iter()
             .map(|pl| Band {
                 name: &pl.name,
@@ -584,7 +614,10 @@ pub fn write_rendered(
             materials,
             quicklook,
             files,
-            planes: plane_list(&r.frame),
+            planes: kept
+                .iter()
+                .map(|pl| (pl.name.clone(), pl.unit.clone()))
+                .collect(),
             stats: &r.frame.stats,
         };
         Ok(match frame_info {

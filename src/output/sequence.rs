@@ -263,6 +263,7 @@ pub fn write_frame(
         exr: true,
         geotiff: false,
         envi: out.envi,
+        planes: None,
     };
     write_rendered(&exr, &f.image, formats, Some(frame_info))?;
     Ok(entry)

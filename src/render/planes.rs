@@ -2,6 +2,32 @@
 //! radiometric terms): named, unit-annotated, row-major f32 images of one
 //! size. Defined here, where they are made; `output` writes them.
 
+/// Every plane a render can produce, in render order (`dn` only with the
+/// sensor's quantisation): what `--planes` chooses from.
+pub const PLANE_NAMES: [&str; 21] = [
+    "band_radiance",
+    "apparent_temperature",
+    "surface_temperature",
+    "material",
+    "facet",
+    "sun_now",
+    "hours_sunlit",
+    "range",
+    "ground_x",
+    "ground_y",
+    "ground_z",
+    "view_angle",
+    "case",
+    "emitted",
+    "reflected_solar",
+    "reflected_sky",
+    "reflected_background",
+    "path_thermal",
+    "path_scattered",
+    "dn",
+    "sensor_radiance",
+];
+
 /// One image plane (an "AOV"): name, unit, row-major f32 samples.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plane {
