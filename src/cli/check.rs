@@ -62,7 +62,7 @@ pub fn render_text(s: &SceneSummary) -> String {
         f.precise_extent_m,
         f.max_extent_m
     );
-    if let Some(w) = &s.warning {
+    for w in s.warning.iter().chain(&s.warnings) {
         let _ = writeln!(o, "warning    {w}");
     }
     let _ = writeln!(

@@ -16,9 +16,10 @@ pub mod sun;
 pub mod therm;
 
 /// Prints the scene's precision warning ([`crate::scene::LocalFrame::warning`]),
-/// if any, to stderr.
+/// if any, and its input warnings ([`crate::scene::LoadedScene::warnings`])
+/// to stderr.
 pub fn warn_about_frame(s: &crate::scene::LoadedScene) {
-    if let Some(w) = s.frame.warning() {
+    for w in s.frame.warning().iter().chain(&s.warnings) {
         eprintln!("irsig: warning: {w}");
     }
 }

@@ -1,5 +1,5 @@
-//! Scene description: the scene file (TOML), material libraries, OBJ
-//! geometry, and the loaded triangle soup the tracer builds from, in the
+//! Scene description: the scene file (TOML), material libraries, mesh
+//! geometry ([`mesh`]), and the loaded triangle soup the tracer builds from, in the
 //! tracer's local frame ([`frame`]: world coordinates in f64, shifted to
 //! an origin at the camera target before they become f32). Reference:
 //! docs/scene-format.md.
@@ -15,7 +15,7 @@ pub mod error;
 pub mod frame;
 pub mod georef;
 pub mod material;
-pub mod obj;
+pub mod mesh;
 pub mod spec;
 pub mod summary;
 pub mod terrain;
@@ -43,7 +43,7 @@ use tomlsrc::{Seg, TomlSource};
 pub struct ObjectInfo {
     /// Object name; instances get `name#k` (k = 1, 2, ...).
     pub name: String,
-    /// The OBJ file (as resolved from the scene file's folder); for a
+    /// The mesh file (as resolved from the scene file's folder); for a
     /// terrain, the DEM file.
     pub file: PathBuf,
     /// Index of the `[[object]]` entry in the scene file (for a terrain,
@@ -54,7 +54,7 @@ pub struct ObjectInfo {
     /// Its triangles are `first_triangle .. first_triangle + triangle_count`.
     pub first_triangle: u32,
     pub triangle_count: u32,
-    /// OBJ faces (polygons) of the object.
+    /// Faces (polygons) of the object.
     pub face_count: u32,
     /// Zero-area triangles skipped.
     pub degenerate_skipped: u32,
@@ -87,14 +87,14 @@ pub struct LoadedScene {
     /// The local frame: its origin in world coordinates and the precision
     /// of the f32 positions.
     pub frame: LocalFrame,
-    /// Triangles (indices into `positions`), counter-clockwise as in the OBJ.
+    /// Triangles (indices into `positions`), counter-clockwise as in the mesh file.
     pub triangles: Vec<[u32; 3]>,
     /// Material id of each triangle.
     pub tri_material: Vec<u32>,
     /// Object id (index into `objects`) of each triangle.
     pub tri_object: Vec<u32>,
-    /// Facet id of each triangle: the index of its OBJ face within its
-    /// object (a polygon split into a fan keeps one facet id).
+    /// Facet id of each triangle: the index of its mesh face within its
+    /// object (the triangles of a polygon keep one facet id).
     pub tri_facet: Vec<u32>,
     pub objects: Vec<ObjectInfo>,
     /// The sensor camera in world coordinates (as the scene gives it).
@@ -109,6 +109,9 @@ pub struct LoadedScene {
     pub degenerate_skipped: usize,
     /// The `key = value` overrides applied to the file's text (`--set`).
     pub overrides: Vec<(String, String)>,
+    /// Notes on the inputs that do not stop the load (e.g. a mesh's
+    /// objects with no faces); the CLI prints them.
+    pub warnings: Vec<String>,
 }
 
 impl LoadedScene {
@@ -164,7 +167,7 @@ pub fn parse_scene(path: &Path, text: &str) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-/// Loads a scene file, its material libraries and its OBJ files.
+/// Loads a scene file, its material libraries and its mesh files.
 pub fn load(path: &Path) -> Result<LoadedScene, SceneError> {
     load_source(path, TomlSource::read(path)?)
 }
@@ -376,7 +379,8 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     };
 
     // Geometry.
-    let mut cache: HashMap<PathBuf, obj::ObjMesh> = HashMap::new();
+    let mut cache: HashMap<PathBuf, mesh::Mesh> = HashMap::new();
+    let mut warnings = Vec::new();
     let mut out = Geometry::default();
     let mut objects = Vec::new();
     for (oi, o) in scene.objects.iter().enumerate() {
@@ -384,23 +388,20 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         let file = must_exist(
             &o.file,
             &[key("object"), Seg::Index(oi), key("file")],
-            "OBJ file",
+            "mesh file",
         )?;
         if !cache.contains_key(&file) {
-            let m = obj::load_obj(&file)?;
+            let m = mesh::load(&file)?;
+            warnings.extend(m.warnings.iter().cloned());
             cache.insert(file.clone(), m);
         }
         let mesh = &cache[&file];
-        // Map the OBJ's usemtl names to material ids.
-        let mut ids = Vec::with_capacity(mesh.material_names.len());
-        for (name, line) in &mesh.material_names {
-            match by_name.get(name) {
-                Some(&id) => ids.push(Some(id)),
-                // Only an error if a face uses it (checked below).
-                None => ids.push(None),
-            }
-            let _ = line;
-        }
+        // Map the mesh's material names to material ids.
+        let ids: Vec<Option<u32>> = mesh
+            .material_names
+            .iter()
+            .map(|(name, _)| by_name.get(name).copied())
+            .collect();
         let default_id = match &o.material {
             Some(n) => Some(*by_name.get(n).ok_or_else(|| {
                 undefined(
@@ -420,13 +421,15 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                         return Err(undefined(Location::line(&file, *line), name));
                     }
                 },
-                None => default_id.ok_or_else(|| SceneError::Obj {
-                    loc: Location::line(&file, f.line),
-                    msg: format!(
-                        "face has no material: no `usemtl` before it, and object {} ({}) sets no `material`",
-                        oi + 1,
-                        src.loc_of(&at)
-                    ),
+                None => default_id.ok_or_else(|| {
+                    mesh.error(
+                        f.src,
+                        format!(
+                            "face has no material: no `usemtl` before it, and object {} ({}) sets no `material`",
+                            oi + 1,
+                            src.loc_of(&at)
+                        ),
+                    )
                 })?,
             };
             face_mat.push(id);
@@ -443,16 +446,16 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
             let first = out.triangles.len() as u32;
             let skipped = out
                 .add(mesh, xf, origin, &face_mat, object_id)
-                .map_err(|(line, far)| {
+                .map_err(|(face_src, far)| {
+                    let place = mesh.place(face_src);
                     src.invalid(
                         &at,
                         if far {
                             format!(
-                                "the transform of object `{base_name}` places the vertex of {}:{line} more \
+                                "the transform of object `{base_name}` places the vertex of {place} more \
                                  than {:.0} m from the tracer's origin at the camera target ({:.0}, {:.0}) m, \
                                  where single precision keeps no better than {:.2} cm; split the scene or \
                                  aim the camera nearer its centre",
-                                file.display(),
                                 frame::MAX_EXTENT_M,
                                 origin[0],
                                 origin[1],
@@ -460,9 +463,8 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                             )
                         } else {
                             format!(
-                                "the transform of object `{base_name}` maps the vertex of {}:{line} to a \
-                                 non-finite or out-of-range position (|x| must stay below {MAX_COORD_M:e} m)",
-                                file.display()
+                                "the transform of object `{base_name}` maps the vertex of {place} to a \
+                                 non-finite or out-of-range position (|x| must stay below {MAX_COORD_M:e} m)"
                             )
                         },
                     )
@@ -553,6 +555,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         psf_kernel,
         degenerate_skipped,
         overrides: Vec::new(),
+        warnings,
     })
 }
 
@@ -628,12 +631,12 @@ const MAX_COORD_M: f64 = 1e8;
 impl Geometry {
     /// Appends one instance placed by `xf` in the local frame of `origin`
     /// (world = local + origin); returns the number of zero-area triangles
-    /// skipped, or `Err((obj line, far))` of a face whose vertex leaves the
+    /// skipped, or `Err((face src, far))` of a face whose vertex leaves the
     /// world range (`far` false) or the frame's [`frame::MAX_EXTENT_M`]
     /// (`far` true).
     fn add(
         &mut self,
-        mesh: &obj::ObjMesh,
+        mesh: &mesh::Mesh,
         xf: &glam::DAffine3,
         origin: [f64; 3],
         face_mat: &[u32],
@@ -646,31 +649,29 @@ impl Geometry {
             .iter()
             .map(|p| xf.transform_point3(glam::DVec3::from(*p)))
             .collect();
-        let mut skipped = 0;
-        for (fi, f) in mesh.faces.iter().enumerate() {
+        for f in &mesh.faces {
             for &v in &f.verts {
                 let l = local[v as usize];
                 if !l.is_finite() || (l + origin).abs().max_element() > MAX_COORD_M {
-                    return Err((f.line, false));
+                    return Err((f.src, false));
                 }
                 if l.abs().max_element() > frame::MAX_EXTENT_M {
-                    return Err((f.line, true));
+                    return Err((f.src, true));
                 }
             }
-            // Fan triangulation, as tobj would do.
-            for j in 1..f.verts.len() - 1 {
-                let t = [f.verts[0], f.verts[j], f.verts[j + 1]];
-                let q = t.map(|i| local[i as usize].as_vec3().as_dvec3());
-                let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
-                if area2.is_nan() || area2 <= 0.0 {
-                    skipped += 1;
-                    continue;
-                }
-                self.triangles.push(t.map(|i| base + i));
-                self.tri_material.push(face_mat[fi]);
-                self.tri_object.push(object);
-                self.tri_facet.push(fi as u32);
+        }
+        let mut skipped = 0;
+        for (t, &fi) in mesh.triangles.iter().zip(&mesh.tri_face) {
+            let q = t.map(|i| local[i as usize].as_vec3().as_dvec3());
+            let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
+            if area2.is_nan() || area2 <= 0.0 {
+                skipped += 1;
+                continue;
             }
+            self.triangles.push(t.map(|i| base + i));
+            self.tri_material.push(face_mat[fi as usize]);
+            self.tri_object.push(object);
+            self.tri_facet.push(fi);
         }
         self.positions
             .extend(local.iter().map(|w| w.as_vec3().to_array()));

@@ -61,6 +61,8 @@ pub struct SceneSummary {
     pub local_frame: super::LocalFrame,
     /// Set when the geometry reaches beyond the frame's precise extent.
     pub warning: Option<String>,
+    /// Notes on the inputs ([`super::LoadedScene::warnings`]).
+    pub warnings: Vec<String>,
     pub camera: super::CameraGeometry,
     /// Image corners on the plane z = target z (TL, TR, BR, BL); `null`
     /// where a corner ray misses the ground (above the horizon).
@@ -136,6 +138,7 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
         bounds_max_m: hi,
         local_frame: s.frame,
         warning: s.frame.warning(),
+        warnings: s.warnings.clone(),
         camera: s.camera,
         footprint_m: s.camera.footprint(ground_z),
         centre_gsd_m: s.camera.centre_gsd_m(ground_z),

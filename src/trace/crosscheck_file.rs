@@ -24,13 +24,14 @@ pub struct MeshView {
     pub sun_samples: u32,
 }
 
-/// Loads an OBJ file as one triangle soup (faces fan-triangulated), with
+/// Loads a mesh file as one triangle soup (faces triangulated as the
+/// scene loader does, [`crate::scene::mesh`]), with
 /// the scene loader's line-numbered errors, in a local frame whose origin
 /// is the centre of its bounds rounded to whole metres (see
 /// `scene::frame`: so that far-off coordinates keep their precision).
 /// Returns the geometry and the world coordinates of that origin.
 pub fn load_obj(path: &Path) -> anyhow::Result<(Geometry, [f64; 3])> {
-    let m = crate::scene::obj::load_obj(path)?;
+    let m = crate::scene::mesh::load(path)?;
     let (lo, hi) = m
         .positions
         .iter()
@@ -47,12 +48,7 @@ pub fn load_obj(path: &Path) -> anyhow::Result<(Geometry, [f64; 3])> {
         .iter()
         .map(|p| (DVec3::from(*p) - origin).as_vec3())
         .collect();
-    let triangles = m
-        .faces
-        .iter()
-        .flat_map(|f| (1..f.verts.len() - 1).map(move |k| [f.verts[0], f.verts[k], f.verts[k + 1]]))
-        .collect();
-    let g = Geometry::new(positions, triangles)
+    let g = Geometry::new(positions, m.triangles)
         .with_context(|| format!("{}: bad geometry", path.display()))?;
     Ok((g, origin.to_array()))
 }

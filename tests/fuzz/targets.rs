@@ -502,16 +502,34 @@ fn obj_mesh() {
         read("scenes/plate/obj/plate.obj"),
         read("scenes/plate/obj/ground.obj"),
         read("scenes/meshes/mixed.obj"),
+        read("tests/data/wild/meshes/assimp/concave_polygon.obj"),
+        read("tests/data/wild/meshes/assimp/cube_usemtl.obj"),
+        read("tests/data/wild/meshes/assimp/box_UTF16BE.obj"),
     ];
     let path = Path::new("m.obj");
     campaign("obj", mutation(seeds.len()), |(k, edits), tally| {
-        let t = text(&apply(&seeds[k], &edits));
-        match irsig::scene::obj::parse_obj(path, &t) {
+        let bytes = apply(&seeds[k], &edits);
+        let t = irsig::scene::mesh::decode_text(&bytes);
+        match irsig::scene::mesh::obj::parse_obj(path, &t).and_then(|mut m| {
+            m.triangulate()?;
+            Ok(m)
+        }) {
             Ok(m) => {
                 tally.ok();
                 require!(
                     m.positions.iter().flatten().all(|v| v.is_finite()),
                     "non-finite vertex accepted"
+                );
+                require!(
+                    m.triangles
+                        .iter()
+                        .flatten()
+                        .all(|&i| (i as usize) < m.positions.len()),
+                    "triangle index out of range"
+                );
+                require!(
+                    m.tri_face.iter().all(|&f| (f as usize) < m.faces.len()),
+                    "triangle's face out of range"
                 );
             }
             Err(e) => {
