@@ -208,26 +208,28 @@ fn bvh_backend_renders_the_same_image() {
 fn planes_flag_selects_the_written_planes() {
     use irsig::render::planes::PLANE_NAMES;
     let dir = tempfile::tempdir().unwrap();
-    let small = [
-        "--set",
-        "sensor.width_px=24",
-        "--set",
-        "sensor.height_px=16",
-    ];
+    // Renders the airfield at 24x16 px to `out` with `extra` flags.
+    let render = |out: &Path, extra: &[&str]| {
+        irsig()
+            .arg("render")
+            .arg(scene())
+            .arg("-o")
+            .arg(out)
+            .args(extra)
+            .args([
+                "--set",
+                "sensor.width_px=24",
+                "--set",
+                "sensor.height_px=16",
+            ])
+            .output()
+            .unwrap()
+    };
+    let ok = |o: &std::process::Output| {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr))
+    };
     let full = dir.path().join("full.exr");
-    let out = irsig()
-        .arg("render")
-        .arg(scene())
-        .arg("-o")
-        .arg(&full)
-        .args(small)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&render(&full, &[]));
     let (_, _, chans) = irsig::output::exr::read_exr(&full).unwrap();
     let names: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
     // The airfield quantises, so its render makes every plane.
@@ -238,20 +240,10 @@ fn planes_flag_selects_the_written_planes() {
     assert_eq!(got, want);
 
     let sel = dir.path().join("sel.tif");
-    let out = irsig()
-        .arg("render")
-        .arg(scene())
-        .arg("-o")
-        .arg(&sel)
-        .args(["--exr", "--planes", "apparent_temperature,material"])
-        .args(small)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&render(
+        &sel,
+        &["--exr", "--planes", "apparent_temperature,material"],
+    ));
     let (_, _, chans) = irsig::output::exr::read_exr(&sel.with_extension("exr")).unwrap();
     let mut got: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
     got.sort();
@@ -280,14 +272,7 @@ fn planes_flag_selects_the_written_planes() {
     );
 
     let bad = dir.path().join("bad.exr");
-    let out = irsig()
-        .arg("render")
-        .arg(scene())
-        .arg("-o")
-        .arg(&bad)
-        .args(["--planes", "apparent_temprature"])
-        .output()
-        .unwrap();
+    let out = render(&bad, &["--planes", "apparent_temprature"]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
