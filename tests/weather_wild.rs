@@ -513,3 +513,97 @@ fn unsupported_formats_are_named() {
         );
     }
 }
+
+/// The airfield scene's text without its site latitude and longitude.
+fn without_site_coordinates(scene: &Path) -> String {
+    std::fs::read_to_string(scene)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("latitude_deg") && !l.starts_with("longitude_deg"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A scene without site coordinates takes its weather file's station
+/// (the TMY3 header: Greensboro, 36.1 N 79.95 W); with constant weather
+/// (no station) it is refused, naming the keys.
+#[test]
+fn site_coordinates_from_the_weather_file() {
+    let scene = common::airfield();
+    let s = irsig::scene::load_text(&scene, without_site_coordinates(&scene)).unwrap();
+    assert_eq!(
+        (s.scene.site.latitude_deg, s.scene.site.longitude_deg),
+        (36.1, -79.95)
+    );
+    let constant = scene.with_file_name("scene-constant.toml");
+    let e = irsig::scene::load_text(&constant, without_site_coordinates(&constant))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("site.latitude_deg and site.longitude_deg are required")
+            && e.contains("no station"),
+        "{e}"
+    );
+}
+
+/// The sample scene's weather (Greensboro, 36.1 N) stands in for
+/// Rochester (43.2 N): `irsig check` warns, `--strict` refuses; with the
+/// site at the station there is no warning. `irsig therm` does the same
+/// with --lat/--lon (Greensboro's TMY3 run with Sydney's coordinates).
+#[test]
+fn station_far_from_the_site_warns_or_is_refused_with_strict() {
+    let scene = common::airfield();
+    let sc = scene.to_str().unwrap();
+    let (code, _, err) = common::irsig_out(&["check", sc]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("warning: the weather file")
+            && err.contains("36.100, -79.950")
+            && err.contains("43.157, -77.609"),
+        "{err}"
+    );
+    let (code, _, err) = common::irsig_out(&["check", sc, "--strict"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("refused with --strict"), "{err}");
+    let (code, _, err) = common::irsig_out(&[
+        "check",
+        sc,
+        "--strict",
+        "--set",
+        "site.latitude_deg=36.3",
+        "--set",
+        "site.longitude_deg=-80.2",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    let weather = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/tmy3_723170_greensboro_jun18-22.csv");
+    let therm = |lat: &str, lon: &str| {
+        common::irsig_out(&[
+            "therm",
+            "--materials",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/materials.toml"),
+            "--material",
+            "concrete",
+            "--weather",
+            weather.to_str().unwrap(),
+            "--lat",
+            lat,
+            "--lon",
+            lon,
+            "--from",
+            "1989-06-20T12:00:00Z",
+            "--to",
+            "1989-06-20T13:00:00Z",
+            "--strict",
+        ])
+    };
+    let (code, _, err) = therm("-33.87", "151.21");
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("-33.870, 151.210") && err.contains("--strict"),
+        "{err}"
+    );
+    let (code, _, err) = therm("36.1", "-79.95");
+    assert_eq!(code, 0, "{err}");
+}

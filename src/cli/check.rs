@@ -19,6 +19,10 @@ pub struct Args {
     /// (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Refuse what would only be a warning (a weather station more than
+    /// 0.5 deg from the site).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 fn fmt3(v: [f64; 3]) -> String {
@@ -188,6 +192,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     // would need it (a scene whose weather cannot be read fails here).
     let image_time = s.scene.time.utc(&s.scene.site);
     crate::render::prepare::frame_weather(&s, image_time)?;
+    super::warn_or_refuse(&crate::render::prepare::weather_warnings(&s)?, a.strict)?;
     let r = check_report(&s);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

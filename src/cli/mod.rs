@@ -24,6 +24,18 @@ pub fn warn_about_frame(s: &crate::scene::LoadedScene) {
     }
 }
 
+/// Prints warnings about the inputs to stderr, or with `--strict` refuses
+/// them (an error listing them).
+pub fn warn_or_refuse(warnings: &[String], strict: bool) -> anyhow::Result<()> {
+    if strict && !warnings.is_empty() {
+        anyhow::bail!("{} (refused with --strict)", warnings.join("; "));
+    }
+    for w in warnings {
+        eprintln!("irsig: warning: {w}");
+    }
+    Ok(())
+}
+
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]
 #[command(name = "irsig", version = crate::version::LONG_VERSION, about)]

@@ -26,6 +26,10 @@ pub struct Args {
     /// `--set 'sensor.pose={slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}'`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Refuse what would only be a warning (a weather station more than
+    /// 0.5 deg from the site).
+    #[arg(long)]
+    pub strict: bool,
     /// Also write ENVI cubes: the radiance cube (x.img/.hdr), the float64
     /// truth cube (x_truth.img) and the material classification
     /// (x_class.img).
@@ -80,6 +84,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     note("loading scene");
     let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
     super::warn_about_frame(&scene);
+    super::warn_or_refuse(&crate::render::prepare::weather_warnings(&scene)?, a.strict)?;
     let memory = crate::render::memory::estimate(&scene);
     let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;

@@ -72,6 +72,10 @@ pub struct Args {
     /// `typical_year = true` in [weather.file]).
     #[arg(long)]
     pub typical_year: bool,
+    /// Refuse what would only be a warning (a weather station more than
+    /// 0.5 deg from the site).
+    #[arg(long)]
+    pub strict: bool,
     /// A ready forcing CSV instead of a weather file (see module docs).
     #[arg(long)]
     pub forcing: Option<PathBuf>,
@@ -142,6 +146,13 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let to = parse_time(&a.to).context("--to")?;
     if to < from {
         bail!("--to {} is before --from {}", a.to, a.from);
+    }
+    if let Some(p) = &a.weather {
+        let station = crate::therm::weather::read_station(p, a.typical_year)?;
+        let warning = station.and_then(|st| {
+            crate::therm::weather::station_mismatch(&st, &p.display().to_string(), a.lat, a.lon)
+        });
+        super::warn_or_refuse(&warning.into_iter().collect::<Vec<_>>(), a.strict)?;
     }
     let run = FacetRun {
         material_name: a.material.clone(),

@@ -375,6 +375,33 @@ pub fn scene_weather(
     })
 }
 
+/// Warnings about the scene's weather: its file's station more than
+/// [`crate::therm::weather::MAX_STATION_OFFSET_DEG`] from the site
+/// ([`crate::therm::weather::station_mismatch`]).
+pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
+    let sc = &scene.scene;
+    let WeatherSpec::File {
+        path, typical_year, ..
+    } = &sc.weather
+    else {
+        return Ok(Vec::new());
+    };
+    let p = scene.resolve(path);
+    let station = crate::therm::weather::read_station(&p, *typical_year)
+        .with_context(|| format!("weather file of {}", scene.path.display()))?;
+    Ok(station
+        .and_then(|st| {
+            crate::therm::weather::station_mismatch(
+                &st,
+                &p.display().to_string(),
+                sc.site.latitude_deg,
+                sc.site.longitude_deg,
+            )
+        })
+        .into_iter()
+        .collect())
+}
+
 /// The thermal forcing of a frame at `image_time` (UTC): the scene's
 /// weather read over the window the frame needs, the forcing of its
 /// history and the deep-ground temperature.

@@ -275,7 +275,8 @@ pub fn load_text(path: &Path, text: String) -> Result<LoadedScene, SceneError> {
 }
 
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
-    let scene: Scene = src.parse()?;
+    let mut scene: Scene = src.parse()?;
+    site_from_weather(path, &src, &mut scene)?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
@@ -825,6 +826,47 @@ pub fn parse_kernel(file: &Path, text: &str) -> Result<PsfKernel, SceneError> {
         size: n,
         weights: rows.into_iter().flatten().map(|w| w / sum).collect(),
     })
+}
+
+/// Fills a site latitude/longitude left out of the scene with the weather
+/// file's station (TMY2/TMY3/EPW/PSM3/PVGIS headers); an error when the
+/// weather gives none.
+fn site_from_weather(path: &Path, src: &TomlSource, scene: &mut Scene) -> Result<(), SceneError> {
+    let site = &mut scene.site;
+    if !(site.latitude_deg.is_nan() || site.longitude_deg.is_nan()) {
+        return Ok(());
+    }
+    let at = [key("site")];
+    let station = match &scene.weather {
+        spec::WeatherSpec::File {
+            path: w,
+            typical_year,
+            ..
+        } => {
+            crate::therm::weather::read_station(&resolve(path, w), *typical_year).map_err(|e| {
+                src.invalid(
+                    &at,
+                    format!("site.latitude_deg/longitude_deg left out, and {e}"),
+                )
+            })?
+        }
+        spec::WeatherSpec::Constant(_) => None,
+    };
+    let Some(st) = station else {
+        return Err(src.invalid(
+            &at,
+            "site.latitude_deg and site.longitude_deg are required: the weather gives no station \
+             coordinates (only TMY2/TMY3/EPW/PSM3/PVGIS files do)"
+                .into(),
+        ));
+    };
+    if site.latitude_deg.is_nan() {
+        site.latitude_deg = st.lat_deg;
+    }
+    if site.longitude_deg.is_nan() {
+        site.longitude_deg = st.lon_deg;
+    }
+    Ok(())
 }
 
 /// Range checks of every scene value, reported at its TOML location.

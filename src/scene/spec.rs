@@ -43,9 +43,14 @@ pub struct Site {
     /// Free-text site name.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    /// Geodetic latitude, degrees, north positive, [-90, 90].
+    /// Geodetic latitude, degrees, north positive, [-90, 90]. May be left
+    /// out with a weather file that gives its station's (then it is the
+    /// station's after loading).
+    #[serde(default = "unset_deg")]
     pub latitude_deg: f64,
-    /// Longitude, degrees, east positive, [-180, 180].
+    /// Longitude, degrees, east positive, [-180, 180]; may be left out as
+    /// `latitude_deg`.
+    #[serde(default = "unset_deg")]
     pub longitude_deg: f64,
     /// Elevation of the local frame origin (z = 0) above sea level, metres.
     #[serde(default)]
@@ -58,6 +63,12 @@ pub struct Site {
     /// [`crate::scene::georef`].
     #[serde(default)]
     pub crs: OutputCrs,
+}
+
+/// A site coordinate not given in the file (NaN until [`crate::scene::load`]
+/// fills it from the weather file's station).
+fn unset_deg() -> f64 {
+    f64::NAN
 }
 
 /// `site.crs`: the map CRS of the outputs.

@@ -650,6 +650,55 @@ pub fn detect_format(text: &str, epw_name: bool) -> Result<WeatherFormat, (usize
     ))
 }
 
+/// Largest difference in latitude or longitude between a weather file's
+/// station and the site before irsig warns (or, with `--strict`, refuses),
+/// degrees.
+pub const MAX_STATION_OFFSET_DEG: f64 = 0.5;
+
+/// The station of a weather file (`None` for a plain CSV), read with the
+/// file's own years (a typical year laid on one year) and no gap limit:
+/// only the header matters here.
+pub fn read_station(
+    path: &Path,
+    typical_year: bool,
+) -> Result<Option<WeatherStation>, WeatherError> {
+    let opts = ReadOptions {
+        typical_year: typical_year.then_some(YearSpan {
+            first: 2001,
+            last: 2001,
+        }),
+        max_gap_s: f64::INFINITY,
+        ..ReadOptions::default()
+    };
+    Ok(read_weather(path, &opts)?.station)
+}
+
+/// A warning when `station` lies more than [`MAX_STATION_OFFSET_DEG`] in
+/// latitude or longitude from the site: the file's measured irradiance and
+/// weather then belong to another place than the sun computed for the site.
+pub fn station_mismatch(
+    station: &WeatherStation,
+    file: &str,
+    site_lat_deg: f64,
+    site_lon_deg: f64,
+) -> Option<String> {
+    let dlat = (station.lat_deg - site_lat_deg).abs();
+    let dlon = ((station.lon_deg - site_lon_deg + 540.0).rem_euclid(360.0) - 180.0).abs();
+    (dlat > MAX_STATION_OFFSET_DEG || dlon > MAX_STATION_OFFSET_DEG).then(|| {
+        format!(
+            "the weather file {file} is for {} at {:.3}, {:.3} but the site is at {:.3}, {:.3} \
+             ({dlat:.2} deg in latitude, {dlon:.2} deg in longitude; more than {MAX_STATION_OFFSET_DEG} deg): \
+             its measured sun and weather belong elsewhere; move the site, use a nearer file, or \
+             leave out site.latitude_deg/longitude_deg to take the file's",
+            if station.name.is_empty() { "its station" } else { &station.name },
+            station.lat_deg,
+            station.lon_deg,
+            site_lat_deg,
+            site_lon_deg
+        )
+    })
+}
+
 /// Splits one CSV line; double-quoted fields may contain commas.
 fn split_csv(line: &str) -> Vec<String> {
     let mut out = Vec::new();
