@@ -5,7 +5,8 @@
 //! material and sun/shadow history in every pixel as at the origin, the
 //! same apparent temperature within 1e-3 K and the same range within 1e-4
 //! (relative), and the Embree/obvhs cross-check finds no unexplained
-//! difference at any offset. The reference is the scene at its own origin:
+//! difference at any offset (terrain-km's terrain, a DEM fixed on the
+//! Earth, moves as the OBJ of its mesh). The reference is the scene at its own origin:
 //! before the tracer worked in a local frame, a 10 km offset changed 0.6 %
 //! of the airfield's pixels by up to 16.7 K (issue #18).
 
@@ -60,11 +61,52 @@ fn moved(text: &str, d: [f64; 2]) -> String {
     doc.to_string()
 }
 
+/// The scene text with each `[[terrain]]` (a DEM: fixed on the Earth)
+/// replaced by an `[[object]]` of its mesh as loaded at the scene's own
+/// place (an OBJ in `dir`, world coordinates), so that it moves with the
+/// rest.
+fn terrain_as_objects(path: &Path, text: &str, dir: &Path) -> String {
+    use std::fmt::Write;
+    let mut doc: toml_edit::DocumentMut = text.parse().unwrap();
+    let Some(terrain) = doc.remove("terrain") else {
+        return text.to_string();
+    };
+    let s = load_text(path, text.to_string()).unwrap();
+    let n_terrain = terrain.as_array_of_tables().unwrap().len();
+    let mut tables = Vec::new();
+    for (k, o) in s.objects[s.objects.len() - n_terrain..].iter().enumerate() {
+        // every vertex of the scene (the faces pick the terrain's)
+        let mut obj = String::new();
+        for p in &s.positions {
+            let w = s.frame.to_world(p.map(f64::from));
+            writeln!(obj, "v {} {} {}", w[0], w[1], w[2]).unwrap();
+        }
+        let first = o.first_triangle as usize;
+        for t in first..first + o.triangle_count as usize {
+            let m = &s.materials[s.tri_material[t] as usize].name;
+            let [a, b, c] = s.triangles[t].map(|i| i + 1);
+            writeln!(obj, "usemtl {m}\nf {a} {b} {c}").unwrap();
+        }
+        let file = dir.join(format!("terrain{k}.obj"));
+        std::fs::write(&file, obj).unwrap();
+        let mut t = toml_edit::Table::new();
+        t["name"] = toml_edit::value(o.name.as_str());
+        t["file"] = toml_edit::value(file.display().to_string());
+        tables.push(t);
+    }
+    let objects = doc["object"].as_array_of_tables_mut().unwrap();
+    for t in tables {
+        objects.push(t);
+    }
+    doc.to_string()
+}
+
 /// The sample scene `name` at a small image size and short history,
 /// moved by `d`.
 fn load_moved(name: &str, d: [f64; 2]) -> LoadedScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}/scene.toml"));
-    let text = std::fs::read_to_string(&path).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let text = terrain_as_objects(&path, &std::fs::read_to_string(&path).unwrap(), dir.path());
     let small = [
         ("sensor.width_px", "48"),
         ("sensor.height_px", "48"),
