@@ -397,12 +397,34 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
             cache.insert(file.clone(), m);
         }
         let mesh = &cache[&file];
-        // Map the mesh's material names to material ids.
+        // Map the mesh's material names to material ids: the object's
+        // `materials` map, else the same-named library material, else `*`.
+        let mut map = HashMap::new();
+        for (from, to) in &o.materials {
+            let at = [key("object"), Seg::Index(oi), key("materials"), key(from)];
+            let id = by_name
+                .get(to)
+                .ok_or_else(|| undefined(src.loc_of(&at), to))?;
+            map.insert(from.as_str(), *id);
+        }
         let ids: Vec<Option<u32>> = mesh
             .material_names
             .iter()
-            .map(|(name, _)| by_name.get(name).copied())
+            .map(|(name, _)| {
+                let name = name.as_str();
+                (map.get(name).or(by_name.get(name)).or(map.get("*"))).copied()
+            })
             .collect();
+        let used: Vec<bool> = (0..ids.len())
+            .map(|k| mesh.faces.iter().any(|f| f.material == Some(k as u32)))
+            .collect();
+        let unmapped: Vec<usize> = (0..ids.len())
+            .filter(|&k| ids[k].is_none() && used[k])
+            .collect();
+        if !unmapped.is_empty() {
+            let library: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+            return Err(mesh.unmapped_error(&unmapped, &library, &libs, &src.loc_of(&at)));
+        }
         let default_id = match &o.material {
             Some(n) => Some(*by_name.get(n).ok_or_else(|| {
                 undefined(
@@ -410,23 +432,18 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                     n,
                 )
             })?),
-            None => None,
+            None => map.get("*").copied(),
         };
         let mut face_mat = Vec::with_capacity(mesh.faces.len());
         for f in &mesh.faces {
             let id = match f.material {
-                Some(k) => match ids[k as usize] {
-                    Some(id) => id,
-                    None => {
-                        let (name, line) = &mesh.material_names[k as usize];
-                        return Err(undefined(Location::line(&file, *line), name));
-                    }
-                },
+                Some(k) => ids[k as usize].expect("unmapped names refused above"),
                 None => default_id.ok_or_else(|| {
                     mesh.error(
                         f.src,
                         format!(
-                            "face has no material: no `usemtl` before it, and object {} ({}) sets no `material`",
+                            "face has no material: no `usemtl` before it, and object {} ({}) sets no \
+                             `material` (nor a `materials` entry \"*\")",
                             oi + 1,
                             src.loc_of(&at)
                         ),

@@ -177,7 +177,7 @@ fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Erro
     d.deserialize_any(V)
 }
 
-/// One `[[object]]`: an OBJ file placed by a transform, once or several
+/// One `[[object]]`: a mesh file placed by a transform, once or several
 /// times (`instances`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -190,6 +190,10 @@ pub struct ObjectSpec {
     /// Material for faces that come before any `usemtl` in the OBJ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// The mesh file's up axis (default: z, irsig's frame). A Y-up model
+    /// is turned into Z-up before the transform.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up_axis: Option<UpAxis>,
     /// Object transform: scale, then rotate, then translate.
     #[serde(default)]
     pub translate_m: [f64; 3],
@@ -202,6 +206,11 @@ pub struct ObjectSpec {
     pub scale: Scale,
     /// Repeated placements; each instance transform is applied first, then
     /// the object transform above. Empty: one instance (identity).
+    /// Mesh material names mapped to library materials (`"*"`: every name
+    /// not listed and not a library material, and faces with no material
+    /// when `material` is not set).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub materials: std::collections::BTreeMap<String, String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty", rename = "instance")]
     pub instances: Vec<Transform>,
 }
@@ -256,10 +265,40 @@ impl ObjectSpec {
         let mut t = self.transform();
         t.translate_m = std::array::from_fn(|i| t.translate_m[i] - origin_m[i]);
         let obj = t.affine();
+        let up = self.up_axis.unwrap_or_default().to_z_up();
+        let place = |m: glam::DAffine3| up.map_or(m, |u| m * u);
         if self.instances.is_empty() {
-            vec![obj]
+            vec![place(obj)]
         } else {
-            self.instances.iter().map(|i| obj * i.affine()).collect()
+            self.instances
+                .iter()
+                .map(|i| place(obj * i.affine()))
+                .collect()
+        }
+    }
+}
+
+/// The up axis of a mesh file's coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpAxis {
+    /// +y up (most modelling tools' OBJ exports).
+    Y,
+    /// +z up: irsig's frame (x east, y north).
+    #[default]
+    Z,
+}
+
+impl UpAxis {
+    /// The rotation into irsig's Z-up frame applied before the object's
+    /// transform: none for Z; for Y, +90° about x, (x, y, z) → (x, −z, y)
+    /// (the model's +y becomes up, its +z south, its −z north).
+    pub fn to_z_up(self) -> Option<glam::DAffine3> {
+        match self {
+            UpAxis::Z => None,
+            UpAxis::Y => Some(glam::DAffine3::from_cols_array(&[
+                1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0,
+            ])),
         }
     }
 }

@@ -74,6 +74,49 @@ impl Mesh {
         }
     }
 
+    /// The error for mesh material names (indices into
+    /// [`Mesh::material_names`]) that neither the object's `materials`
+    /// map, nor a library, nor a `*` entry resolves: it points at the
+    /// first one's use, lists them all with theirs, the libraries'
+    /// materials, and how to map them (at `object`, the `[[object]]`).
+    pub fn unmapped_error(
+        &self,
+        unmapped: &[usize],
+        library: &[&str],
+        libraries: &[PathBuf],
+        object: &Location,
+    ) -> SceneError {
+        let (first, src) = &self.material_names[unmapped[0]];
+        let suggestion = super::error::closest(first, library.iter().copied())
+            .map(|s| format!("; did you mean `{s}`?"))
+            .unwrap_or_else(|| ".".to_string());
+        let names: Vec<String> = unmapped
+            .iter()
+            .map(|&k| {
+                let (name, src) = &self.material_names[k];
+                format!("`{name}` ({})", self.place(*src))
+            })
+            .collect();
+        let files: Vec<String> = libraries
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect();
+        self.error(
+            *src,
+            format!(
+                "material `{first}` is not defined in the material libraries {}{suggestion} \
+                 Unmapped material names of this file: {}. The libraries define: {}. Expected \
+                 each name in a library, or mapped by the object's `materials` table ({object}), \
+                 e.g. `materials = {{ \"{first}\" = \"{}\", \"*\" = \"{}\" }}` (`*`: every other name)",
+                if files.is_empty() { "(none given)".to_string() } else { files.join(", ") },
+                names.join(", "),
+                library.join(", "),
+                library.first().unwrap_or(&"concrete"),
+                library.last().unwrap_or(&"concrete"),
+            ),
+        )
+    }
+
     /// Splits every face into triangles ([`triangulate::triangulate`]);
     /// a self-intersecting face is an error naming its line.
     pub fn triangulate(&mut self) -> Result<(), SceneError> {
