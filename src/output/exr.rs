@@ -39,21 +39,13 @@ const RADIANCE: [&str; 4] = [
     "sensor_radiance",
     "dn",
 ];
-/// Planes of the `terms` layer (eqs. 1-4's terms).
-const TERMS: [&str; 6] = [
-    "emitted",
-    "reflected_solar",
-    "reflected_sky",
-    "reflected_background",
-    "path_thermal",
-    "path_scattered",
-];
 
-/// The EXR layer of a plane: `radiance`, `terms` or `truth`.
+/// The EXR layer of a plane: `radiance`, `terms` (the
+/// [`crate::render::planes::TERM_PLANES`]) or `truth`.
 pub fn layer_of(plane: &str) -> &'static str {
     if RADIANCE.contains(&plane) {
         "radiance"
-    } else if TERMS.contains(&plane) {
+    } else if crate::render::planes::TERM_PLANES.contains(&plane) {
         "terms"
     } else {
         "truth"
@@ -253,15 +245,15 @@ pub fn write_exr_planes(
 fn sort_header_attributes(bytes: &mut [u8]) -> Result<(), String> {
     let bad = || "EXR header: unexpected layout".to_string();
     let mut attrs: Vec<(&[u8], &[u8])> = Vec::new();
+    let nul = |from: usize| {
+        bytes[from..]
+            .iter()
+            .position(|&b| b == 0)
+            .map(|n| from + n)
+            .ok_or_else(bad)
+    };
     let mut pos = 8;
     loop {
-        let nul = |from: usize| {
-            bytes[from..]
-                .iter()
-                .position(|&b| b == 0)
-                .map(|n| from + n)
-                .ok_or_else(bad)
-        };
         if *bytes.get(pos).ok_or_else(bad)? == 0 {
             break;
         }

@@ -92,19 +92,15 @@ impl Formats {
     }
 }
 
-/// The planes of the radiance cube: quantities at the sensor's band.
-const RADIOMETRIC: [&str; 10] = [
-    "band_radiance",
-    "apparent_temperature",
-    "emitted",
-    "reflected_solar",
-    "reflected_sky",
-    "reflected_background",
-    "path_thermal",
-    "path_scattered",
-    "sensor_radiance",
-    "dn",
-];
+/// The planes of the radiance cube, quantities at the sensor's band: the
+/// band radiance and apparent temperature, the terms of eqs. 1-4, the
+/// sensor's radiance and DN.
+fn radiometric() -> impl Iterator<Item = &'static str> {
+    ["band_radiance", "apparent_temperature"]
+        .into_iter()
+        .chain(crate::render::planes::TERM_PLANES)
+        .chain(["sensor_radiance", "dn"])
+}
 
 /// One entry of the material table.
 #[derive(Clone, Debug, Serialize)]
@@ -483,7 +479,7 @@ pub fn write_rendered(
         ];
         common.extend(geo_fields);
         // Radiance cube: the planes at the sensor's band.
-        let rad: Vec<_> = RADIOMETRIC.iter().filter_map(|n| p.get(n)).collect();
+        let rad: Vec<_> = radiometric().filter_map(|n| p.get(n)).collect();
         let names: Vec<String> = rad
             .iter()
             .map(|pl| format!("{} [{}]", pl.name, pl.unit))

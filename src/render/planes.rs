@@ -28,6 +28,16 @@ pub const PLANE_NAMES: [&str; 21] = [
     "sensor_radiance",
 ];
 
+/// The radiometric terms of eqs. 1-4, as planes (W m⁻² sr⁻¹ µm⁻¹).
+pub const TERM_PLANES: [&str; 6] = [
+    "emitted",
+    "reflected_solar",
+    "reflected_sky",
+    "reflected_background",
+    "path_thermal",
+    "path_scattered",
+];
+
 /// One image plane (an "AOV"): name, unit, row-major f32 samples.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plane {

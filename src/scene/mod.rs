@@ -610,7 +610,6 @@ impl Geometry {
         origin: [f64; 3],
         object: u32,
     ) -> Result<u32, f64> {
-        let base = self.positions.len() as u32;
         let local: Vec<glam::DVec3> = mesh
             .positions_m
             .iter()
@@ -624,8 +623,25 @@ impl Geometry {
             return Err(far);
         }
         let local: Vec<glam::Vec3> = local.iter().map(|l| l.as_vec3()).collect();
+        let tris = (mesh.triangles.iter().zip(&mesh.tri_material))
+            .zip(&mesh.tri_facet)
+            .map(|((t, &m), &f)| (*t, m, f));
+        Ok(self.append(&local, tris, object))
+    }
+
+    /// Appends the vertices `local` (the local frame, single precision) and
+    /// the triangles (indices into `local`, material, facet) of one object,
+    /// skipping zero-area ones (at single precision, as the tracer sees
+    /// them); returns how many were skipped.
+    fn append(
+        &mut self,
+        local: &[glam::Vec3],
+        tris: impl Iterator<Item = ([u32; 3], u32, u32)>,
+        object: u32,
+    ) -> u32 {
+        let base = self.positions.len() as u32;
         let mut skipped = 0;
-        for (k, t) in mesh.triangles.iter().enumerate() {
+        for (t, material, facet) in tris {
             let q = t.map(|i| local[i as usize].as_dvec3());
             let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
             if area2.is_nan() || area2 <= 0.0 {
@@ -633,12 +649,12 @@ impl Geometry {
                 continue;
             }
             self.triangles.push(t.map(|i| base + i));
-            self.tri_material.push(mesh.tri_material[k]);
+            self.tri_material.push(material);
             self.tri_object.push(object);
-            self.tri_facet.push(mesh.tri_facet[k]);
+            self.tri_facet.push(facet);
         }
         self.positions.extend(local.iter().map(|l| l.to_array()));
-        Ok(skipped)
+        skipped
     }
 }
 
@@ -660,7 +676,6 @@ impl Geometry {
         face_mat: &[u32],
         object: u32,
     ) -> Result<u32, (usize, bool)> {
-        let base = self.positions.len() as u32;
         let origin = glam::DVec3::from(origin);
         let local: Vec<glam::DVec3> = mesh
             .positions
@@ -678,22 +693,10 @@ impl Geometry {
                 }
             }
         }
-        let mut skipped = 0;
-        for (t, &fi) in mesh.triangles.iter().zip(&mesh.tri_face) {
-            let q = t.map(|i| local[i as usize].as_vec3().as_dvec3());
-            let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
-            if area2.is_nan() || area2 <= 0.0 {
-                skipped += 1;
-                continue;
-            }
-            self.triangles.push(t.map(|i| base + i));
-            self.tri_material.push(face_mat[fi as usize]);
-            self.tri_object.push(object);
-            self.tri_facet.push(fi);
-        }
-        self.positions
-            .extend(local.iter().map(|w| w.as_vec3().to_array()));
-        Ok(skipped)
+        let local: Vec<glam::Vec3> = local.iter().map(|l| l.as_vec3()).collect();
+        let tris = (mesh.triangles.iter().zip(&mesh.tri_face))
+            .map(|(t, &fi)| (*t, face_mat[fi as usize], fi));
+        Ok(self.append(&local, tris, object))
     }
 }
 

@@ -54,14 +54,8 @@ impl Kernel {
 
     /// A sampled Gaussian exp(−r²/2σ²) truncated at ±ceil(4σ), normalised.
     pub fn gaussian(sigma_px: f64) -> Result<Self, KernelError> {
-        if !(sigma_px.is_finite() && sigma_px > 0.0) {
-            return Err(KernelError::Sigma(sigma_px));
-        }
-        let r = (4.0 * sigma_px).ceil().max(1.0) as i64;
-        let n = (2 * r + 1) as usize;
-        let g: Vec<f64> = (-r..=r)
-            .map(|i| (-(i * i) as f64 / (2.0 * sigma_px * sigma_px)).exp())
-            .collect();
+        let g = gaussian_taps(sigma_px)?;
+        let n = g.len();
         let w = (0..n * n).map(|k| g[k / n] * g[k % n]).collect();
         Kernel::new(n, n, w)
     }
@@ -69,13 +63,21 @@ impl Kernel {
     /// The 1-D factor of [`Kernel::gaussian`] (normalised; the 2-D kernel
     /// is its outer product with itself).
     pub fn gaussian_1d(sigma_px: f64) -> Result<Vec<f64>, KernelError> {
-        let k = Kernel::gaussian(sigma_px)?;
-        let n = k.width;
-        // Row sums of the outer product g gᵀ / (Σg)² are g / Σg.
-        Ok((0..n)
-            .map(|i| k.weights[i * n..(i + 1) * n].iter().sum())
-            .collect())
+        let g = gaussian_taps(sigma_px)?;
+        let sum: f64 = g.iter().sum();
+        Ok(g.iter().map(|v| v / sum).collect())
     }
+}
+
+/// The unnormalised taps exp(−i²/2σ²), i = −r..=r, r = max(ceil(4σ), 1).
+fn gaussian_taps(sigma_px: f64) -> Result<Vec<f64>, KernelError> {
+    if !(sigma_px.is_finite() && sigma_px > 0.0) {
+        return Err(KernelError::Sigma(sigma_px));
+    }
+    let r = (4.0 * sigma_px).ceil().max(1.0) as i64;
+    Ok((-r..=r)
+        .map(|i| (-(i * i) as f64 / (2.0 * sigma_px * sigma_px)).exp())
+        .collect())
 }
 
 /// Convolves `img` with the separable kernel kx(i)·ky(j) (odd lengths,
