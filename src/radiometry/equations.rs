@@ -101,6 +101,20 @@ pub struct RadianceTerms {
 }
 
 impl RadianceTerms {
+    /// Every term, in the order of the fields.
+    pub fn values(&self) -> [f64; 8] {
+        [
+            self.emitted,
+            self.reflected_solar,
+            self.reflected_sky_thermal,
+            self.reflected_sky_scattered,
+            self.reflected_background_emitted,
+            self.reflected_background_solar,
+            self.path_thermal,
+            self.path_scattered,
+        ]
+    }
+
     /// Sum of all terms: the radiance reaching the sensor.
     pub fn total(&self) -> f64 {
         self.emitted

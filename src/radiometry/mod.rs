@@ -7,6 +7,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod atmos_view;
+pub mod band_coeffs;
 pub mod emissivity;
 pub mod equations;
 pub mod planck;

@@ -9,6 +9,14 @@
 //! Table lookups are memoised on a fine grid of their arguments (0.05° in
 //! angles, 10 m in height, 5° in relative azimuth) — deterministic, since a
 //! value depends on its key only.
+//!
+//! [`RadiometryContext::evaluate`] does not loop over the bins for a
+//! diffuse surface: eq. 1's band sums are memoised per (material, path
+//! key) and the emitted sum is a Hermite table in temperature
+//! ([`crate::radiometry::band_coeffs`]; within 2e-8 relative of the loop,
+//! 1e-8 K); the sky and the ground beyond the scene are memoised per key.
+//! [`RadiometryContext::evaluate_with`] is the bin-by-bin loop (the
+//! reference, and what probes use); specular samples always take it.
 //! Documented choices:
 //! * a sensor lower than the tables' lowest altitude (0.3 km) uses the
 //!   0.3 km path scaled as a uniform layer: τ = τ₀.₃^(h/0.3),
@@ -24,8 +32,7 @@
 //! * a material with 0 < specularity < 1 is the blend
 //!   (1 − s)·eq. 1 + s·eq. 2/3.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -35,6 +42,7 @@ use super::planes::Planes;
 use super::prepare::{Conditions, Static};
 use super::{Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
 use crate::atmos::PathSpectra;
+use crate::radiometry::band_coeffs::{DiffuseCoeffs, DiffuseSpectra, Memo, PlanckTable};
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
 use crate::radiometry::{
     Background, Emissivity, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination,
@@ -59,6 +67,11 @@ pub struct SampleResult {
 }
 
 type SkyPair = (Vec<f64>, Vec<f64>);
+/// Memo key of a target→sensor path: height (10 m), view zenith (0.05°),
+/// relative azimuth (5°).
+type PathKey = (i64, i64, i64);
+/// Memo key of a sky direction: zenith (0.05°), relative azimuth (5°).
+type SkyKey = (i64, i64);
 
 /// Per-frame radiometric state: sun spectra, sky dome, memoised lookups.
 pub struct RadiometryContext<'a> {
@@ -72,8 +85,17 @@ pub struct RadiometryContext<'a> {
     e_exo: Vec<f64>,
     tau1: Vec<f64>,
     dome: SkyPair,
-    paths: Mutex<HashMap<(i64, i64, i64), Arc<PathSpectra>>>,
-    skies: Mutex<HashMap<(i64, i64), Arc<SkyPair>>>,
+    /// L(λᵢ, T_gnd) of the ground a diffuse facet sees.
+    ground_blackbody: Vec<f64>,
+    paths: Memo<PathKey, PathSpectra>,
+    skies: Memo<SkyKey, SkyPair>,
+    /// The fast path of [`Self::evaluate`]: band sums per (material, path)
+    /// for diffuse surfaces, per path for the ground beyond the scene, per
+    /// direction for the sky; the Planck table in temperature.
+    planck: PlanckTable,
+    diffuse: Memo<(u32, PathKey), DiffuseCoeffs>,
+    outside: Memo<PathKey, RadianceTerms>,
+    sky_band: Memo<SkyKey, RadianceTerms>,
 }
 
 /// Two surfaces the radiometry cannot tell apart (up to the view
@@ -178,22 +200,42 @@ impl<'a> RadiometryContext<'a> {
             e_exo,
             tau1,
             dome: (dome_de, dome_ds),
-            paths: Mutex::new(HashMap::new()),
-            skies: Mutex::new(HashMap::new()),
+            ground_blackbody: st
+                .wavelength_um
+                .iter()
+                .map(|&wl| planck_radiance_w_m2_sr_um(wl, cond.ground_temp_k))
+                .collect(),
+            paths: Memo::default(),
+            skies: Memo::default(),
+            planck: PlanckTable::new(&st.wavelength_um),
+            diffuse: Memo::default(),
+            outside: Memo::default(),
+            sky_band: Memo::default(),
         })
     }
 
-    /// τ₂, L_UE, L_US from `point` to the sensor.
-    fn path(&self, point: DVec3) -> anyhow::Result<Arc<PathSpectra>> {
+    /// The memo key of the path from `point` to the sensor.
+    fn path_key(&self, point: DVec3) -> PathKey {
         let to_sensor = self.camera - point;
         let h_km = (to_sensor.z / 1000.0).max(1e-4);
         let vz = to_sensor.normalize().z.clamp(-1.0, 1.0).acos().to_degrees();
         let los_az = azimuth_deg(-to_sensor);
         let rel = fold_deg(self.sun_azimuth_deg - los_az);
-        let k = (key(h_km, 0.01), key(vz, 0.05), key(rel, 5.0));
-        if let Some(p) = self.paths.lock().unwrap_or_else(|e| e.into_inner()).get(&k) {
-            return Ok(p.clone());
-        }
+        (key(h_km, 0.01), key(vz, 0.05), key(rel, 5.0))
+    }
+
+    /// τ₂, L_UE, L_US from `point` to the sensor.
+    fn path(&self, point: DVec3) -> anyhow::Result<Arc<PathSpectra>> {
+        self.path_of(self.path_key(point))
+    }
+
+    /// τ₂, L_UE, L_US of a path key, memoised.
+    fn path_of(&self, k: PathKey) -> anyhow::Result<Arc<PathSpectra>> {
+        self.paths.get_or_try_insert(k, |k| self.path_spectra(k))
+    }
+
+    /// τ₂, L_UE, L_US of a path key (its grid values).
+    fn path_spectra(&self, k: &PathKey) -> anyhow::Result<PathSpectra> {
         let (h, vz, rel) = (k.0 as f64 * 0.01, k.1 as f64 * 0.05, k.2 as f64 * 5.0);
         let vz = vz.min(MAX_VIEW_ZENITH_DEG);
         let sa = &self.cond.atmosphere;
@@ -222,22 +264,24 @@ impl<'a> RadiometryContext<'a> {
                 l_us_w_m2_sr_um: l_us,
             }
         };
-        let p = Arc::new(p);
-        self.paths
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .insert(k, p.clone());
         Ok(p)
+    }
+
+    /// The memo key of a direction towards the sky.
+    fn sky_key(&self, dir: Vec3) -> SkyKey {
+        let z = zenith_deg(dir).min(90.0);
+        let rel = fold_deg(self.sun_azimuth_deg - azimuth_deg(dir.as_dvec3()));
+        (key(z, 0.05), key(rel, 5.0))
     }
 
     /// L_DE(θ_SK), L_DS(θ_SK) for a direction towards the sky.
     fn sky(&self, dir: Vec3) -> anyhow::Result<Arc<SkyPair>> {
-        let z = zenith_deg(dir).min(90.0);
-        let rel = fold_deg(self.sun_azimuth_deg - azimuth_deg(dir.as_dvec3()));
-        let k = (key(z, 0.05), key(rel, 5.0));
-        if let Some(p) = self.skies.lock().unwrap_or_else(|e| e.into_inner()).get(&k) {
-            return Ok(p.clone());
-        }
+        self.skies
+            .get_or_try_insert(self.sky_key(dir), |k| self.sky_spectra(k))
+    }
+
+    /// L_DE, L_DS of a sky key (its grid values).
+    fn sky_spectra(&self, k: &SkyKey) -> anyhow::Result<SkyPair> {
         let n = self.st.band.len();
         let (mut de, mut ds) = (vec![0.0; n], vec![0.0; n]);
         let sa = &self.cond.atmosphere;
@@ -246,12 +290,7 @@ impl<'a> RadiometryContext<'a> {
         if self.sun_zenith_deg < 90.0 {
             sa.l_ds(self.sun_zenith_deg, k.1 as f64 * 5.0, z, &mut ds)?;
         }
-        let p = Arc::new((de, ds));
-        self.skies
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .insert(k, p.clone());
-        Ok(p)
+        Ok((de, ds))
     }
 
     fn sun_on(&self, s: &Surface, i: usize) -> SunIllumination {
@@ -271,9 +310,124 @@ impl<'a> RadiometryContext<'a> {
         }
     }
 
+    /// Case 4: the band terms of the sky in a direction (tapped bin by bin).
+    fn sky_terms<T>(&self, sky: &SkyPair, mut tap: T) -> RadianceTerms
+    where
+        T: FnMut(usize, RadianceTerms) -> RadianceTerms,
+    {
+        integrate_terms(&self.st.band, |i| {
+            tap(
+                i,
+                case4_sky(&SkyRadiance {
+                    l_de_w_m2_sr_um: sky.0[i],
+                    l_ds_w_m2_sr_um: sky.1[i],
+                }),
+            )
+        })
+    }
+
+    /// Where a ray that leaves the scene downwards meets the plane z = 0.
+    fn outside_point(&self, dir: Vec3) -> DVec3 {
+        let t = (-self.camera.z / dir.z as f64).max(0.0);
+        self.camera + dir.as_dvec3() * t
+    }
+
+    /// Case 0: the band terms of the ground beyond the scene (air
+    /// temperature, ε = 1) seen along `path` (tapped bin by bin).
+    fn outside_terms<T>(&self, path: &PathSpectra, mut tap: T) -> RadianceTerms
+    where
+        T: FnMut(usize, RadianceTerms) -> RadianceTerms,
+    {
+        let (wl, ta) = (&self.st.wavelength_um, self.cond.air_temp_k);
+        integrate_terms(&self.st.band, |i| {
+            tap(
+                i,
+                case1_diffuse(
+                    1.0,
+                    planck_radiance_w_m2_sr_um(wl[i], ta),
+                    &SunIllumination::DARK,
+                    &SkyRadiance {
+                        l_de_w_m2_sr_um: 0.0,
+                        l_ds_w_m2_sr_um: 0.0,
+                    },
+                    &Self::path_at(path, i),
+                ),
+            )
+        })
+    }
+
+    /// F_sky of a surface sample: the sky dome's share of its hemisphere.
+    fn sky_view(&self, surf: &Surface) -> f64 {
+        crate::trace::sky_view::sky_view_factor(
+            surf.normal.z as f64,
+            self.st.blocked_sky(surf.prim, surf.normal),
+        )
+    }
+
+    /// The band sums of eq. 1 for material `k.0` seen along path `k.1`.
+    fn diffuse_coeffs(&self, k: &(u32, PathKey)) -> anyhow::Result<DiffuseCoeffs> {
+        let path = self.path_of(k.1)?;
+        let eps = &self.st.emissivity[k.0 as usize];
+        let e: Vec<f64> = self
+            .st
+            .wavelength_um
+            .iter()
+            .map(|&wl| eps.at(0.0, wl))
+            .collect();
+        Ok(DiffuseCoeffs::new(
+            &self.st.band,
+            &DiffuseSpectra {
+                emissivity: &e,
+                e_sun_exo_w_m2_um: &self.e_exo,
+                tau1: &self.tau1,
+                sky_dome_l_de: &self.dome.0,
+                sky_dome_l_ds: &self.dome.1,
+                tau2: &path.tau2,
+                l_ue_w_m2_sr_um: &path.l_ue_w_m2_sr_um,
+                l_us_w_m2_sr_um: &path.l_us_w_m2_sr_um,
+                ground_blackbody: &self.ground_blackbody,
+            },
+        ))
+    }
+
     /// The band-integrated radiance of one sample, every term separately.
+    ///
+    /// Diffuse surfaces, the sky and the ground beyond the scene use band
+    /// sums memoised per (material, path key) or direction key
+    /// ([`crate::radiometry::band_coeffs`]): a diffuse sample is a few
+    /// multiply-adds and a Hermite table lookup in temperature, within
+    /// 2e-8 relative of the spectral loop of [`Self::evaluate_with`]
+    /// (the sky and the ground beyond are the loop's own sums, memoised).
+    /// Specular and partly specular materials run the spectral loop.
     pub fn evaluate(&self, s: &Sample) -> anyhow::Result<SampleResult> {
-        self.evaluate_with(s, |_, _| {})
+        let Some(surf) = &s.surface else {
+            if s.dir.z > 0.0 {
+                let t = self.sky_band.get_or_try_insert(self.sky_key(s.dir), |k| {
+                    Ok::<_, anyhow::Error>(self.sky_terms(&self.sky_spectra(k)?, |_, t| t))
+                })?;
+                return Ok(result(4, *t, f64::NAN, f64::NAN));
+            }
+            let k = self.path_key(self.outside_point(s.dir));
+            let t = self.outside.get_or_try_insert(k, |k| {
+                let path = self.path_of(*k)?;
+                Ok::<_, anyhow::Error>(self.outside_terms(&path, |_, t| t))
+            })?;
+            return Ok(result(0, *t, f64::NAN, 1.0));
+        };
+        let spec = self.st.specularity[surf.material as usize].clamp(0.0, 1.0);
+        let diffuse = spec <= 0.0;
+        if !diffuse {
+            return self.evaluate_with(s, |_, _| {});
+        }
+        let k = (surf.material, self.path_key(surf.point.as_dvec3()));
+        let c = self
+            .diffuse
+            .get_or_try_insert(k, |k| self.diffuse_coeffs(k))?;
+        let sun = if surf.sun_now() { 1.0 } else { 0.0 }
+            * (surf.normal.dot(self.sun_dir) as f64).max(0.0);
+        let terms = c.terms(&self.planck, surf.temp_k, sun, self.sky_view(surf));
+        let view_angle = angle_deg(-s.dir, surf.normal);
+        Ok(result(1, terms, view_angle, c.emissivity))
     }
 
     /// [`Self::evaluate`], also handing the spectral terms of every band
@@ -293,39 +447,13 @@ impl<'a> RadiometryContext<'a> {
         let Some(surf) = &s.surface else {
             if s.dir.z > 0.0 {
                 // Case 4: the sensor sees the sky.
-                let sky = self.sky(s.dir)?;
-                let terms = integrate_terms(band, |i| {
-                    tap(
-                        i,
-                        case4_sky(&SkyRadiance {
-                            l_de_w_m2_sr_um: sky.0[i],
-                            l_ds_w_m2_sr_um: sky.1[i],
-                        }),
-                    )
-                });
+                let terms = self.sky_terms(&*self.sky(s.dir)?, &mut tap);
                 return Ok(result(4, terms, f64::NAN, f64::NAN));
             }
             // Leaves the scene downwards: ground at air temperature, ε = 1,
             // seen at the ray's point on the plane z = 0.
-            let t = (-self.camera.z / s.dir.z as f64).max(0.0);
-            let p = self.camera + s.dir.as_dvec3() * t;
-            let path = self.path(p)?;
-            let ta = self.cond.air_temp_k;
-            let terms = integrate_terms(band, |i| {
-                tap(
-                    i,
-                    case1_diffuse(
-                        1.0,
-                        planck_radiance_w_m2_sr_um(wl[i], ta),
-                        &SunIllumination::DARK,
-                        &SkyRadiance {
-                            l_de_w_m2_sr_um: 0.0,
-                            l_ds_w_m2_sr_um: 0.0,
-                        },
-                        &Self::path_at(&path, i),
-                    ),
-                )
-            });
+            let path = self.path(self.outside_point(s.dir))?;
+            let terms = self.outside_terms(&path, &mut tap);
             return Ok(result(0, terms, f64::NAN, 1.0));
         };
         let m = surf.material as usize;
@@ -338,10 +466,7 @@ impl<'a> RadiometryContext<'a> {
         // The hemisphere a diffuse facet reflects: sky F_sky = (1 + cos β)/2
         // (the sky dome), ground F_gnd = 1 − F_sky (a black body at the
         // ground material's temperature, as in the thermal balance).
-        let f_sky = crate::trace::sky_view::sky_view_factor(
-            surf.normal.z as f64,
-            self.st.blocked_sky(surf.prim, surf.normal),
-        );
+        let f_sky = self.sky_view(surf);
         let t_gnd = self.cond.ground_temp_k;
         let diffuse = |i: usize| {
             let e = eps.at(0.0, wl[i]);

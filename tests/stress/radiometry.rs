@@ -441,16 +441,7 @@ fn atmosphere_at_grid_edges() {
 
 /// Checks one set of terms at one wavelength bin.
 fn check_terms(t: &RadianceTerms, bound: f64, solar_basis_max: f64, ctx: &dyn Fn() -> String) {
-    let all = [
-        t.emitted,
-        t.reflected_solar,
-        t.reflected_sky_thermal,
-        t.reflected_sky_scattered,
-        t.reflected_background_emitted,
-        t.reflected_background_solar,
-        t.path_thermal,
-        t.path_scattered,
-    ];
+    let all = t.values();
     assert!(
         all.iter().all(|x| x.is_finite() && *x >= 0.0),
         "{}: {t:?}",
