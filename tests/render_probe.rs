@@ -208,8 +208,15 @@ fn render_is_identical_for_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
     let scene = airfield();
     let mut imgs = Vec::new();
-    for threads in ["1", "2"] {
-        let exr = dir.path().join(format!("t{threads}.exr"));
+    // One band of samples (the default), then bands of 16 and 32 sample
+    // rows (the render streams a frame band by band): the same bits.
+    for (threads, band) in [
+        ("1", None),
+        ("2", None),
+        ("2", Some("1536")),
+        ("1", Some("6144")),
+    ] {
+        let exr = dir.path().join(format!("t{threads}-{band:?}.exr"));
         let mut args = vec![
             "render".to_string(),
             scene.display().to_string(),
@@ -218,17 +225,33 @@ fn render_is_identical_for_one_and_two_threads() {
             "--threads".into(),
             threads.into(),
         ];
-        args.extend(sets(&["sensor.width_px=96", "sensor.height_px=96"]));
-        run(&args);
-        imgs.push(Img::read(&exr));
+        args.extend(sets(&[
+            "sensor.width_px=96",
+            "sensor.height_px=96",
+            "render.supersample=2",
+        ]));
+        let mut cmd = common::irsig();
+        cmd.args(&args);
+        if let Some(b) = band {
+            cmd.env("IRSIG_BAND_SAMPLES", b);
+        }
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        imgs.push((format!("{threads} threads, band {band:?}"), Img::read(&exr)));
     }
-    let (a, b) = (&imgs[0], &imgs[1]);
-    assert_eq!((a.w, a.h), (b.w, b.h));
-    assert_eq!(a.planes.len(), b.planes.len());
+    let (la, a) = &imgs[0];
     assert!(a.planes.len() >= 15, "every plane written");
-    for (name, pa) in &a.planes {
-        let pb = &b.planes[name];
-        let same = pa.iter().zip(pb).all(|(x, y)| x.to_bits() == y.to_bits());
-        assert!(same, "plane {name} differs between 1 and 2 threads");
+    for (lb, b) in &imgs[1..] {
+        assert_eq!((a.w, a.h), (b.w, b.h));
+        assert_eq!(a.planes.len(), b.planes.len());
+        for (name, pa) in &a.planes {
+            let pb = &b.planes[name];
+            let same = pa.iter().zip(pb).all(|(x, y)| x.to_bits() == y.to_bits());
+            assert!(same, "plane {name} differs between {la} and {lb}");
+        }
     }
 }

@@ -485,7 +485,8 @@ fn render<'py>(
     let meta = scene_meta(&scene.scene, local);
     let loaded = scene.scene.clone();
     let image = run_blocking(py, threads, progress.as_ref(), 1, |rep| {
-        let st = prepare_static(loaded, be)?;
+        let mut st = prepare_static(loaded, be)?;
+        st.keep_samples = true; // hit_points reads the samples' points
         let report = |p: Progress| rep.report(p);
         render_at(&st, utc, Some(&report))
     })?;
@@ -516,6 +517,7 @@ fn render_frames<'py>(
     let frames = run_blocking(py, threads, progress.as_ref(), n, |rep| {
         let mut out = Vec::with_capacity(plans.len());
         let mut frames = Frames::new(plans, tracer);
+        frames.keep_samples = true; // hit_points reads the samples' points
         let report = |p: Progress| rep.report(p);
         while let Some(f) = frames.next_with(Some(&report)) {
             let f = f?;

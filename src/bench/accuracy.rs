@@ -204,11 +204,9 @@ pub fn shadow_edge_pixels(frame: &Frame, suns: &[SunSample]) -> Vec<bool> {
             continue;
         }
         let facing = |k: usize| suns[k].up && surf.normal.dot(suns[k].dir) >= EDGE_MIN_COS;
-        let crossed = surf
-            .history
-            .windows(2)
-            .enumerate()
-            .any(|(k, f)| f[0] != f[1] && k + 1 < suns.len() && facing(k) && facing(k + 1));
+        let h = &surf.history;
+        let crossed = (0..h.len().saturating_sub(1))
+            .any(|k| h.get(k) != h.get(k + 1) && k + 1 < suns.len() && facing(k) && facing(k + 1));
         edge[py * w + px] = crossed;
     }
     edge
@@ -288,7 +286,8 @@ pub fn accuracy(
         pool.install(|| {
             let (t0, c0) = (Instant::now(), process_cpu_s());
             let scene = crate::scene::load_with_overrides(&a.scene, &ov)?;
-            let st = prepare_static(scene, None)?;
+            let mut st = prepare_static(scene, None)?;
+            st.keep_samples = true; // shadow_edge_pixels reads the histories
             let cond = prepare_conditions(&st, st.scene.scene.time.utc(&st.scene.scene.site))?;
             let f = render(&st, &cond)?;
             let wall = (t0.elapsed().as_secs_f64(), process_cpu_s() - c0);

@@ -172,10 +172,11 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
         None => ", no limit".to_string(),
     };
     format!(
-        "  memory (estimated peak) {:.0} MiB: {} samples × {:.0} B = {:.0} MiB, planes {:.0} MiB, \
+        "  memory (estimated peak) {:.0} MiB: {} samples ({} at a time) × {:.0} B = {:.0} MiB, planes {:.0} MiB, \
          geometry {:.0} MiB, spectra {:.0} MiB, base {:.0} MiB{limit}\n",
         m.total_mib,
         m.samples,
+        m.samples_held,
         m.bytes_per_sample,
         m.samples_mib,
         m.planes_mib,

@@ -2,22 +2,22 @@
 //! anything is allocated (issue 17, item 5), and the limit it is checked
 //! against (`render.max_memory_mib`, default the machine's memory).
 //!
-//! The render holds, at its peak (the radiometry of step 5), per
-//! supersampled sample: the [`Sample`] twice (traced blocks and the image
-//! order), its sun/shadow history (one byte per shadow sample; the bounce
-//! histories of specular pixels are not counted: few samples have one),
-//! the [`SampleResult`] twice
-//! (evaluated and per sample) and three index words; per output pixel the
-//! output planes; per triangle the geometry and the BVH; per spectral bin
-//! the atmosphere spectra; plus the process itself (code, Embree, the
-//! atmosphere table: [`BASE_MIB`]). The estimate is checked against the
+//! The render streams its samples band by band (`render::band_samples`,
+//! about 2^18 samples), so at its peak it holds, per sample of one band:
+//! the [`Sample`] (its sun/shadow history inline up to
+//! [`INLINE_SAMPLES`] shadow samples, on the heap beyond) and the output
+//! pixel's plane values; per output pixel the output planes; per triangle
+//! the geometry and the BVH; per spectral bin the atmosphere spectra; plus
+//! the process itself (code, Embree, the atmosphere table: [`BASE_MIB`]).
+//! Memory therefore grows with the output pixels (planes), not with the
+//! supersampled samples beyond one band. The estimate is checked against the
 //! measured peak resident set of real renders in `tests/memory_limit.rs`
 //! (within 30 %, docs/reliability.md).
 
 use serde::Serialize;
 
 use super::Sample;
-use super::pixel::SampleResult;
+use super::sunflags::INLINE_SAMPLES;
 use crate::scene::LoadedScene;
 
 const MIB: f64 = 1024.0 * 1024.0;
@@ -40,6 +40,8 @@ const TRIANGLE_BYTES: f64 = 400.0;
 pub struct MemoryEstimate {
     /// Supersampled samples (width·n × height·n).
     pub samples: u64,
+    /// Samples held at once (one band).
+    pub samples_held: u64,
     /// Bytes per sample (structs, history, results).
     pub bytes_per_sample: f64,
     pub samples_mib: f64,
@@ -84,14 +86,18 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let sc = &scene.scene;
     let n = sc.render.supersample.max(1) as f64;
     let (w, h) = (sc.sensor.width_px as f64, sc.sensor.height_px as f64);
+    let band = super::band_samples(sc.sensor.width_px * n as u32, n as u32) as f64;
     let samples = w * n * h * n;
+    let held = samples.min(band);
     let history = (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil() + 1.0;
-    // a Vec<bool> heap block: malloc rounds to 16 bytes plus an 8-byte header
-    let history_bytes = ((history + 8.0) / 16.0).ceil() * 16.0;
-    let bytes_per_sample = 2.0 * std::mem::size_of::<Sample>() as f64
-        + history_bytes
-        + 2.0 * std::mem::size_of::<SampleResult>() as f64
-        + 3.0 * 8.0;
+    // a history past the inline words is a heap block of its words (malloc
+    // rounds to 16 bytes plus an 8-byte header)
+    let history_bytes = if history as usize > INLINE_SAMPLES {
+        ((history / 64.0).ceil() * 8.0 / 16.0).ceil() * 16.0 + 16.0
+    } else {
+        0.0
+    };
+    let bytes_per_sample = std::mem::size_of::<Sample>() as f64 + history_bytes + 19.0 * 4.0;
     let bins = band_grid(scene).2;
     let (limit_mib, limit_from) = match sc.render.max_memory_mib {
         Some(m) => (Some(m), "render.max_memory_mib".to_string()),
@@ -100,12 +106,13 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
             "the machine's memory (set render.max_memory_mib to change)".to_string(),
         ),
     };
-    let samples_mib = samples * bytes_per_sample / MIB;
+    let samples_mib = held * bytes_per_sample / MIB;
     let planes_mib = w * h * PLANE_BYTES_PER_PIXEL / MIB;
     let geometry_mib = scene.triangles.len() as f64 * TRIANGLE_BYTES / MIB;
     let spectral_mib = spectral_mib(bins);
     MemoryEstimate {
         samples: samples as u64,
+        samples_held: held as u64,
         bytes_per_sample,
         samples_mib,
         planes_mib,
@@ -126,13 +133,14 @@ pub fn check(scene: &LoadedScene) -> anyhow::Result<MemoryEstimate> {
         && e.total_mib > limit
     {
         anyhow::bail!(
-            "{}: the render needs an estimated {:.0} MiB ({} samples of {:.0} bytes: {:.0} MiB; \
+            "{}: the render needs an estimated {:.0} MiB ({} samples, {} at a time, of {:.0} bytes: {:.0} MiB; \
              planes {:.0} MiB; geometry {:.0} MiB; spectra {:.0} MiB; base {:.0} MiB), more than \
              the {:.0} MiB allowed by {}: reduce sensor.width_px/height_px, \
              render.supersample or render.history_hours, or raise render.max_memory_mib",
             scene.path.display(),
             e.total_mib,
             e.samples,
+            e.samples_held,
             e.bytes_per_sample,
             e.samples_mib,
             e.planes_mib,

@@ -15,6 +15,7 @@
 //! Everything is deterministic: results depend on pixel, key and seed only,
 //! never on thread scheduling.
 
+pub mod assemble;
 pub mod atmosphere;
 pub mod cancel;
 pub mod image;
@@ -24,6 +25,7 @@ pub mod planes;
 pub mod prepare;
 pub mod probe;
 pub mod sequence;
+pub mod sunflags;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -42,9 +44,11 @@ use crate::trace::{Hit, Ray};
 pub use image::{Rendered, render_at, render_conditions, render_scene};
 use planes::Planes;
 pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
+use sunflags::SunFlags;
 
-/// A surface point seen by a ray.
-#[derive(Clone, Debug)]
+/// A surface point seen by a ray: a compact record (no heap allocation for
+/// histories up to [`sunflags::INLINE_SAMPLES`] samples).
+#[derive(Clone, Debug, Default)]
 pub struct Surface {
     pub prim: u32,
     pub material: u32,
@@ -53,8 +57,8 @@ pub struct Surface {
     pub normal: Vec3,
     /// Distance along the incoming ray, m.
     pub range_m: f32,
-    /// Sun/shadow flag per history sample (true = sunlit).
-    pub history: Vec<bool>,
+    /// Sun/shadow flag per history sample (sunlit or not).
+    pub history: SunFlags,
     /// Surface temperature at the image time, K (filled in step 4).
     pub temp_k: f64,
 }
@@ -62,12 +66,12 @@ pub struct Surface {
 impl Surface {
     /// Sunlit at the image time (the last history sample).
     pub fn sun_now(&self) -> bool {
-        self.history.last().copied().unwrap_or(false)
+        self.history.last().unwrap_or(false)
     }
 }
 
 /// What a (sub-)pixel's ray found.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Sample {
     /// Unit direction of the primary ray.
     pub dir: Vec3,
@@ -154,7 +158,7 @@ fn surface_of(st: &Static, ray: &Ray, h: &Hit) -> Surface {
         point: g.point(h.prim, h.u, h.v),
         normal,
         range_m: h.t * ray.dir.length(),
-        history: Vec::new(),
+        history: SunFlags::default(),
         temp_k: f64::NAN,
     }
 }
@@ -192,6 +196,7 @@ fn trace_block(
     // Specular bounces (only for specular materials).
     let mut bounce_rays = Vec::new();
     let mut bounce_of = Vec::new();
+    let mut skipped = 0;
     for (i, s) in samples.iter().enumerate() {
         if let Some(surf) = &s.surface {
             if st.specularity[surf.material as usize] > 0.0 {
@@ -202,10 +207,11 @@ fn trace_block(
                 ));
                 bounce_of.push(i);
             } else {
-                add(&c.spec_skipped, 1);
+                skipped += 1;
             }
         }
     }
+    add(&c.spec_skipped, skipped);
     let mut bhits = vec![None; bounce_rays.len()];
     tracer.intersect(&bounce_rays, &mut bhits);
     add(&c.specular, bounce_rays.len());
@@ -213,63 +219,62 @@ fn trace_block(
         samples[i].bounce = Some((r.dir, h.as_ref().map(|h| surface_of(st, r, h))));
     }
 
-    // Solar-history rays from every surface point; packets of 16 points
-    // share one sun direction.
-    // Every surface point (primary and background): which sample it belongs
-    // to, its shadow-ray origin (offset once) and its normal.
-    let mut points: Vec<(usize, bool)> = Vec::new(); // (sample, is_background)
-    let mut pts: Vec<(Vec3, Vec3)> = Vec::new(); // (ray origin, normal)
-    for (i, s) in samples.iter().enumerate() {
-        if let Some(surf) = &s.surface {
-            points.push((i, false));
-            pts.push((offset_origin(surf.point, surf.normal), surf.normal));
+    // Solar-history rays from every surface point (primary and
+    // background); packets of 16 points share one sun direction, built on
+    // the stack, and each answer sets a bit of the point's history.
+    let nsun = cond.suns.len();
+    let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+    for s in samples.iter_mut() {
+        if let Some(surf) = s.surface.as_mut() {
+            targets.push(surf);
         }
-        if let Some((_, Some(bg))) = &s.bounce {
-            points.push((i, true));
-            pts.push((offset_origin(bg.point, bg.normal), bg.normal));
+        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+            targets.push(bg);
         }
     }
-    let nsun = cond.suns.len();
-    let mut lit = vec![vec![false; nsun]; pts.len()];
-    for start in (0..pts.len()).step_by(16) {
-        let chunk = start..(start + 16).min(pts.len());
+    let origins: Vec<Vec3> = targets
+        .iter()
+        .map(|t| offset_origin(t.point, t.normal))
+        .collect();
+    for t in targets.iter_mut() {
+        t.history = SunFlags::shaded(nsun);
+    }
+    let (mut away, mut down, mut solar) = (0, 0, 0);
+    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 16];
+    let mut which = [0usize; 16];
+    let mut blocked = [false; 16];
+    for start in (0..targets.len()).step_by(16) {
+        let chunk = start..(start + 16).min(targets.len());
         for (k, sun) in cond.suns.iter().enumerate() {
             if !sun.up {
-                add(&c.sun_down, chunk.len());
+                down += chunk.len();
                 continue;
             }
-            let mut rays = Vec::with_capacity(16);
-            let mut which = Vec::with_capacity(16);
+            let mut m = 0;
             for p in chunk.clone() {
-                let (origin, normal) = pts[p];
-                if normal.dot(sun.dir) > 0.0 {
-                    rays.push(Ray::new(origin, sun.dir));
-                    which.push(p);
+                if targets[p].normal.dot(sun.dir) > 0.0 {
+                    rays[m] = Ray::new(origins[p], sun.dir);
+                    which[m] = p;
+                    m += 1;
                 } else {
-                    add(&c.away, 1);
+                    away += 1;
                 }
             }
-            if rays.is_empty() {
+            if m == 0 {
                 continue;
             }
-            let mut blocked = vec![false; rays.len()];
-            tracer.occluded(&rays, &mut blocked);
-            add(&c.solar, rays.len());
-            for (&p, b) in which.iter().zip(blocked) {
-                lit[p][k] = !b;
+            tracer.occluded(&rays[..m], &mut blocked[..m]);
+            solar += m;
+            for (&p, &b) in which[..m].iter().zip(&blocked[..m]) {
+                if !b {
+                    targets[p].history.set_sunlit(k);
+                }
             }
         }
     }
-    for ((i, bg), history) in points.into_iter().zip(lit) {
-        let target = if bg {
-            samples[i].bounce.as_mut().and_then(|b| b.1.as_mut())
-        } else {
-            samples[i].surface.as_mut()
-        };
-        if let Some(s) = target {
-            s.history = history;
-        }
-    }
+    add(&c.sun_down, down);
+    add(&c.away, away);
+    add(&c.solar, solar);
     samples
 }
 
@@ -294,7 +299,7 @@ fn therm_query<'a>(st: &Static, cond: &Conditions, s: &'a Surface) -> ThermQuery
         Some(HistoryRef {
             start_s: 0,
             interval_s: cond.interval_s,
-            sunlit: &s.history,
+            sunlit: s.history.flags(),
         }),
         0,
         s.point.z as f64 - cond.ground_z_m,
@@ -374,46 +379,158 @@ fn block_pixels(bx: u32, by: u32, w: u32, h: u32) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Steps 1-3 over blocks of sample pixels (rayon over blocks); fills the
-/// ray counters of `stats` (added to what is there).
+/// A stage's progress, counted across the bands of a frame.
+struct StageProgress<'a> {
+    report: ProgressFn<'a>,
+    stage: Stage,
+    done: AtomicU64,
+    total: u64,
+}
+
+impl<'a> StageProgress<'a> {
+    fn new(report: ProgressFn<'a>, stage: Stage, total: u64) -> Self {
+        StageProgress {
+            report,
+            stage,
+            done: AtomicU64::new(0),
+            total,
+        }
+    }
+
+    /// `n` more units done.
+    fn add(&self, n: u64) {
+        if let Some(f) = self.report {
+            let d = self.done.fetch_add(n, Ordering::Relaxed) + n;
+            f(Progress {
+                stage: self.stage,
+                done: d,
+                total: self.total,
+            });
+        }
+    }
+}
+
+impl Counters {
+    /// Adds the ray counters to `stats`.
+    fn flush(&self, stats: &mut Stats) {
+        let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
+        stats.primary_rays += get(&self.primary);
+        stats.primary_hits += get(&self.hits);
+        stats.specular_rays += get(&self.specular);
+        stats.specular_skipped_diffuse += get(&self.spec_skipped);
+        stats.solar_rays += get(&self.solar);
+        stats.solar_skipped_sun_down += get(&self.sun_down);
+        stats.solar_skipped_facing_away += get(&self.away);
+    }
+}
+
+/// Steps 1-3 over blocks of sample pixels (rayon over blocks), each
+/// block's samples in its tile order; fills the ray counters of `stats`
+/// (added to what is there).
 fn trace_blocks(
     st: &Static,
     cond: &Conditions,
     cam: &Camera,
     blocks: &[Vec<(u32, u32)>],
     stats: &mut Stats,
-    progress: ProgressFn,
 ) -> Vec<Vec<Sample>> {
     let counters = Counters::default();
-    let done = AtomicU64::new(0);
-    let total = blocks.len() as u64;
-    let traced: Vec<Vec<Sample>> = blocks
+    let traced = blocks
         .par_iter()
         .map(|px| {
             if cancel::cancelled() {
                 return Vec::new();
             }
-            let s = trace_block(st, cond, cam, px, &counters);
-            if let Some(f) = progress {
-                let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-                f(Progress {
-                    stage: Stage::Trace,
-                    done: d,
-                    total,
-                });
-            }
-            s
+            trace_block(st, cond, cam, px, &counters)
         })
         .collect();
-    let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
-    stats.primary_rays += get(&counters.primary);
-    stats.primary_hits += get(&counters.hits);
-    stats.specular_rays += get(&counters.specular);
-    stats.specular_skipped_diffuse += get(&counters.spec_skipped);
-    stats.solar_rays += get(&counters.solar);
-    stats.solar_skipped_sun_down += get(&counters.sun_down);
-    stats.solar_skipped_facing_away += get(&counters.away);
+    counters.flush(stats);
     traced
+}
+
+/// Sample rows a band of a frame holds: a multiple of [`BLOCK`] and of
+/// the supersampling `n`, about [`BAND_SAMPLES`] samples.
+fn band_rows(sample_width: u32, n: u32) -> u32 {
+    let gcd = |mut a: u32, mut b: u32| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    let unit = BLOCK / gcd(BLOCK, n) * n;
+    (band_target() / sample_width.max(1) / unit * unit).max(unit)
+}
+
+/// [`BAND_SAMPLES`], or the environment's `IRSIG_BAND_SAMPLES` (a test
+/// knob: results do not depend on it, which tests check with small bands).
+fn band_target() -> u32 {
+    static TARGET: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+    *TARGET.get_or_init(|| {
+        std::env::var("IRSIG_BAND_SAMPLES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .filter(|&v| v > 0)
+            .unwrap_or(BAND_SAMPLES)
+    })
+}
+
+/// Samples a band of a frame `sample_width` samples wide holds with
+/// supersampling `n` (the most samples a render holds at once).
+pub fn band_samples(sample_width: u32, n: u32) -> u64 {
+    band_rows(sample_width, n) as u64 * sample_width as u64
+}
+
+/// Samples per band: a frame is traced, solved and turned into plane rows
+/// one band of sample rows at a time, so memory holds one band of
+/// samples (about 30-50 MB) besides the planes.
+const BAND_SAMPLES: u32 = 1 << 18;
+
+/// The bands of a frame's `sample_height` rows: (first, end) sample rows.
+fn bands(sample_width: u32, sample_height: u32, n: u32) -> Vec<(u32, u32)> {
+    let rows = band_rows(sample_width, n);
+    (0..sample_height)
+        .step_by(rows as usize)
+        .map(|y0| (y0, (y0 + rows).min(sample_height)))
+        .collect()
+}
+
+/// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) in
+/// row-major order: rows of blocks in parallel, the blocks of a row in
+/// parallel, each block's samples moved straight to their places (no
+/// whole-frame reorder).
+fn trace_band(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    (y0, y1): (u32, u32),
+    c: &Counters,
+    progress: &StageProgress,
+) -> Vec<Sample> {
+    let (w, h) = (cam.width_px, cam.height_px);
+    let mut out = vec![Sample::default(); ((y1 - y0) * w) as usize];
+    out.par_chunks_mut((BLOCK * w) as usize)
+        .enumerate()
+        .for_each(|(r, rows)| {
+            let by = y0 + r as u32 * BLOCK;
+            let traced: Vec<Vec<Sample>> = (0..w)
+                .into_par_iter()
+                .step_by(BLOCK as usize)
+                .map(|bx| {
+                    if cancel::cancelled() {
+                        return Vec::new();
+                    }
+                    let s = trace_block(st, cond, cam, &block_pixels(bx, by, w, h), c);
+                    progress.add(1);
+                    s
+                })
+                .collect();
+            for (bx, ss) in (0..w).step_by(BLOCK as usize).zip(traced) {
+                for (&(x, y), s) in block_pixels(bx, by, w, h).iter().zip(ss) {
+                    rows[((y - by) * w + x) as usize] = s;
+                }
+            }
+        });
+    out
 }
 
 /// Step 4 for every surface (primary and background) of `samples`.
@@ -422,12 +539,10 @@ fn solve_temperatures(
     cond: &Conditions,
     samples: &mut [Sample],
     stats: &mut Stats,
-    progress: ProgressFn,
+    progress: &StageProgress,
 ) -> anyhow::Result<()> {
     let t1 = Instant::now();
     let before = cond.cache.stats();
-    let done = AtomicU64::new(0);
-    let total = samples.len() as u64;
     samples
         .par_chunks_mut(PROGRESS_CHUNK)
         .try_for_each(|chunk| -> anyhow::Result<()> {
@@ -444,20 +559,43 @@ fn solve_temperatures(
             });
             cond.cache.absorb_memo(&memo);
             solved?;
-            if let Some(f) = progress {
-                let d = done.fetch_add(chunk.len() as u64, Ordering::Relaxed) + chunk.len() as u64;
-                f(Progress {
-                    stage: Stage::Thermal,
-                    done: d,
-                    total,
-                });
-            }
+            progress.add(chunk.len() as u64);
             Ok(())
         })?;
     let after = cond.cache.stats();
     stats.thermal_solves += after.misses - before.misses;
     stats.thermal_cache_hits += after.hits - before.hits;
     stats.seconds.thermal += t1.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// The bands of a frame, each traced (steps 1-3) and solved (step 4), handed
+/// in order to `each` (band rows, samples); stage times and counters go to
+/// `stats`.
+fn for_each_band(
+    st: &Static,
+    cond: &Conditions,
+    stats: &mut Stats,
+    progress: ProgressFn,
+    mut each: impl FnMut(&mut Stats, (u32, u32), Vec<Sample>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let cam = sample_camera(st);
+    let (w, h) = (cam.width_px, cam.height_px);
+    let n = st.scene.scene.render.supersample.max(1);
+    let blocks = (w.div_ceil(BLOCK) * h.div_ceil(BLOCK)) as u64;
+    let trace_progress = StageProgress::new(progress, Stage::Trace, blocks);
+    let therm_progress = StageProgress::new(progress, Stage::Thermal, (w * h) as u64);
+    let counters = Counters::default();
+    for rows in bands(w, h, n) {
+        let t0 = Instant::now();
+        let mut band = trace_band(st, cond, &cam, rows, &counters, &trace_progress);
+        cancel::check()?;
+        stats.seconds.trace += t0.elapsed().as_secs_f64();
+        stats.samples += band.len() as u64;
+        solve_temperatures(st, cond, &mut band, stats, &therm_progress)?;
+        each(stats, rows, band)?;
+    }
+    counters.flush(stats);
     Ok(())
 }
 
@@ -481,29 +619,11 @@ pub fn trace_frame_with(
 ) -> anyhow::Result<(Vec<Sample>, u32, u32)> {
     let cam = sample_camera(st);
     let (w, h) = (cam.width_px, cam.height_px);
-    let t0 = Instant::now();
-    // Blocks of BLOCK×BLOCK pixels, each in 4x4 tile order.
-    let mut blocks = Vec::new();
-    for by in (0..h).step_by(BLOCK as usize) {
-        for bx in (0..w).step_by(BLOCK as usize) {
-            blocks.push(block_pixels(bx, by, w, h));
-        }
-    }
-    let traced = trace_blocks(st, cond, &cam, &blocks, stats, progress);
-    cancel::check()?;
-    let mut samples: Vec<Option<Sample>> = vec![None; (w * h) as usize];
-    for (px, ss) in blocks.iter().zip(traced) {
-        for (&(x, y), s) in px.iter().zip(ss) {
-            samples[(y * w + x) as usize] = Some(s);
-        }
-    }
-    let mut samples: Vec<Sample> = samples
-        .into_iter()
-        .map(|s| s.expect("every pixel traced"))
-        .collect();
-    stats.seconds.trace += t0.elapsed().as_secs_f64();
-    stats.samples += samples.len() as u64;
-    solve_temperatures(st, cond, &mut samples, stats, progress)?;
+    let mut samples = Vec::with_capacity((w * h) as usize);
+    for_each_band(st, cond, stats, progress, |_, _, mut band| {
+        samples.append(&mut band);
+        Ok(())
+    })?;
     Ok((samples, w, h))
 }
 
@@ -543,7 +663,7 @@ pub fn trace_samples(
         .iter()
         .map(|&(bx, by)| block_pixels(bx, by, w, h))
         .collect();
-    let traced = trace_blocks(st, cond, &cam, &blocks, stats, None);
+    let traced = trace_blocks(st, cond, &cam, &blocks, stats);
     cancel::check()?;
     let mut samples = Vec::with_capacity(pixels.len());
     for &p in pixels {
@@ -556,7 +676,8 @@ pub fn trace_samples(
     }
     stats.seconds.trace += t0.elapsed().as_secs_f64();
     stats.samples += samples.len() as u64;
-    solve_temperatures(st, cond, &mut samples, stats, None)?;
+    let quiet = StageProgress::new(None, Stage::Thermal, 0);
+    solve_temperatures(st, cond, &mut samples, stats, &quiet)?;
     Ok(samples)
 }
 
@@ -565,60 +686,50 @@ pub fn render(st: &Static, cond: &Conditions) -> anyhow::Result<Frame> {
     render_with(st, cond, None)
 }
 
-/// [`render`] with a progress callback.
+/// [`render`] with a progress callback. The frame is rendered band by band
+/// (trace, temperatures, then radiometry straight into the plane rows; see
+/// [`assemble`]): only [`Static::keep_samples`] keeps the samples.
 pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyhow::Result<Frame> {
     let mut stats = Stats {
         spectral_bins: st.band.len(),
         ..Default::default()
     };
-    let (samples, w, h) = trace_frame_with(st, cond, &mut stats, progress)?;
-    let t2 = Instant::now();
-    let ctx = pixel::RadiometryContext::new(st, cond)?;
+    let cam = sample_camera(st);
+    let sw = cam.width_px;
     let n = st.scene.scene.render.supersample.max(1);
-    // Uniform pixels evaluate one sample (see pixel::representatives).
-    let rep = pixel::representatives_frame(&samples, w, h, n);
-    let todo: Vec<usize> = (0..samples.len()).filter(|&k| rep[k] == k).collect();
-    stats.radiometry_samples = todo.len() as u64;
-    let done = AtomicU64::new(0);
-    let total = todo.len() as u64;
-    let evaluated: Vec<pixel::SampleResult> = todo
-        .par_chunks(PROGRESS_CHUNK)
-        .map(|chunk| -> anyhow::Result<Vec<pixel::SampleResult>> {
-            cancel::check()?;
-            let r = chunk
-                .iter()
-                .map(|&k| ctx.evaluate(&samples[k]))
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            if let Some(f) = progress {
-                let c = chunk.len() as u64;
-                f(Progress {
-                    stage: Stage::Radiometry,
-                    done: done.fetch_add(c, Ordering::Relaxed) + c,
-                    total,
-                });
+    let ctx = pixel::RadiometryContext::new(st, cond)?;
+    let mut planes = assemble::FramePlanes::new(st, cond, sw / n, cam.height_px / n);
+    let radiometry = StageProgress::new(
+        progress,
+        Stage::Radiometry,
+        sw as u64 * cam.height_px as u64,
+    );
+    let mut kept = Vec::new();
+    for_each_band(
+        st,
+        cond,
+        &mut stats,
+        progress,
+        |stats, (y0, _), mut band| {
+            let t2 = Instant::now();
+            stats.radiometry_samples +=
+                planes.fill_band(&ctx, &band, sw, y0 / n, n, &|k| radiometry.add(k))?;
+            stats.seconds.radiometry += t2.elapsed().as_secs_f64();
+            if st.keep_samples {
+                kept.append(&mut band);
             }
-            Ok(r)
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
-        .collect();
-    let mut slot = vec![usize::MAX; samples.len()];
-    for (i, &k) in todo.iter().enumerate() {
-        slot[k] = i;
-    }
-    let results: Vec<pixel::SampleResult> =
-        rep.iter().map(|&r| evaluated[slot[r]].clone()).collect();
-    stats.seconds.radiometry = t2.elapsed().as_secs_f64();
+            Ok(())
+        },
+    )?;
     let t3 = Instant::now();
-    let planes = pixel::assemble(st, &samples, &results, w, h, n, cond)?;
+    let planes = planes.finish()?;
     pixel::check_finite(&planes)?;
     stats.seconds.sensor = t3.elapsed().as_secs_f64();
     Ok(Frame {
         planes,
         stats,
-        samples,
-        sample_width: w,
+        samples: kept,
+        sample_width: sw,
     })
 }
 

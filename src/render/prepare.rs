@@ -49,6 +49,10 @@ pub struct Static {
     /// the fraction of its sky the scene hides, computed on first use
     /// ([`Static::blocked_sky`]).
     pub sky_blocked: Arc<Vec<[OnceLock<f32>; 2]>>,
+    /// Keep every traced sample in [`super::Frame::samples`] (callers that
+    /// read the samples' points or histories; a render otherwise streams
+    /// them band by band and keeps only the planes). Default false.
+    pub keep_samples: bool,
 }
 
 impl Static {
@@ -251,6 +255,7 @@ pub fn derive_static(
             atmosphere_source: source,
             atmosphere_full,
             sky_blocked,
+            keep_samples: prev.is_some_and(|p| p.keep_samples),
         },
         reused,
     ))

@@ -215,7 +215,7 @@ impl Ctx<'_> {
         let sc = &st.scene;
         let o = Orientation::from_normal_enu(s.normal.as_dvec3().to_array());
         let mut reason = String::new();
-        for (sun, &lit) in cond.suns.iter().zip(&s.history) {
+        for (sun, lit) in cond.suns.iter().zip(s.history.iter()) {
             reason.push(if lit {
                 '1'
             } else if !sun.up {
@@ -247,15 +247,13 @@ impl Ctx<'_> {
                 sunlit: s
                     .history
                     .iter()
-                    .map(|&b| if b { '1' } else { '0' })
+                    .map(|b| if b { '1' } else { '0' })
                     .collect(),
                 reason,
                 times_local: (0..s.history.len())
                     .map(|k| self.local(cond.start + interval * k as i32))
                     .collect(),
-                hours_sunlit: s.history.iter().filter(|b| **b).count() as f64
-                    * cond.interval_s as f64
-                    / 3600.0,
+                hours_sunlit: s.history.count_sunlit() as f64 * cond.interval_s as f64 / 3600.0,
                 sun_now: s.sun_now(),
             },
             thermal: ThermalReport {

@@ -339,6 +339,8 @@ pub struct Frames {
     pending: Option<LoadedScene>,
     next: usize,
     total: usize,
+    /// Keep each frame's samples ([`Static::keep_samples`]); default false.
+    pub keep_samples: bool,
 }
 
 impl Frames {
@@ -352,6 +354,7 @@ impl Frames {
             st: None,
             pending: None,
             next: 0,
+            keep_samples: false,
         }
     }
 
@@ -400,7 +403,8 @@ impl Frames {
         }
         let reused = match plan.scene.or_else(|| self.pending.take()) {
             Some(scene) => {
-                let (s, r) = derive_static(self.st.as_ref(), scene, self.tracer)?;
+                let (mut s, r) = derive_static(self.st.as_ref(), scene, self.tracer)?;
+                s.keep_samples = self.keep_samples;
                 self.st = Some(s);
                 r
             }

@@ -59,21 +59,84 @@ pub struct ThermKey {
     pub blocked_q: i32,
 }
 
-/// A borrowed sun/shadow history: `sunlit[i]` at `start_s + i·interval_s`
+/// A borrowed sun/shadow history: sample `i` at `start_s + i·interval_s`
 /// (the same rules as [`SunHistory`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HistoryRef<'a> {
     pub start_s: i64,
     pub interval_s: i64,
-    pub sunlit: &'a [bool],
+    pub sunlit: Flags<'a>,
 }
+
+/// Borrowed sunlit flags: one `bool` per sample, or packed 64 to a word
+/// (bit `i % 64` of word `i / 64` = sample `i`; bits past `len` zero). Both
+/// forms of the same flags make the same key.
+#[derive(Clone, Copy, Debug)]
+pub enum Flags<'a> {
+    Bools(&'a [bool]),
+    Packed { words: &'a [u64], len: usize },
+}
+
+impl Flags<'_> {
+    pub fn len(&self) -> usize {
+        match self {
+            Flags::Bools(b) => b.len(),
+            Flags::Packed { len, .. } => *len,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The flags packed 64 to a word.
+    pub fn words(&self) -> impl Iterator<Item = u64> + '_ {
+        let (bools, words) = match self {
+            Flags::Bools(b) => (Some(*b), None),
+            Flags::Packed { words, .. } => (None, Some(*words)),
+        };
+        bools
+            .into_iter()
+            .flat_map(packed_words)
+            .chain(words.into_iter().flatten().copied())
+    }
+
+    /// True when some sample is shaded.
+    pub fn any_shaded(&self) -> bool {
+        match self {
+            Flags::Bools(b) => b.iter().any(|x| !x),
+            Flags::Packed { words, len } => words.iter().enumerate().any(|(i, w)| {
+                let n = (*len - 64 * i).min(64);
+                let full = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+                w & full != full
+            }),
+        }
+    }
+
+    pub fn to_bools(&self) -> Vec<bool> {
+        match self {
+            Flags::Bools(b) => b.to_vec(),
+            Flags::Packed { words, len } => (0..*len)
+                .map(|i| words[i / 64] >> (i % 64) & 1 == 1)
+                .collect(),
+        }
+    }
+}
+
+impl PartialEq for Flags<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len() && self.words().eq(other.words())
+    }
+}
+
+impl Eq for Flags<'_> {}
 
 impl<'a> From<&'a SunHistory> for HistoryRef<'a> {
     fn from(h: &'a SunHistory) -> Self {
         HistoryRef {
             start_s: h.start_s,
             interval_s: h.interval_s,
-            sunlit: &h.sunlit,
+            sunlit: Flags::Bools(&h.sunlit),
         }
     }
 }
@@ -111,7 +174,7 @@ impl ThermQuery<'_> {
         (self.weather_id, self.height_q, self.blocked_q).hash(&mut h);
         if let Some(s) = &self.history {
             (s.start_s, s.interval_s, s.sunlit.len()).hash(&mut h);
-            for w in packed_words(s.sunlit) {
+            for w in s.sunlit.words() {
                 h.write_u64(w);
             }
         }
@@ -133,7 +196,7 @@ impl ThermQuery<'_> {
                     k.shadow_start_s == s.start_s
                         && k.shadow_interval_s == s.interval_s
                         && k.shadow_len as usize == s.sunlit.len()
-                        && packed_words(s.sunlit).eq(k.shadow_bits.iter().copied())
+                        && s.sunlit.words().eq(k.shadow_bits.iter().copied())
                 }
             }
     }
@@ -145,7 +208,7 @@ impl ThermQuery<'_> {
                 s.start_s,
                 s.interval_s,
                 s.sunlit.len() as u32,
-                packed_words(s.sunlit).collect(),
+                s.sunlit.words().collect(),
             ),
             None => (0, 0, 0, Box::default()),
         };
@@ -174,7 +237,9 @@ pub struct ThermMemo {
     scalars: (u32, i32, i32, u64, i32, i32),
     /// (start, interval) of the history; `None`: always sunlit.
     clock: Option<(i64, i64)>,
-    sunlit: Vec<bool>,
+    /// The history's length and packed words.
+    len: usize,
+    words: Vec<u64>,
     temp_k: f64,
     /// Lookups answered by the memo.
     pub hits: u64,
@@ -198,7 +263,11 @@ impl ThermMemo {
             && self.scalars == Self::scalars(q)
             && match &q.history {
                 None => self.clock.is_none(),
-                Some(h) => self.clock == Some((h.start_s, h.interval_s)) && self.sunlit == h.sunlit,
+                Some(h) => {
+                    self.clock == Some((h.start_s, h.interval_s))
+                        && self.len == h.sunlit.len()
+                        && h.sunlit.words().eq(self.words.iter().copied())
+                }
             };
         same.then_some(self.temp_k)
     }
@@ -207,9 +276,11 @@ impl ThermMemo {
         self.valid = true;
         self.scalars = Self::scalars(q);
         self.clock = q.history.map(|h| (h.start_s, h.interval_s));
-        self.sunlit.clear();
+        self.words.clear();
+        self.len = 0;
         if let Some(h) = &q.history {
-            self.sunlit.extend_from_slice(h.sunlit);
+            self.len = h.sunlit.len();
+            self.words.extend(h.sunlit.words());
         }
         self.temp_k = temp_k;
     }
@@ -378,7 +449,7 @@ impl ThermCache {
             slope_q,
             aspect_q,
             // An all-sunlit history is the same as no history.
-            history: shadow.filter(|h| h.sunlit.iter().any(|b| !b)),
+            history: shadow.filter(|h| h.sunlit.any_shaded()),
             weather_id,
             height_q: Self::quantise_height(height_m).0,
             blocked_q: Self::quantise_blocked(blocked_sky),
@@ -594,7 +665,7 @@ impl ThermCache {
         let history = q.history.map(|h| SunHistory {
             start_s: h.start_s,
             interval_s: h.interval_s,
-            sunlit: h.sunlit.to_vec(),
+            sunlit: h.sunlit.to_bools(),
         });
         material.validate()?;
         let oq = self.dequantise(q.slope_q, q.aspect_q);

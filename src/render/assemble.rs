@@ -1,0 +1,279 @@
+//! The output planes of a frame, filled band by band while the render
+//! streams its samples: for each output pixel, the radiometry of its n×n
+//! samples (eqs. 1-4, with the uniform-pixel collapse of
+//! [`pixel::representatives`]) and every per-pixel plane in one pass, rows
+//! in parallel; then the sensor model over whole planes (PSF, noise,
+//! quantisation). No per-sample result is kept beyond its pixel, so a
+//! render holds one band of samples and the planes.
+//!
+//! Plane values are those of the former separate passes bit for bit: a
+//! mean plane is the f64 sum of the pixel's finite sample values in row
+//! order divided by their count (NaN if none), rounded to f32; categorical
+//! planes (material, facet, case) take the sample nearest the pixel
+//! centre; the apparent temperature inverts the mean band radiance
+//! ([`pixel::ApparentTempLut`]).
+
+use rayon::prelude::*;
+use smallvec::SmallVec;
+
+use super::Sample;
+use super::pixel::{self, ApparentTempLut, RadiometryContext, SampleResult};
+use super::planes::Planes;
+use super::prepare::{Conditions, Static};
+use crate::radiometry::RadianceTerms;
+
+const RADIANCE: &str = "W m-2 sr-1 um-1";
+
+/// The planes filled pixel by pixel, in output order (the sensor adds
+/// `dn` and `sensor_radiance` after them).
+const PIXEL_PLANES: [(&str, &str); 19] = [
+    ("band_radiance", RADIANCE),
+    ("apparent_temperature", "K"),
+    ("surface_temperature", "K"),
+    ("material", "index (-1 none)"),
+    ("facet", "triangle index (-1 none)"),
+    ("sun_now", "fraction"),
+    ("hours_sunlit", "h"),
+    ("range", "m"),
+    ("ground_x", "m"),
+    ("ground_y", "m"),
+    ("ground_z", "m"),
+    ("view_angle", "deg"),
+    ("case", "eq. 1-4 (0 outside)"),
+    ("emitted", RADIANCE),
+    ("reflected_solar", RADIANCE),
+    ("reflected_sky", RADIANCE),
+    ("reflected_background", RADIANCE),
+    ("path_thermal", RADIANCE),
+    ("path_scattered", RADIANCE),
+];
+const NP: usize = PIXEL_PLANES.len();
+
+/// Each radiometric term plane from a sample's terms (the order of
+/// [`super::planes::TERM_PLANES`]).
+const TERMS: [fn(&RadianceTerms) -> f64; 6] = [
+    |t| t.emitted,
+    |t| t.reflected_solar,
+    |t| t.reflected_sky_thermal + t.reflected_sky_scattered,
+    |t| t.reflected_background_emitted + t.reflected_background_solar,
+    |t| t.path_thermal,
+    |t| t.path_scattered,
+];
+
+/// A frame's planes while its bands are rendered.
+pub struct FramePlanes<'a> {
+    st: &'a Static,
+    width: u32,
+    height: u32,
+    /// One vector per [`PIXEL_PLANES`] entry, `width`×`height`, row-major.
+    data: Vec<Vec<f32>>,
+    interval_h: f64,
+    lut: ApparentTempLut,
+}
+
+impl<'a> FramePlanes<'a> {
+    /// Empty (NaN) planes of a `width`×`height` output image.
+    pub fn new(st: &'a Static, cond: &Conditions, width: u32, height: u32) -> Self {
+        let npx = width as usize * height as usize;
+        FramePlanes {
+            st,
+            width,
+            height,
+            data: vec![vec![f32::NAN; npx]; NP],
+            interval_h: cond.interval_s as f64 / 3600.0,
+            lut: ApparentTempLut::new(&st.band),
+        }
+    }
+
+    /// Fills the output rows from `row0` on from a band of samples
+    /// (`sample_width` wide, row-major, a whole number of n×n pixel rows);
+    /// returns the number of samples whose radiometry was evaluated.
+    pub fn fill_band(
+        &mut self,
+        ctx: &RadiometryContext,
+        band: &[Sample],
+        sample_width: u32,
+        row0: u32,
+        n: u32,
+        done: &(dyn Fn(u64) + Sync),
+    ) -> anyhow::Result<u64> {
+        let (sw, n, w) = (sample_width as usize, n as usize, self.width as usize);
+        let rows = band.len() / (sw * n);
+        let this = &*self;
+        let filled: Vec<(Vec<[f32; NP]>, u64)> = (0..rows)
+            .into_par_iter()
+            .map(|r| -> anyhow::Result<(Vec<[f32; NP]>, u64)> {
+                super::cancel::check()?;
+                let mut out = Vec::with_capacity(w);
+                let mut evaluated = 0u64;
+                let mut px: Vec<&Sample> = Vec::with_capacity(n * n);
+                for x in 0..w {
+                    px.clear();
+                    px.extend(
+                        (0..n)
+                            .flat_map(|j| (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])),
+                    );
+                    let (v, e) = this.pixel(ctx, &px, n)?;
+                    out.push(v);
+                    evaluated += e as u64;
+                }
+                done((w * n * n) as u64);
+                Ok((out, evaluated))
+            })
+            .collect::<anyhow::Result<_>>()?;
+        let start = row0 as usize * w;
+        self.data.par_iter_mut().enumerate().for_each(|(p, plane)| {
+            let dst = &mut plane[start..start + rows * w];
+            for (row, (vals, _)) in dst.chunks_mut(w).zip(&filled) {
+                for (d, v) in row.iter_mut().zip(vals) {
+                    *d = v[p];
+                }
+            }
+        });
+        Ok(filled.iter().map(|(_, e)| e).sum())
+    }
+
+    /// Every [`PIXEL_PLANES`] value of one output pixel from its n×n
+    /// samples (row-major); also the number of samples evaluated.
+    fn pixel(
+        &self,
+        ctx: &RadiometryContext,
+        px: &[&Sample],
+        n: usize,
+    ) -> anyhow::Result<([f32; NP], usize)> {
+        let c = (n / 2) * n + n / 2;
+        let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
+        let results: SmallVec<[SampleResult; 1]> = if uniform {
+            smallvec::smallvec![ctx.evaluate(px[c])?]
+        } else {
+            px.iter()
+                .map(|s| ctx.evaluate(s))
+                .collect::<anyhow::Result<_>>()?
+        };
+        let res = |k: usize| &results[if uniform { 0 } else { k }];
+        let mean = |f: &dyn Fn(usize) -> f64| -> f32 {
+            let (mut s, mut count) = (0.0, 0u32);
+            for k in 0..px.len() {
+                let v = f(k);
+                if v.is_finite() {
+                    s += v;
+                    count += 1;
+                }
+            }
+            if count > 0 {
+                (s / count as f64) as f32
+            } else {
+                f32::NAN
+            }
+        };
+        let surf = |k: usize| px[k].surface.as_ref();
+        let radiance = mean(&|k| res(k).radiance_w_m2_sr_um);
+        let band = &self.st.band;
+        let t_app = self
+            .lut
+            .apparent_temp_k(band, radiance as f64)
+            .map_or(f32::NAN, |t| t as f32);
+        let mut v = [0f32; NP];
+        v[0] = radiance;
+        v[1] = t_app;
+        v[2] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.temp_k));
+        v[3] = surf(c).map_or(-1.0, |s| s.material as f64) as f32;
+        v[4] = surf(c).map_or(-1.0, |s| s.prim as f64) as f32;
+        v[5] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64));
+        v[6] = mean(&|k| {
+            surf(k).map_or(f64::NAN, |s| {
+                s.history.count_sunlit() as f64 * self.interval_h
+            })
+        });
+        v[7] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
+        // The hit point in the tracer's local frame: world coordinates minus
+        // the frame's origin (`scene::frame`), which the georeferencing
+        // states as its ground origin (f32 keeps 0.5 mm within 16 km of it).
+        for axis in 0..3 {
+            v[8 + axis] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
+        }
+        v[11] = mean(&|k| res(k).view_angle_deg);
+        v[12] = res(c).case as f32;
+        for (t, f) in TERMS.iter().enumerate() {
+            v[13 + t] = mean(&|k| f(&res(k).terms));
+        }
+        Ok((v, results.len()))
+    }
+
+    /// The finished planes: the per-pixel planes, then the sensor model on
+    /// the band radiance (PSF, noise, quantisation → `dn`) as
+    /// `sensor_radiance`.
+    pub fn finish(self) -> anyhow::Result<Planes> {
+        let st = self.st;
+        let (w, h) = (self.width, self.height);
+        let mut p = Planes::new(w, h);
+        let mut sr = self.data[0].clone();
+        for ((name, unit), data) in PIXEL_PLANES.iter().zip(self.data) {
+            p.push(name, unit, data);
+        }
+        let sensor = &st.scene.scene.sensor;
+        if let Some(k) = &st.scene.psf_kernel {
+            let kernel = crate::sensor::psf::Kernel::new(k.size, k.size, k.weights.clone())?;
+            sr = crate::sensor::psf::convolve(&sr, w as usize, h as usize, &kernel);
+        } else if let crate::scene::spec::Psf::Gaussian { sigma_px } = sensor.psf {
+            let g = crate::sensor::psf::Kernel::gaussian_1d(sigma_px)?;
+            sr = crate::sensor::psf::convolve_separable(&sr, w as usize, h as usize, &g, &g);
+        }
+        let ns = &sensor.noise;
+        let (amp, period, dir, phase) = match &ns.periodic {
+            Some(pn) => (
+                pn.amplitude_w_m2_sr_um,
+                pn.period_px,
+                match pn.direction {
+                    crate::scene::spec::NoiseDirection::Rows => {
+                        crate::sensor::noise::Direction::Rows
+                    }
+                    crate::scene::spec::NoiseDirection::Columns => {
+                        crate::sensor::noise::Direction::Columns
+                    }
+                },
+                pn.phase_deg,
+            ),
+            None => (0.0, 0.0, crate::sensor::noise::Direction::Rows, 0.0),
+        };
+        crate::sensor::noise::add_noise(
+            &mut sr,
+            w as usize,
+            &crate::sensor::noise::NoiseSpec {
+                random_sigma: ns.random_sigma_w_m2_sr_um,
+                periodic_amplitude: amp,
+                periodic_period_px: period,
+                periodic_direction: dir,
+                periodic_phase_deg: phase,
+                seed: ns.seed,
+            },
+        );
+        if let Some(q) = &sensor.quantisation {
+            let quant = match (q.gain_counts_per_w_m2_sr_um, q.offset_counts) {
+                (Some(g), off) => crate::sensor::quantise::Quantiser {
+                    bits: q.bits,
+                    gain: g,
+                    offset: -off.unwrap_or(0.0) / g,
+                },
+                _ => {
+                    let fin = sr.iter().filter(|v| v.is_finite());
+                    let lo = fin.clone().fold(f32::INFINITY, |a, &b| a.min(b)) as f64;
+                    let hi = fin.fold(f32::NEG_INFINITY, |a, &b| a.max(b)) as f64;
+                    let (lo, hi) = if lo.is_finite() && hi > lo {
+                        (lo, hi)
+                    } else {
+                        (0.0, 1.0)
+                    };
+                    crate::sensor::quantise::Quantiser::spanning(q.bits, lo, hi)
+                }
+            };
+            p.push(
+                "dn",
+                "counts",
+                sr.par_iter().map(|&v| quant.dn(v as f64) as f32).collect(),
+            );
+        }
+        p.push("sensor_radiance", RADIANCE, sr);
+        Ok(p)
+    }
+}
