@@ -172,14 +172,6 @@ pub fn speed(
             let conditions = t1.elapsed().as_secs_f64();
             let frame = render(&st, &cond)?;
             let s = &frame.stats;
-            let cam = Camera::from_geometry(&st.scene.local_camera);
-            let sun = glam::DVec3::from(cond.sun_now.sun_dir_enu).as_vec3();
-            let (rp, rs) = embree_rates(&st.geometry, &cam, sun)?;
-            let floor = s.primary_rays as f64 / rp + (s.solar_rays + s.specular_rays) as f64 / rs;
-            let stages =
-                s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor;
-            let total = load + conditions + stages;
-            let rays = s.primary_rays + s.solar_rays + s.specular_rays;
             let tmp = tempfile::tempdir()?;
             let t2 = Instant::now();
             crate::output::frame::write_frame(
@@ -189,6 +181,17 @@ pub fn speed(
                 false,
             )?;
             let output = t2.elapsed().as_secs_f64();
+            // The peak of the render and its write (before the floor's own
+            // ray buffers below).
+            let peak_rss_mib = peak_rss_mib();
+            let cam = Camera::from_geometry(&st.scene.local_camera);
+            let sun = glam::DVec3::from(cond.sun_now.sun_dir_enu).as_vec3();
+            let (rp, rs) = embree_rates(&st.geometry, &cam, sun)?;
+            let floor = s.primary_rays as f64 / rp + (s.solar_rays + s.specular_rays) as f64 / rs;
+            let stages =
+                s.seconds.trace + s.seconds.thermal + s.seconds.radiometry + s.seconds.sensor;
+            let total = load + conditions + stages;
+            let rays = s.primary_rays + s.solar_rays + s.specular_rays;
             Ok(SpeedRow {
                 size,
                 triangles: st.geometry.triangles.len(),
@@ -206,7 +209,7 @@ pub fn speed(
                 embree_floor_s: floor,
                 ratio_to_floor: stages / floor,
                 thermal_solves: s.thermal_solves,
-                peak_rss_mib: peak_rss_mib(),
+                peak_rss_mib,
             })
         })?;
         progress(&row);

@@ -344,7 +344,11 @@ pub fn write_rendered(
     let gy = plane("ground_y").unwrap_or(&nan);
     let gz = plane("ground_z").unwrap_or(&nan);
     let geo = Geo::for_georef(g)?;
-    let geoloc = geolocate(&geo, g.ground_origin_m, gx, gy, gz);
+    // Every pixel's latitude/longitude and map coordinates (four f64
+    // planes, a projection per pixel): made only for the outputs that
+    // carry them (GeoTIFF, ENVI).
+    let geoloc_cell = std::cell::OnceCell::new();
+    let geoloc = || geoloc_cell.get_or_init(|| geolocate(&geo, g.ground_origin_m, gx, gy, gz));
 
     let ql = p
         .get("sensor_radiance")
@@ -424,7 +428,7 @@ pub fn write_rendered(
                 data: &pl.data,
             })
             .collect();
-        let place = placement(g, w, &geoloc.map_x_m, &geoloc.map_y_m, 10);
+        let place = placement(g, w, &geoloc().map_x_m, &geoloc().map_y_m, 10);
         write_geotiff(
             &mut set,
             &path.with_extension("tif"),
@@ -438,22 +442,22 @@ pub fn write_rendered(
             Band {
                 name: "lat",
                 unit: "deg",
-                data: geoloc.lat_deg.as_slice(),
+                data: geoloc().lat_deg.as_slice(),
             },
             Band {
                 name: "lon",
                 unit: "deg",
-                data: geoloc.lon_deg.as_slice(),
+                data: geoloc().lon_deg.as_slice(),
             },
             Band {
                 name: "map_x",
                 unit: "m",
-                data: geoloc.map_x_m.as_slice(),
+                data: geoloc().map_x_m.as_slice(),
             },
             Band {
                 name: "map_y",
                 unit: "m",
-                data: geoloc.map_y_m.as_slice(),
+                data: geoloc().map_y_m.as_slice(),
             },
         ];
         write_geotiff(
@@ -468,7 +472,7 @@ pub fn write_rendered(
     }
     if formats.envi {
         let (lo, hi) = r.band_um;
-        let geo_fields = envi_georef_fields(g, &geoloc, w);
+        let geo_fields = envi_georef_fields(g, geoloc(), w);
         let mut common = vec![
             ("acquisition time".to_string(), time.clone()),
             ("sun azimuth".into(), format!("{:.6}", r.sun_azimuth_deg)),
@@ -539,10 +543,16 @@ pub fn write_rendered(
         truth.push(("ground_x [m scene frame]".into(), abs(gx, o[0])));
         truth.push(("ground_y [m scene frame]".into(), abs(gy, o[1])));
         truth.push(("ground_z [m scene frame]".into(), abs(gz, o[2])));
-        truth.push(("lat [deg]".into(), geoloc.lat_deg.clone()));
-        truth.push(("lon [deg]".into(), geoloc.lon_deg.clone()));
-        truth.push((format!("map_x [m {}]", g.crs.name), geoloc.map_x_m.clone()));
-        truth.push((format!("map_y [m {}]", g.crs.name), geoloc.map_y_m.clone()));
+        truth.push(("lat [deg]".into(), geoloc().lat_deg.clone()));
+        truth.push(("lon [deg]".into(), geoloc().lon_deg.clone()));
+        truth.push((
+            format!("map_x [m {}]", g.crs.name),
+            geoloc().map_x_m.clone(),
+        ));
+        truth.push((
+            format!("map_y [m {}]", g.crs.name),
+            geoloc().map_y_m.clone(),
+        ));
         let bands: Vec<(&str, &[f64])> = truth
             .iter()
             .map(|(n, d)| (n.as_str(), d.as_slice()))

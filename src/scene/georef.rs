@@ -323,7 +323,7 @@ pub struct Geolocation {
 /// `origin_m`, as the render writes them).
 pub fn geolocate(geo: &Geo, origin_m: [f64; 3], x: &[f32], y: &[f32], z: &[f32]) -> Geolocation {
     use rayon::prelude::*;
-    let pts: Vec<[f64; 4]> = (0..x.len())
+    let ((lat_deg, lon_deg), (map_x_m, map_y_m)) = (0..x.len())
         .into_par_iter()
         .map(|i| {
             let p = [
@@ -331,23 +331,24 @@ pub fn geolocate(geo: &Geo, origin_m: [f64; 3], x: &[f32], y: &[f32], z: &[f32])
                 origin_m[1] + y[i] as f64,
                 origin_m[2] + z[i] as f64,
             ];
+            let nan = ((f64::NAN, f64::NAN), (f64::NAN, f64::NAN));
             if !p.iter().all(|v| v.is_finite()) {
-                return [f64::NAN; 4];
+                return nan;
             }
             match geo.geodetic(p) {
                 Some((lat, lon, _)) => {
                     let m = geo.map_xy(lat, lon).unwrap_or([f64::NAN; 2]);
-                    [lat, lon, m[0], m[1]]
+                    ((lat, lon), (m[0], m[1]))
                 }
-                None => [f64::NAN; 4],
+                None => nan,
             }
         })
-        .collect();
+        .unzip();
     Geolocation {
-        lat_deg: pts.iter().map(|p| p[0]).collect(),
-        lon_deg: pts.iter().map(|p| p[1]).collect(),
-        map_x_m: pts.iter().map(|p| p[2]).collect(),
-        map_y_m: pts.iter().map(|p| p[3]).collect(),
+        lat_deg,
+        lon_deg,
+        map_x_m,
+        map_y_m,
     }
 }
 
