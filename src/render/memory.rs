@@ -27,9 +27,11 @@ const MIB: f64 = 1024.0 * 1024.0;
 /// the plate scene peaks at 31 MiB).
 pub const BASE_MIB: f64 = 30.0;
 
-/// Output planes per pixel (every plane of a render, f32) and the copies
-/// the writers make (EXR, PNG quicklook, statistics).
-const PLANE_BYTES_PER_PIXEL: f64 = 24.0 * 4.0 * 2.0;
+/// Output planes per pixel (every plane of a render, f32, and the sensor's
+/// working copy) and what the writers add (EXR blocks in flight, PNG
+/// quicklook; the EXR is written from the planes themselves): measured
+/// 544 MiB peak for airfield 2048² with EXR + PNG + JSON (BENCHMARKS.md).
+const PLANE_BYTES_PER_PIXEL: f64 = 24.0 * 4.0 * 1.25;
 
 /// Geometry, BVH (Embree or obvhs) and per-triangle tables, bytes per
 /// triangle.
