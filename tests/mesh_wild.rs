@@ -6,15 +6,9 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-
 use irsig::scene::mesh::{self, Mesh};
 
-fn wild(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/wild/meshes")
-        .join(rel)
-}
+use common::{mesh_scene as scene_with, wild_mesh as wild, wild_mesh_key as file_key};
 
 /// Area of the mesh's triangles (in its own units²).
 fn triangle_area(m: &Mesh) -> f64 {
@@ -195,7 +189,6 @@ fn unknown_mesh_types_are_refused() {
 #[test]
 fn concave_u_renders_its_true_area() {
     let dir = tempfile::tempdir().unwrap();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     std::fs::write(
         dir.path().join("u.obj"),
         "v 0 0 0\nv 30 0 0\nv 30 30 0\nv 20 30 0\nv 20 10 0\nv 10 10 0\nv 10 30 0\nv 0 30 0\n\
@@ -204,17 +197,12 @@ fn concave_u_renders_its_true_area() {
     .unwrap();
     let (h_m, half_width_m, width_px) = (200.0f64, 20.0f64, 256u32);
     let fov_deg = 2.0 * (half_width_m / h_m).atan().to_degrees();
-    let scene = format!(
-        "materials = [\"{}\"]\n\
-         [site]\nlatitude_deg = 43.0\nlongitude_deg = -77.0\nutc_offset_h = -4.0\n\
-         [time]\nlocal = 2001-08-08T12:00:00\n\
-         [weather.constant]\nwind_m_s = 1.0\nair_min_c = 15.0\nair_max_c = 25.0\ndew_point_c = 10.0\n\
-         [sensor]\nwidth_px = {width_px}\nheight_px = {width_px}\nfov_h_deg = {fov_deg}\nband = \"lwir\"\n\
-         [sensor.pose.altitude]\naltitude_m = {h_m}\nview_zenith_deg = 0.0\nazimuth_deg = 180.0\n\
-         target_m = [15.0, 15.0, 0.0]\n\
-         [render]\nhistory_hours = 2\n\
+    let scene = common::nadir_scene_head(
+        width_px,
+        fov_deg,
+        h_m,
+        "target_m = [15.0, 15.0, 0.0]\n[render]\nhistory_hours = 2\n\
          [[object]]\nfile = \"u.obj\"\n",
-        root.join("scenes/materials.toml").display()
     );
     let scene_path = dir.path().join("u.toml");
     std::fs::write(&scene_path, scene).unwrap();
@@ -232,30 +220,6 @@ fn concave_u_renders_its_true_area() {
     let (cx, cy) = (width_px / 2, width_px / 2 - 32);
     assert!(img.at("material", cx, cy) < 0.0, "the notch is filled");
     assert!(img.at("material", cx, width_px / 2 + 48) >= 0.0);
-}
-
-/// A scene around wild meshes: `objects` are `[[object]]` bodies.
-fn scene_with(dir: &Path, objects: &[String]) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut s = format!(
-        "materials = [\"{}\"]\n\
-         [site]\nlatitude_deg = 43.0\nlongitude_deg = -77.0\nutc_offset_h = -4.0\n\
-         [time]\nlocal = 2001-08-08T12:00:00\n\
-         [weather.constant]\nwind_m_s = 1.0\nair_min_c = 15.0\nair_max_c = 25.0\ndew_point_c = 10.0\n\
-         [sensor]\nwidth_px = 16\nheight_px = 16\nfov_h_deg = 10.0\nband = \"lwir\"\n\
-         [sensor.pose.altitude]\naltitude_m = 100.0\nview_zenith_deg = 0.0\nazimuth_deg = 180.0\n",
-        root.join("scenes/materials.toml").display()
-    );
-    for o in objects {
-        s.push_str(&format!("[[object]]\n{o}\n"));
-    }
-    let p = dir.join("scene.toml");
-    std::fs::write(&p, s).unwrap();
-    p
-}
-
-fn file_key(rel: &str) -> String {
-    format!("file = \"{}\"", wild(rel).display())
 }
 
 /// "9 of 11 real OBJ files fail inside a scene: material `Default` is not

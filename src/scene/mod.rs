@@ -442,8 +442,12 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                     mesh.error(
                         f.src,
                         format!(
-                            "face has no material: no `usemtl` before it, and object {} ({}) sets no \
-                             `material` (nor a `materials` entry \"*\")",
+                            "{}, and object {} ({}) sets no `material` (nor a `materials` entry \"*\")",
+                            if mesh.parts.is_empty() {
+                                "face has no material: no `usemtl` before it"
+                            } else {
+                                "the primitive has no `material`"
+                            },
                             oi + 1,
                             src.loc_of(&at)
                         ),
@@ -457,7 +461,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| format!("object{}", oi + 1))
         });
-        let transforms = o.local_transforms(origin);
+        let transforms = o.local_transforms(origin, mesh.default_up);
         let n_inst = transforms.len();
         for (k, xf) in transforms.iter().enumerate() {
             let object_id = objects.len() as u32;

@@ -182,16 +182,17 @@ fn de_datetime<'de, D: Deserializer<'de>>(d: D) -> Result<NaiveDateTime, D::Erro
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
-    /// Object name (default: the OBJ file stem).
+    /// Object name (default: the mesh file stem).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    /// OBJ file, relative to the scene file.
+    /// Mesh file (OBJ, glTF or GLB), relative to the scene file.
     pub file: PathBuf,
     /// Material for faces that come before any `usemtl` in the OBJ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
-    /// The mesh file's up axis (default: z, irsig's frame). A Y-up model
-    /// is turned into Z-up before the transform.
+    /// The mesh file's up axis (default: the format's, [`crate::scene::mesh::Mesh::default_up`]:
+    /// z, irsig's frame, for OBJ; y for glTF). A Y-up model is turned into
+    /// Z-up before the transform.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub up_axis: Option<UpAxis>,
     /// Object transform: scale, then rotate, then translate.
@@ -252,20 +253,22 @@ impl ObjectSpec {
             scale: self.scale,
         }
     }
-    /// World transforms of every instance (object ∘ instance).
-    pub fn world_transforms(&self) -> Vec<glam::DAffine3> {
-        self.local_transforms([0.0; 3])
+    /// World transforms of every instance (object ∘ instance) of a mesh
+    /// whose format's up axis is `default_up` (used when `up_axis` is not
+    /// set).
+    pub fn world_transforms(&self, default_up: UpAxis) -> Vec<glam::DAffine3> {
+        self.local_transforms([0.0; 3], default_up)
     }
 
     /// Transforms of every instance (object ∘ instance) into the frame
     /// whose origin is `origin_m` (world coordinates): the origin is taken
     /// off the object's translation before anything else, so an object
     /// and an origin moved together give the same local transform.
-    pub fn local_transforms(&self, origin_m: [f64; 3]) -> Vec<glam::DAffine3> {
+    pub fn local_transforms(&self, origin_m: [f64; 3], default_up: UpAxis) -> Vec<glam::DAffine3> {
         let mut t = self.transform();
         t.translate_m = std::array::from_fn(|i| t.translate_m[i] - origin_m[i]);
         let obj = t.affine();
-        let up = self.up_axis.unwrap_or_default().to_z_up();
+        let up = self.up_axis.unwrap_or(default_up).to_z_up();
         let place = |m: glam::DAffine3| up.map_or(m, |u| m * u);
         if self.instances.is_empty() {
             vec![place(obj)]

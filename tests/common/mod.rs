@@ -138,3 +138,47 @@ pub fn material_index(scene: &Path, name: &str) -> f32 {
         .position(|m| m.name == name)
         .unwrap_or_else(|| panic!("no material {name}")) as f32
 }
+
+/// A file of the mesh corpus, tests/data/wild/meshes/.
+pub fn wild_mesh(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/wild/meshes")
+        .join(rel)
+}
+
+/// `file = "<absolute path of a corpus mesh>"`.
+pub fn wild_mesh_key(rel: &str) -> String {
+    format!("file = \"{}\"", wild_mesh(rel).display())
+}
+
+/// The scene head shared by the mesh tests (the sample materials, a
+/// constant-weather noon in August at 43° N, the LWIR band) with the given
+/// `[sensor]` size and field of view, an `[sensor.pose.altitude]` nadir
+/// view from `altitude_m` (azimuth 180°: image top is north) and `extra`
+/// lines after the pose table.
+pub fn nadir_scene_head(width_px: u32, fov_deg: f64, altitude_m: f64, extra: &str) -> String {
+    format!(
+        "materials = [\"{}\"]\n\
+         [site]\nlatitude_deg = 43.0\nlongitude_deg = -77.0\nutc_offset_h = -4.0\n\
+         [time]\nlocal = 2001-08-08T12:00:00\n\
+         [weather.constant]\nwind_m_s = 1.0\nair_min_c = 15.0\nair_max_c = 25.0\ndew_point_c = 10.0\n\
+         [sensor]\nwidth_px = {width_px}\nheight_px = {width_px}\nfov_h_deg = {fov_deg}\nband = \"lwir\"\n\
+         [sensor.pose.altitude]\naltitude_m = {altitude_m}\nview_zenith_deg = 0.0\nazimuth_deg = 180.0\n\
+         {extra}",
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/materials.toml")
+            .display()
+    )
+}
+
+/// `dir/scene.toml`: a small nadir scene whose `[[object]]`s have the
+/// bodies `objects`.
+pub fn mesh_scene(dir: &Path, objects: &[String]) -> PathBuf {
+    let mut s = nadir_scene_head(16, 10.0, 100.0, "");
+    for o in objects {
+        s.push_str(&format!("[[object]]\n{o}\n"));
+    }
+    let p = dir.join("scene.toml");
+    std::fs::write(&p, s).unwrap();
+    p
+}

@@ -1,16 +1,18 @@
-//! Mesh files of `[[object]]`: Wavefront OBJ ([`obj`]) read into one
-//! polygon soup ([`Mesh`]) in the file's own coordinates, with every face
-//! triangulated ([`triangulate`]). The scene loader places a mesh with
+//! Mesh files of `[[object]]`: Wavefront OBJ ([`obj`]) and glTF 2.0
+//! ([`gltf`]: `.gltf`, `.glb`) read into one polygon soup ([`Mesh`]) in the
+//! file's own coordinates, with every face triangulated ([`triangulate`]). The scene loader places a mesh with
 //! the object's transform and maps its material names to the libraries'.
 //! Other geometry sources (terrain) can build a [`Mesh`] directly and
 //! call [`Mesh::triangulate`].
 
+pub mod gltf;
 pub mod obj;
 pub mod triangulate;
 
 use std::path::{Path, PathBuf};
 
 use super::error::{Location, SceneError};
+use super::spec::UpAxis;
 
 /// One polygon face.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +50,10 @@ pub struct Mesh {
     /// Things worth a note that do not stop the load (e.g. objects or
     /// groups with no faces), each naming the file.
     pub warnings: Vec<String>,
+    /// The format's up axis, used when the scene gives no `up_axis`: +z
+    /// (irsig's own frame) for OBJ, which has no convention; +y for glTF
+    /// (glTF 2.0 §3.4: +Y up, metres, right-handed).
+    pub default_up: UpAxis,
 }
 
 impl Mesh {
@@ -141,8 +147,9 @@ impl Mesh {
     }
 }
 
-/// Reads a mesh file, chosen by its extension (`.obj`), and triangulates
-/// it.
+/// Reads a mesh file, chosen by its extension (`.obj`, `.gltf`, `.glb`;
+/// any other that starts with the GLB magic `glTF` is read as GLB), and
+/// triangulates it.
 pub fn load(path: &Path) -> Result<Mesh, SceneError> {
     let ext = path
         .extension()
@@ -150,11 +157,14 @@ pub fn load(path: &Path) -> Result<Mesh, SceneError> {
         .unwrap_or_default();
     let mut mesh = match ext.as_str() {
         "obj" => obj::load_obj(path)?,
+        "gltf" | "glb" => self::gltf::load_gltf(path)?,
+        _ if is_glb(path) => self::gltf::load_gltf(path)?,
         _ => {
             return Err(SceneError::Obj {
                 loc: Location::file(path),
                 msg: format!(
-                    "unknown mesh file type `{}`: expected a Wavefront OBJ file (.obj)",
+                    "unknown mesh file type `{}`: expected a Wavefront OBJ file (.obj) or \
+                     glTF 2.0 (.gltf, .glb)",
                     if ext.is_empty() { "(none)" } else { &ext }
                 ),
             });
@@ -162,6 +172,16 @@ pub fn load(path: &Path) -> Result<Mesh, SceneError> {
     };
     mesh.triangulate()?;
     Ok(mesh)
+}
+
+/// Whether a file starts with the GLB magic (a missing or unreadable file
+/// is not: the loader then reports it as of unknown type).
+fn is_glb(path: &Path) -> bool {
+    use std::io::Read;
+    let mut magic = [0u8; 4];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut magic))
+        .is_ok_and(|()| &magic == b"glTF")
 }
 
 /// The text of a file that may be UTF-8 (with or without a byte-order
