@@ -12,7 +12,7 @@
 # TARGET       test names to run (default all): weather_plain_csv weather_tmy3
 #              weather_epw forcing_csv atmosphere_table scene_toml
 #              scene_overrides material_library obj_mesh response_csv
-#              emissivity_table psf_kernel dem_geotiff
+#              emissivity_table psf_kernel dem_geotiff gltf_mesh
 #
 # Each target prints "fuzz <target>: <cases> cases, <accepted> accepted,
 # <refused> refused, <seconds> s"; a failing input is shrunk and printed with

@@ -317,7 +317,10 @@ fn cited_documents_are_in_the_repository() {
             for e in std::fs::read_dir(&d).unwrap().flatten() {
                 let p = e.path();
                 if p.is_dir() {
-                    stack.push(p);
+                    // not hidden folders (a git-ignored tools/.venv)
+                    if !e.file_name().to_string_lossy().starts_with('.') {
+                        stack.push(p);
+                    }
                 } else if p
                     .extension()
                     .is_some_and(|x| x == "md" || x == "rs" || x == "py")

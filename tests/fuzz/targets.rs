@@ -670,8 +670,21 @@ fn psf_kernel() {
     });
 }
 
-/// Overwrites of 2 or 4 bytes at a position with values that break TIFF
-/// readers (counts, offsets, types, dimensions, tag values).
+/// Applies [`word_edits`]: each little-endian 16-bit (`wide` false) or
+/// 32-bit value written over the bytes at its position (modulo the length).
+fn overwrite_words(b: &mut [u8], words: &[(usize, u32, bool)]) {
+    for &(p, v, wide) in words {
+        let n = if wide { 4 } else { 2 };
+        if b.len() >= n {
+            let p = p % (b.len() - n + 1);
+            b[p..p + n].copy_from_slice(&v.to_le_bytes()[..n]);
+        }
+    }
+}
+
+/// Overwrites of 2 or 4 bytes at a position with values that break binary
+/// readers (TIFF, GLB: counts, offsets, lengths, types, dimensions, tag
+/// values).
 fn word_edits() -> impl Strategy<Value = Vec<(usize, u32, bool)>> {
     let value = prop_oneof![
         Just(0u32),
@@ -714,13 +727,7 @@ fn dem_geotiff() {
     let strategy = (mutation(seeds.len()), word_edits());
     campaign("dem-geotiff", strategy, |((k, edits), words), tally| {
         let mut b = apply(&seeds[k], &edits);
-        for (p, v, wide) in words {
-            let n = if wide { 4 } else { 2 };
-            if b.len() >= n {
-                let p = p % (b.len() - n + 1);
-                b[p..p + n].copy_from_slice(&v.to_le_bytes()[..n]);
-            }
-        }
+        overwrite_words(&mut b, &words);
         let r = match parse_raster(Path::new("d.tif"), &b) {
             Ok(r) => r,
             Err(e) => {
@@ -781,6 +788,69 @@ fn dem_geotiff() {
                         "error names neither the DEM nor the scene: {e}"
                     );
                 }
+            }
+        }
+        Ok(())
+    });
+}
+
+/// glTF 2.0 meshes (issue 14 item 3): the corpus's GLB files (Khronos Box,
+/// gltf-rs box_sparse with a morph target and sparse accessor, trimesh's
+/// scene with a node tree and a mirror) and `.gltf` JSON (external `.bin`,
+/// embedded base64 buffers, a sparse POSITION accessor, cameras) mutated by
+/// byte, number, token and line edits plus overwritten 16/32-bit words (GLB
+/// lengths, offsets, counts, indices, floats). Accepted meshes hold finite
+/// positions, triangles whose vertices exist, faces with a place and a
+/// known material; refusals name the file.
+#[test]
+fn gltf_mesh() {
+    let dir = "tests/data/wild/meshes";
+    let seeds = [
+        read(&format!("{dir}/khronos/Box.glb")),
+        read(&format!("{dir}/gltf-rs/box_sparse.glb")),
+        read(&format!("{dir}/trimesh/scene.glb")),
+        read(&format!("{dir}/khronos/Box.gltf")),
+        read(&format!("{dir}/khronos/SimpleSparseAccessor.gltf")),
+        read(&format!("{dir}/khronos/Cameras.gltf")),
+        read(&format!("{dir}/khronos/SimpleMeshes.gltf")),
+    ];
+    // beside Box0.bin, so that Box.gltf's buffer resolves
+    let path = root().join(dir).join("khronos/m.gltf");
+    for s in &seeds {
+        assert!(irsig::scene::mesh::gltf::parse_gltf(&path, s).is_ok());
+    }
+    let strategy = (mutation(seeds.len()), word_edits());
+    campaign("gltf", strategy, |((k, edits), words), tally| {
+        let mut b = apply(&seeds[k], &edits);
+        overwrite_words(&mut b, &words);
+        match irsig::scene::mesh::gltf::parse_gltf(&path, &b).and_then(|mut m| {
+            m.triangulate()?;
+            Ok(m)
+        }) {
+            Ok(m) => {
+                tally.ok();
+                require!(
+                    m.positions.iter().flatten().all(|v| v.is_finite()),
+                    "non-finite vertex accepted"
+                );
+                require!(
+                    m.triangles
+                        .iter()
+                        .flatten()
+                        .all(|&i| (i as usize) < m.positions.len()),
+                    "triangle index out of range"
+                );
+                require!(
+                    m.faces.iter().all(|f| f.verts.len() == 3
+                        && f.src < m.parts.len()
+                        && f.material
+                            .is_none_or(|k| (k as usize) < m.material_names.len())),
+                    "a face without a place or a known material"
+                );
+            }
+            Err(e) => {
+                tally.err();
+                names_file(&e.to_string(), "m.gltf")?;
             }
         }
         Ok(())

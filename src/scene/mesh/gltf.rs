@@ -50,6 +50,11 @@ const GEOMETRY_EXTENSIONS: &[(&str, &str)] = &[
     ("EXT_mesh_gpu_instancing", "GPU instancing of meshes"),
 ];
 
+/// The most elements an accessor without a buffer view (zeros, §3.6.2.4,
+/// perhaps with sparse substitutions) may have: nothing in the file bounds
+/// them otherwise.
+const MAX_ZERO_FILLED: usize = 1 << 24;
+
 /// Reads a `.gltf` or `.glb` file and its buffers.
 pub fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
@@ -92,6 +97,7 @@ pub fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
             path.display()
         ));
     }
+    check_position_indices(&root).map_err(fail)?;
     let doc = gl::Document::from_json(root).map_err(|e| crate_error(path, glb, e))?;
     // The crate keeps node transforms in single precision; they are read
     // again here in double (georeferenced models put large offsets there).
@@ -195,6 +201,28 @@ fn check_glb_header(b: &[u8]) -> Result<(), String> {
             "truncated GLB: the header declares {length} bytes, the file has {}",
             b.len()
         ));
+    }
+    Ok(())
+}
+
+/// POSITION accessor indices in range: gltf-json 1.4.1's validation looks
+/// the POSITION accessor up before it checks the index (a panic otherwise,
+/// found by the fuzz campaign).
+fn check_position_indices(root: &gl::json::Root) -> Result<(), String> {
+    let position = gl::json::validation::Checked::Valid(gl::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(i) = prim.attributes.get(&position)
+                && i.value() >= root.accessors.len()
+            {
+                return Err(format!(
+                    "invalid glTF: `meshes[{m}].primitives[{p}].attributes[\"POSITION\"]`: \
+                     accessor {} does not exist (the file has {})",
+                    i.value(),
+                    root.accessors.len()
+                ));
+            }
+        }
     }
     Ok(())
 }
@@ -538,6 +566,12 @@ impl Reader<'_> {
             return Err("`count` is 0: expected at least 1".into());
         }
         let elem = acc.size();
+        if acc.view().is_none() && acc.count() > MAX_ZERO_FILLED {
+            return Err(format!(
+                "{} elements without a `bufferView` (all zeros): expected at most {MAX_ZERO_FILLED}",
+                acc.count()
+            ));
+        }
         if let Some(view) = acc.view() {
             self.check_range(&view, acc.offset(), acc.count(), elem)
                 .map_err(|e| format!("buffer view {}: {e}", view.index()))?;
@@ -612,7 +646,13 @@ impl Reader<'_> {
         let k = buffer.index();
         if self.buffers[k].is_none() {
             let data = match buffer.source() {
-                gl::buffer::Source::Bin => self.blob.clone().ok_or_else(|| {
+                gl::buffer::Source::Bin if k > 0 => {
+                    return Err(format!(
+                        "buffer {k} has no `uri`: expected one (only buffer 0 may be the GLB's \
+                         BIN chunk)"
+                    ));
+                }
+                gl::buffer::Source::Bin => self.blob.take().ok_or_else(|| {
                     format!("buffer {k} is the GLB's BIN chunk, which the file does not have")
                 })?,
                 gl::buffer::Source::Uri(uri) => {
@@ -1015,6 +1055,16 @@ mod tests {
             .as_bytes());
         assert!(
             e.contains("m.gltf: invalid glTF: `nodes[0].mesh`: Index out of bounds"),
+            "{e}"
+        );
+        // a POSITION accessor that does not exist (a panic in gltf-json)
+        let e = err(b
+            .replace(r#""POSITION":0"#, r#""POSITION":65536"#)
+            .as_bytes());
+        assert!(
+            e.contains(
+                "`meshes[0].primitives[0].attributes[\"POSITION\"]`: accessor 65536 does not exist"
+            ),
             "{e}"
         );
         // the network is not read
