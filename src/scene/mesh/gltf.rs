@@ -908,6 +908,46 @@ mod tests {
         assert!((p(1) - p(0)).cross(p(2) - p(0)).z > 0.0);
     }
 
+    /// Positions interleaved with normals in one buffer view (`byteStride`
+    /// 24, POSITION at byte 12), as BoxInterleaved stores them.
+    #[test]
+    fn interleaved_attributes_are_read_at_their_stride() {
+        let mut data = Vec::new();
+        for p in &SQUARE[..3] {
+            for v in [0.0f32, 0.0, 1.0].iter().chain(p) {
+                data.extend(v.to_le_bytes());
+            }
+        }
+        let uri = base64::engine::general_purpose::STANDARD.encode(&data);
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":72,"uri":"data:application/octet-stream;base64,{uri}"}}],"bufferViews":[{{"buffer":0,"byteLength":72,"byteStride":24}}],"accessors":[{{"bufferView":0,"byteOffset":12,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],{}}}"#,
+            one(4, false)
+        );
+        let m = parse(json.as_bytes()).unwrap();
+        assert_eq!(
+            m.positions,
+            vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        // one byte less in the view: the last position overruns it
+        let e = err(json
+            .replace(
+                r#""byteLength":72,"byteStride""#,
+                r#""byteLength":71,"byteStride""#,
+            )
+            .as_bytes());
+        assert!(
+            e.contains("3 elements of 12 bytes every 24 from byte 12 overrun its `byteLength` 71"),
+            "{e}"
+        );
+        let e = err(json
+            .replace(r#""byteStride":24"#, r#""byteStride":8"#)
+            .as_bytes());
+        assert!(
+            e.contains("buffer view 0: `byteStride` 8 is smaller than an element (12 bytes)"),
+            "{e}"
+        );
+    }
+
     #[test]
     fn the_default_scene_else_scene_0_else_the_root_nodes() {
         let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
