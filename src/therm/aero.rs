@@ -341,7 +341,12 @@ impl Exchange {
         } else {
             self.free_cold
         };
-        blend_convection(forced, c * dt.abs().cbrt())
+        // blend_convection(forced, C·|ΔT|^(1/3)) with the free term cubed
+        // analytically, (C·|ΔT|^(1/3))³ = C³·|ΔT|: one cube root, not two
+        // (the flux and its central difference take three of these per
+        // Newton iteration; the cube roots were a third of the thermal
+        // stage's time).
+        (forced.powi(3) + c.powi(3) * dt.abs()).cbrt()
     }
 
     /// Sensible heat flux into the surface `h·(T_a − T_s)`, W/m², its
