@@ -72,14 +72,15 @@ pub struct FramePlanes<'a> {
 }
 
 impl<'a> FramePlanes<'a> {
-    /// Empty (NaN) planes of a `width`×`height` output image.
+    /// Empty planes of a `width`×`height` output image (filled band by
+    /// band, in order, by [`Self::fill_band`]).
     pub fn new(st: &'a Static, cond: &Conditions, width: u32, height: u32) -> Self {
         let npx = width as usize * height as usize;
         FramePlanes {
             st,
             width,
             height,
-            data: vec![vec![f32::NAN; npx]; NP],
+            data: (0..NP).map(|_| Vec::with_capacity(npx)).collect(),
             interval_h: cond.interval_s as f64 / 3600.0,
             lut: ApparentTempLut::new(&st.band),
         }
@@ -121,13 +122,14 @@ impl<'a> FramePlanes<'a> {
                 Ok((out, evaluated))
             })
             .collect::<anyhow::Result<_>>()?;
-        let start = row0 as usize * w;
+        // Bands come in order: each plane grows by the band's rows.
+        anyhow::ensure!(
+            self.data[0].len() == row0 as usize * w,
+            "bands out of order"
+        );
         self.data.par_iter_mut().enumerate().for_each(|(p, plane)| {
-            let dst = &mut plane[start..start + rows * w];
-            for (row, (vals, _)) in dst.chunks_mut(w).zip(&filled) {
-                for (d, v) in row.iter_mut().zip(vals) {
-                    *d = v[p];
-                }
+            for (vals, _) in &filled {
+                plane.extend(vals.iter().map(|v| v[p]));
             }
         });
         Ok(filled.iter().map(|(_, e)| e).sum())
@@ -205,6 +207,8 @@ impl<'a> FramePlanes<'a> {
     /// `sensor_radiance`.
     pub fn finish(self) -> anyhow::Result<Planes> {
         let st = self.st;
+        let npx = self.width as usize * self.height as usize;
+        anyhow::ensure!(self.data[0].len() == npx, "planes not filled");
         let (w, h) = (self.width, self.height);
         let mut p = Planes::new(w, h);
         let mut sr = self.data[0].clone();

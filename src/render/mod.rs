@@ -494,8 +494,8 @@ fn bands(sample_width: u32, sample_height: u32, n: u32) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) in
-/// row-major order: rows of blocks in parallel, the blocks of a row in
+/// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) into
+/// `out`, in row-major order: rows of blocks in parallel, the blocks of a row in
 /// parallel, each block's samples moved straight to their places (no
 /// whole-frame reorder).
 fn trace_band(
@@ -505,9 +505,12 @@ fn trace_band(
     (y0, y1): (u32, u32),
     c: &Counters,
     progress: &StageProgress,
-) -> Vec<Sample> {
+    out: &mut Vec<Sample>,
+) {
     let (w, h) = (cam.width_px, cam.height_px);
-    let mut out = vec![Sample::default(); ((y1 - y0) * w) as usize];
+    // The buffer of the band before is reused: every slot is overwritten,
+    // so only a longer band allocates (and fills) new samples.
+    out.resize(((y1 - y0) * w) as usize, Sample::default());
     out.par_chunks_mut((BLOCK * w) as usize)
         .enumerate()
         .for_each(|(r, rows)| {
@@ -530,7 +533,6 @@ fn trace_band(
                 }
             }
         });
-    out
 }
 
 /// Step 4 for every surface (primary and background) of `samples`.
@@ -577,7 +579,7 @@ fn for_each_band(
     cond: &Conditions,
     stats: &mut Stats,
     progress: ProgressFn,
-    mut each: impl FnMut(&mut Stats, (u32, u32), Vec<Sample>) -> anyhow::Result<()>,
+    mut each: impl FnMut(&mut Stats, (u32, u32), &mut Vec<Sample>) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
     let cam = sample_camera(st);
     let (w, h) = (cam.width_px, cam.height_px);
@@ -586,14 +588,15 @@ fn for_each_band(
     let trace_progress = StageProgress::new(progress, Stage::Trace, blocks);
     let therm_progress = StageProgress::new(progress, Stage::Thermal, (w * h) as u64);
     let counters = Counters::default();
+    let mut band = Vec::new();
     for rows in bands(w, h, n) {
         let t0 = Instant::now();
-        let mut band = trace_band(st, cond, &cam, rows, &counters, &trace_progress);
+        trace_band(st, cond, &cam, rows, &counters, &trace_progress, &mut band);
         cancel::check()?;
         stats.seconds.trace += t0.elapsed().as_secs_f64();
         stats.samples += band.len() as u64;
         solve_temperatures(st, cond, &mut band, stats, &therm_progress)?;
-        each(stats, rows, band)?;
+        each(stats, rows, &mut band)?;
     }
     counters.flush(stats);
     Ok(())
@@ -620,8 +623,8 @@ pub fn trace_frame_with(
     let cam = sample_camera(st);
     let (w, h) = (cam.width_px, cam.height_px);
     let mut samples = Vec::with_capacity((w * h) as usize);
-    for_each_band(st, cond, stats, progress, |_, _, mut band| {
-        samples.append(&mut band);
+    for_each_band(st, cond, stats, progress, |_, _, band| {
+        samples.append(band);
         Ok(())
     })?;
     Ok((samples, w, h))
@@ -705,22 +708,16 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
         sw as u64 * cam.height_px as u64,
     );
     let mut kept = Vec::new();
-    for_each_band(
-        st,
-        cond,
-        &mut stats,
-        progress,
-        |stats, (y0, _), mut band| {
-            let t2 = Instant::now();
-            stats.radiometry_samples +=
-                planes.fill_band(&ctx, &band, sw, y0 / n, n, &|k| radiometry.add(k))?;
-            stats.seconds.radiometry += t2.elapsed().as_secs_f64();
-            if st.keep_samples {
-                kept.append(&mut band);
-            }
-            Ok(())
-        },
-    )?;
+    for_each_band(st, cond, &mut stats, progress, |stats, (y0, _), band| {
+        let t2 = Instant::now();
+        stats.radiometry_samples +=
+            planes.fill_band(&ctx, band, sw, y0 / n, n, &|k| radiometry.add(k))?;
+        stats.seconds.radiometry += t2.elapsed().as_secs_f64();
+        if st.keep_samples {
+            kept.append(band);
+        }
+        Ok(())
+    })?;
     let t3 = Instant::now();
     let planes = planes.finish()?;
     pixel::check_finite(&planes)?;
