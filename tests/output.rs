@@ -1,7 +1,7 @@
 //! Output writers: EXR round trip, ENVI header/cube, PNG stretch, atomicity.
 
 use irsig::output::envi::write_envi;
-use irsig::output::exr::{read_exr, write_exr};
+use irsig::output::exr::{ExrCompression, read_exr, write_exr};
 use irsig::output::quicklook::{Stretch, percentile_stretch, to_grey, write_png};
 use irsig::output::set::remove_stale_partials;
 use irsig::output::{OutputSet, Planes, write_atomic};
@@ -58,7 +58,7 @@ fn exr_round_trips_every_plane_exactly() {
     let path = dir.path().join("x.exr");
     let p = planes_with_truth();
     let mut set = OutputSet::new(&path).unwrap();
-    write_exr(&mut set, &path, &p, &[]).unwrap();
+    write_exr(&mut set, &path, &p, &[], ExrCompression::default()).unwrap();
     set.commit().unwrap();
     let (w, h, chans) = read_exr(&path).unwrap();
     assert_eq!((w, h), (7, 5));
@@ -102,7 +102,7 @@ fn exr_groups_channels_types_integers_and_states_units() {
         ),
         ("sun_zenith_deg".to_string(), Attr::F64(31.25)),
     ];
-    write_exr(&mut set, &path, &p, &attrs).unwrap();
+    write_exr(&mut set, &path, &p, &attrs, ExrCompression::default()).unwrap();
     set.commit().unwrap();
     let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
     let chans: Vec<(String, exr::meta::attribute::SampleType)> = meta.headers[0]
@@ -151,18 +151,145 @@ fn exr_bytes_are_reproducible() {
     let attrs: Vec<(String, Attr)> = (0..20)
         .map(|i| (format!("key_{i}"), Attr::F64(i as f64)))
         .collect();
-    let bytes: Vec<Vec<u8>> = (0..3)
-        .map(|k| {
-            let path = dir.path().join(format!("x{k}.exr"));
-            let mut set = OutputSet::new(&path).unwrap();
-            write_exr(&mut set, &path, &p, &attrs).unwrap();
-            set.commit().unwrap();
-            std::fs::read(&path).unwrap()
+    for c in ExrCompression::ALL {
+        let bytes: Vec<Vec<u8>> = (0..3)
+            .map(|k| {
+                let path = dir.path().join(format!("{c}{k}.exr"));
+                let mut set = OutputSet::new(&path).unwrap();
+                write_exr(&mut set, &path, &p, &attrs, c).unwrap();
+                set.commit().unwrap();
+                std::fs::read(&path).unwrap()
+            })
+            .collect();
+        assert!(bytes[0] == bytes[1] && bytes[1] == bytes[2], "{c}");
+        let (_, _, chans) = read_exr(&dir.path().join(format!("{c}2.exr"))).unwrap();
+        assert_eq!(chans.len(), p.planes.len());
+    }
+}
+
+/// Planes large enough that every compression shrinks some blocks (flat
+/// areas, smooth ramps, noise) and with float values that a lossy or
+/// NaN-mangling codec would alter: NaN, ±0, ±inf, subnormals, extremes.
+fn planes_to_compress() -> Planes {
+    let (w, h) = (97usize, 70usize); // partial blocks of 16 and 32 lines
+    let mut p = Planes::new(w as u32, h as u32);
+    let special = [
+        f32::NAN,
+        -0.0,
+        0.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MIN_POSITIVE / 8.0,
+        f32::MAX,
+        f32::MIN,
+        f32::EPSILON,
+    ];
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut noise = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let temp: Vec<f32> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32, (i / w) as f32);
+            if i % 53 == 0 {
+                special[(i / 53) % special.len()]
+            } else if y < 20.0 {
+                300.0
+            } else {
+                280.0 + 0.1 * x + 0.05 * y + noise()
+            }
         })
         .collect();
-    assert!(bytes[0] == bytes[1] && bytes[1] == bytes[2]);
-    let (_, _, chans) = read_exr(&dir.path().join("x2.exr")).unwrap();
-    assert_eq!(chans.len(), p.planes.len());
+    p.push("apparent_temperature", "K", temp);
+    p.push(
+        "band_radiance",
+        "W m-2 sr-1 um-1",
+        (0..w * h).map(|_| 1e-3 * noise()).collect(),
+    );
+    p.push(
+        "material",
+        "index (-1 none)",
+        (0..w * h)
+            .map(|i| {
+                if i < w * 9 {
+                    -1.0
+                } else {
+                    ((i / 300) % 4) as f32
+                }
+            })
+            .collect(),
+    );
+    p.push(
+        "facet",
+        "triangle index (-1 none)",
+        (0..w * h)
+            .map(|i| {
+                if i % 7 == 0 {
+                    -1.0
+                } else {
+                    (i * 7919 % 100_003) as f32
+                }
+            })
+            .collect(),
+    );
+    p
+}
+
+/// Every offered compression is lossless: each plane reads back bit for
+/// bit (NaN payloads, signed zeros, infinities and subnormals included),
+/// the header names the compression asked for, and the codecs do shrink
+/// the file below the uncompressed one (so each one really ran).
+#[test]
+fn exr_every_compression_round_trips_bit_exactly() {
+    use exr::prelude::Compression as C;
+    let dir = tempfile::tempdir().unwrap();
+    let p = planes_to_compress();
+    let mut sizes = Vec::new();
+    for (c, header) in
+        ExrCompression::ALL
+            .into_iter()
+            .zip([C::Uncompressed, C::RLE, C::ZIP1, C::ZIP16, C::PIZ])
+    {
+        let path = dir.path().join(format!("{c}.exr"));
+        let mut set = OutputSet::new(&path).unwrap();
+        write_exr(&mut set, &path, &p, &[], c).unwrap();
+        set.commit().unwrap();
+        let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+        assert_eq!(meta.headers[0].compression, header, "{c}");
+        let (w, h, chans) = read_exr(&path).unwrap();
+        assert_eq!((w, h), (p.width, p.height));
+        assert_eq!(chans.len(), p.planes.len());
+        for plane in &p.planes {
+            let (_, data) = chans.iter().find(|(n, _)| n == &plane.name).unwrap();
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert!(bits(data) == bits(&plane.data), "{c}: {}", plane.name);
+        }
+        sizes.push((c, std::fs::metadata(&path).unwrap().len()));
+    }
+    let none = sizes[0].1;
+    for &(c, size) in &sizes[1..] {
+        assert!(size < none, "{c}: {size} B, uncompressed {none} B");
+    }
+}
+
+#[test]
+fn exr_compression_names_parse_and_unknown_ones_are_refused() {
+    for c in ExrCompression::ALL {
+        assert_eq!(c.name().parse::<ExrCompression>(), Ok(c));
+    }
+    let e = "zip16".parse::<ExrCompression>().unwrap_err();
+    assert_eq!(
+        e,
+        "unknown EXR compression \"zip16\"; expected one of none, rle, zips, zip, piz"
+    );
+    let e = "pxr24".parse::<ExrCompression>().unwrap_err();
+    assert!(
+        e.contains("lossy") && e.ends_with("none, rle, zips, zip, piz"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 
 import irsig
-from conftest import AIRFIELD, SMALL, bits
+from conftest import AIRFIELD, SMALL, bits, read_exr, run_cli, set_args
 
 
 @pytest.fixture(scope="module")
@@ -122,3 +122,32 @@ def test_dict_overrides_are_inline_tables():
     assert a.check()["camera"] == b.check()["camera"] != irsig.Scene.load(AIRFIELD).check()["camera"]
     c = a.with_overrides({"sensor.width_px": 32})
     assert c.size == (32, a.size[1]) and c.check()["camera"]["forward"] == a.check()["camera"]["forward"]
+
+
+@pytest.mark.parametrize("compression", ["none", "rle", "zips", "zip", "piz"])
+def test_every_exr_compression_reads_back_bit_for_bit(compression, cli_small, tmp_path):
+    """OpenEXR's reference library reads each of `--exr-compression`'s
+    (lossless) options to the same bits as the default file."""
+    import OpenEXR
+
+    out = tmp_path / f"{compression}.exr"
+    run_cli("render", AIRFIELD, "-o", out, "--exr-compression", compression, *set_args(SMALL))
+    with OpenEXR.File(str(out)) as f:
+        assert f.header()["compression"].name == {
+            "none": "NO_COMPRESSION",
+            "rle": "RLE_COMPRESSION",
+            "zips": "ZIPS_COMPRESSION",
+            "zip": "ZIP_COMPRESSION",
+            "piz": "PIZ_COMPRESSION",
+        }[compression]
+    exr, default = read_exr(out), cli_small[0]
+    assert sorted(exr) == sorted(default)
+    for name, a in default.items():
+        assert np.array_equal(bits(exr[name]), bits(a)), name
+
+
+def test_unknown_exr_compression_is_refused_with_the_valid_names(tmp_path):
+    p = run_cli("render", AIRFIELD, "-o", tmp_path / "x.exr", "--exr-compression", "pxr24", check=False)
+    assert p.returncode != 0
+    assert "expected one of none, rle, zips, zip, piz" in p.stderr
+    assert not (tmp_path / "x.exr").exists()

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use super::log::{ProgressReporter, note};
+use crate::output::exr::ExrCompression;
 use crate::output::frame::{Formats, write_rendered};
 use crate::render::{Progress, prepare_conditions, prepare_static, render_conditions};
 use crate::trace::Backend;
@@ -47,6 +48,11 @@ pub struct Args {
     /// affected.
     #[arg(long, value_delimiter = ',', value_name = "PLANE,...")]
     pub planes: Vec<String>,
+    /// The EXR's compression, all lossless: none, rle, zips (zlib per scan
+    /// line), zip (zlib per 16 lines), piz (wavelet). The default was chosen
+    /// by measured write time and size (BENCHMARKS.md, "EXR compression").
+    #[arg(long, value_name = "none|rle|zips|zip|piz", default_value_t = ExrCompression::default())]
+    pub exr_compression: ExrCompression,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,
@@ -77,7 +83,9 @@ use crate::render::thread_pool;
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
-    let formats = Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?.with_planes(&a.planes)?;
+    let mut formats =
+        Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?.with_planes(&a.planes)?;
+    formats.exr_compression = a.exr_compression;
     crate::output::check_output_file(&a.output)?;
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;

@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 
 use super::render::parse_overrides;
+use crate::output::exr::ExrCompression;
 use crate::output::sequence::{FrameDone, SequenceOutput, write_sequence};
 use crate::render::sequence::{FramePlan, plan_sequence, plan_sweep, scene_text, time_steps};
 use crate::render::sequence::{parse_local_time, parse_step_s};
@@ -34,6 +35,9 @@ pub struct Common {
     /// Also write an ENVI BSQ float32 cube of every plane per frame.
     #[arg(long)]
     pub envi: bool,
+    /// The EXRs' compression (lossless; see `irsig render --help`).
+    #[arg(long, value_name = "none|rle|zips|zip|piz", default_value_t = ExrCompression::default())]
+    pub exr_compression: ExrCompression,
     /// Render every frame, even those already complete in the output
     /// folder from an earlier run of the same scene (by default such
     /// frames, e.g. of a killed run, are kept and not rendered again).
@@ -119,6 +123,7 @@ fn run_frames(
         key: key.map(str::to_string),
         scene: c.scene.display().to_string(),
         envi: c.envi,
+        exr_compression: c.exr_compression,
     };
     let pool = thread_pool(c.threads)?;
     let n = plans.len();

@@ -18,8 +18,8 @@ use std::path::Path;
 
 use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, WritableImage,
-    read_first_flat_layer_from_file,
+    AnyChannel, AnyChannels, Blocks, Encoding, FlatSamples, Image, Layer, LayerAttributes,
+    LineOrder, WritableImage, read_first_flat_layer_from_file,
 };
 
 use super::{OutputError, OutputSet, Plane, Planes};
@@ -141,8 +141,97 @@ impl exr::image::write::samples::SamplesWriter for PlaneWriter<'_, '_> {
     }
 }
 
-/// Writes all planes as channels of a single-part EXR (ZIP compression,
-/// lossless) at `path`, as a file of the output set `out`, with the
+/// The compression of an EXR's pixel blocks (OpenEXR Technical
+/// Introduction, "Data Compression"). Only the options that are lossless
+/// for irsig's 32-bit float and UINT channels are offered: PXR24 rounds
+/// float channels to 24 bits, B44/B44A are lossy for half floats (and
+/// leave 32-bit channels uncompressed), DWAA/DWAB are lossy — all refused.
+/// The default is chosen by measurement (BENCHMARKS.md, "EXR compression").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ExrCompression {
+    /// Uncompressed.
+    None,
+    /// Run-length encoding, one scan line per block.
+    Rle,
+    /// zlib (deflate) of one scan line per block (OpenEXR's ZIPS): the
+    /// default, the fastest to write and read of the three that shrink
+    /// irsig's planes to a fifth (2048² airfield: 2.6 s against 4.9 s for
+    /// ZIP, 0.3 % larger; BENCHMARKS.md).
+    #[default]
+    Zips,
+    /// zlib of 16 scan lines per block (OpenEXR's ZIP).
+    Zip,
+    /// Wavelet + Huffman (PIZ), 32 scan lines per block.
+    Piz,
+}
+
+impl ExrCompression {
+    /// Every option, in the order the help lists them.
+    pub const ALL: [ExrCompression; 5] = [
+        ExrCompression::None,
+        ExrCompression::Rle,
+        ExrCompression::Zips,
+        ExrCompression::Zip,
+        ExrCompression::Piz,
+    ];
+
+    /// The option's name on the command line and in the scene.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExrCompression::None => "none",
+            ExrCompression::Rle => "rle",
+            ExrCompression::Zips => "zips",
+            ExrCompression::Zip => "zip",
+            ExrCompression::Piz => "piz",
+        }
+    }
+
+    /// The exr crate's compression.
+    fn exr(self) -> exr::compression::Compression {
+        use exr::compression::Compression as C;
+        match self {
+            ExrCompression::None => C::Uncompressed,
+            ExrCompression::Rle => C::RLE,
+            ExrCompression::Zips => C::ZIP1,
+            ExrCompression::Zip => C::ZIP16,
+            ExrCompression::Piz => C::PIZ,
+        }
+    }
+}
+
+impl std::fmt::Display for ExrCompression {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ExrCompression {
+    type Err = String;
+
+    /// Parses a name of [`ExrCompression::ALL`]; the error lists them (and
+    /// says why the lossy OpenEXR options are not among them).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                let why = if ["pxr24", "b44", "b44a", "dwaa", "dwab"].contains(&s) {
+                    " (lossy for irsig's 32-bit float planes)"
+                } else {
+                    ""
+                };
+                format!(
+                    "unknown EXR compression {s:?}{why}; expected one of {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+/// Writes all planes as channels of a single-part EXR (lossless
+/// `compression`) at `path`, as a file of the output set `out`, with the
 /// header attributes `attrs` (each stored as `irsig.<key>`) besides the
 /// units and version that every file gets.
 pub fn write_exr(
@@ -150,9 +239,11 @@ pub fn write_exr(
     path: &Path,
     planes: &Planes,
     attrs: &[(String, Attr)],
+    compression: ExrCompression,
 ) -> Result<(), OutputError> {
     let all: Vec<&Plane> = planes.planes.iter().collect();
-    write_exr_planes(out, path, (planes.width, planes.height), &all, attrs)
+    let size = (planes.width, planes.height);
+    write_exr_planes(out, path, size, &all, attrs, compression)
 }
 
 /// [`write_exr`] of some planes of one size (`size` = width, height).
@@ -162,6 +253,7 @@ pub fn write_exr_planes(
     size: (u32, u32),
     planes: &[&Plane],
     attrs: &[(String, Attr)],
+    compression: ExrCompression,
 ) -> Result<(), OutputError> {
     let size = (size.0 as usize, size.1 as usize);
     let mut other: HashMap<Text, AttributeValue> = HashMap::new();
@@ -211,10 +303,15 @@ pub fn write_exr_planes(
         format!("irsig {}", crate::version::LONG_VERSION).as_str(),
     ));
     layer_attrs.other = other;
+    let encoding = Encoding {
+        compression: compression.exr(),
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
     let layer = Layer::new(
         size,
         layer_attrs,
-        Encoding::SMALL_LOSSLESS,
+        encoding,
         AnyChannels::sort(channels.into_iter().collect()),
     );
     let image = Image::from_layer(layer);

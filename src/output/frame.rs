@@ -21,7 +21,7 @@ use anyhow::bail;
 use serde::Serialize;
 
 use super::envi::{list, write_cube};
-use super::exr::{Attr, write_exr, write_exr_planes};
+use super::exr::{Attr, ExrCompression, write_exr, write_exr_planes};
 use super::geotiff::{Band, Placement, placement, write_geotiff};
 use super::{OutputSet, quicklook::write_png};
 use crate::render::{Frame, Rendered, Stats};
@@ -37,6 +37,8 @@ pub struct Formats {
     /// The planes the EXR and the GeoTIFF hold (`None`: all; the ENVI
     /// cubes, the PNG and the geolocation are not affected).
     pub planes: Option<Vec<String>>,
+    /// The EXR's compression (lossless).
+    pub exr_compression: ExrCompression,
 }
 
 impl Formats {
@@ -51,7 +53,7 @@ impl Formats {
             exr,
             geotiff,
             envi,
-            planes: None,
+            ..Default::default()
         };
         match ext.as_deref() {
             Some("exr") => f.exr = true,
@@ -164,7 +166,7 @@ pub fn write_frame(
     let json_path = exr.with_extension("json");
     let mut set = OutputSet::new(&json_path)?;
     let p = &frame.planes;
-    write_exr(&mut set, exr, p, &[])?;
+    write_exr(&mut set, exr, p, &[], ExrCompression::default())?;
     let ql = p
         .get("sensor_radiance")
         .expect("render writes sensor_radiance");
@@ -417,7 +419,14 @@ pub fn write_rendered(
             let t: Vec<String> = t.iter().map(|v| v.to_string()).collect();
             attrs.push(("geotransform".into(), Attr::Text(t.join(" "))));
         }
-        write_exr_planes(&mut set, &path.with_extension("exr"), (w, h), &kept, &attrs)?;
+        write_exr_planes(
+            &mut set,
+            &path.with_extension("exr"),
+            (w, h),
+            &kept,
+            &attrs,
+            formats.exr_compression,
+        )?;
     }
     if formats.geotiff {
         let bands: Vec<Band<f32>> = kept

@@ -171,6 +171,8 @@ pub struct SequenceOutput {
     pub scene: String,
     /// Also write an ENVI cube per frame.
     pub envi: bool,
+    /// The frames' EXR compression.
+    pub exr_compression: super::exr::ExrCompression,
 }
 
 impl SequenceOutput {
@@ -185,14 +187,15 @@ impl SequenceOutput {
     }
 
     /// What a finished frame of `plan` records as its job: the plan's job
-    /// (scene, value, time), the command, key, ENVI option and irsig
-    /// version.
+    /// (scene, value, time), the command, key, ENVI option, EXR compression
+    /// and irsig version.
     pub fn job(&self, plan: &FramePlan) -> serde_json::Value {
         serde_json::json!({
             "irsig": env!("CARGO_PKG_VERSION"),
             "command": self.command,
             "key": self.key,
             "envi": self.envi,
+            "exr_compression": self.exr_compression.name(),
             "plan": plan.job,
         })
     }
@@ -264,6 +267,7 @@ pub fn write_frame(
         geotiff: false,
         envi: out.envi,
         planes: None,
+        exr_compression: out.exr_compression,
     };
     write_rendered(&exr, &f.image, formats, Some(frame_info))?;
     Ok(entry)
