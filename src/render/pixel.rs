@@ -596,20 +596,58 @@ pub struct ApparentTempLut {
     radiance: Vec<f64>,
     /// dL/dT at the nodes times the step: the Hermite tangents per cell.
     tangent: Vec<f64>,
+    /// Where to look for a radiance's cell: buckets uniform in ln L from
+    /// `ln_lo` by `ln_step`, each the index of the first node at or above
+    /// the bucket's lower edge (a search of one or two nodes instead of a
+    /// bisection of the whole table; the cell found is the same).
+    bucket_start: Vec<u32>,
+    ln_lo: f64,
+    ln_step: f64,
 }
+
+/// Buckets of [`ApparentTempLut::bucket_start`].
+const LUT_BUCKETS: usize = 4096;
 
 impl ApparentTempLut {
     pub fn new(band: &crate::radiometry::Band) -> Self {
         let (t0_k, dt_k, n) = (100.0, 0.25, 3601);
         let temps: Vec<f64> = (0..n).map(|i| t0_k + dt_k * i as f64).collect();
-        let radiance = temps.iter().map(|&t| band.planck_w_m2_sr_um(t)).collect();
+        let radiance: Vec<f64> = temps.iter().map(|&t| band.planck_w_m2_sr_um(t)).collect();
         let tangent = temps.iter().map(|&t| band.planck_dt(t) * dt_k).collect();
+        let ln_lo = radiance[0].max(f64::MIN_POSITIVE).ln();
+        let ln_step = (radiance[n - 1].max(f64::MIN_POSITIVE).ln() - ln_lo) / LUT_BUCKETS as f64;
+        // (no buckets for a degenerate table: every search bisects)
+        let usable = ln_step.is_finite() && ln_step > 0.0;
+        let bucket_start = (0..=LUT_BUCKETS)
+            .filter(|_| usable)
+            .map(|b| {
+                let edge = ln_lo + ln_step * b as f64;
+                radiance.partition_point(|&x| x.ln() < edge) as u32
+            })
+            .collect();
         ApparentTempLut {
             t0_k,
             dt_k,
             radiance,
             tangent,
+            bucket_start,
+            ln_lo,
+            ln_step,
         }
+    }
+
+    /// The index of the first node above `l` (`partition_point(x <= l)` of
+    /// the whole table), searched in `l`'s bucket (one node of margin on
+    /// each side against rounding in ln).
+    fn upper_node(&self, l: f64) -> usize {
+        let r = &self.radiance;
+        let b = ((l.ln() - self.ln_lo) / self.ln_step) as isize;
+        if self.bucket_start.is_empty() || b < 0 || b as usize >= LUT_BUCKETS {
+            return r.partition_point(|&x| x <= l);
+        }
+        let lo = (self.bucket_start[b as usize] as usize).saturating_sub(1);
+        let hi = (self.bucket_start[b as usize + 1] as usize + 1).min(r.len());
+        lo + r[lo..hi].partition_point(|&x| x <= l)
     }
 
     pub fn apparent_temp_k(&self, band: &crate::radiometry::Band, l: f64) -> Option<f64> {
@@ -617,7 +655,7 @@ impl ApparentTempLut {
         if !(l > r[0] && l < r[r.len() - 1]) {
             return band.apparent_temp_k(l);
         }
-        let i = r.partition_point(|&x| x <= l).clamp(1, r.len() - 1);
+        let i = self.upper_node(l).clamp(1, r.len() - 1);
         let (y0, y1) = (r[i - 1], r[i]);
         let (m0, m1) = (self.tangent[i - 1], self.tangent[i]);
         // p(u) = h00 y0 + h10 m0 + h01 y1 + h11 m1, u in [0, 1]; monotone
@@ -698,6 +736,14 @@ mod tests {
                 t += 0.37;
             }
             assert!(worst < 1e-6, "{}: worst |ΔT| = {worst} K", resp.label);
+            // The bucketed search finds the cell a bisection of the whole
+            // table finds, at and between every node.
+            let r = &lut.radiance;
+            for i in 1..r.len() {
+                for l in [r[i - 1], 0.5 * (r[i - 1] + r[i]), r[i].next_down()] {
+                    assert_eq!(lut.upper_node(l), r.partition_point(|&x| x <= l), "{l}");
+                }
+            }
             // Outside the table: the band's solver answers.
             let l = band.planck_w_m2_sr_um(2000.0);
             assert!((lut.apparent_temp_k(&band, l).unwrap() - 2000.0).abs() < 1e-6);
