@@ -516,17 +516,7 @@ fn obj_mesh() {
         }) {
             Ok(m) => {
                 tally.ok();
-                require!(
-                    m.positions.iter().flatten().all(|v| v.is_finite()),
-                    "non-finite vertex accepted"
-                );
-                require!(
-                    m.triangles
-                        .iter()
-                        .flatten()
-                        .all(|&i| (i as usize) < m.positions.len()),
-                    "triangle index out of range"
-                );
+                mesh_is_sound(&m)?;
                 require!(
                     m.tri_face.iter().all(|&f| (f as usize) < m.faces.len()),
                     "triangle's face out of range"
@@ -539,6 +529,23 @@ fn obj_mesh() {
         }
         Ok(())
     });
+}
+
+/// The oracle shared by the mesh readers: an accepted mesh has finite
+/// vertices and triangles that index them.
+fn mesh_is_sound(m: &irsig::scene::mesh::Mesh) -> R {
+    require!(
+        m.positions.iter().flatten().all(|v| v.is_finite()),
+        "non-finite vertex accepted"
+    );
+    require!(
+        m.triangles
+            .iter()
+            .flatten()
+            .all(|&i| (i as usize) < m.positions.len()),
+        "triangle index out of range"
+    );
+    Ok(())
 }
 
 const RESPONSES: &[&str] = &[
@@ -829,17 +836,7 @@ fn gltf_mesh() {
         }) {
             Ok(m) => {
                 tally.ok();
-                require!(
-                    m.positions.iter().flatten().all(|v| v.is_finite()),
-                    "non-finite vertex accepted"
-                );
-                require!(
-                    m.triangles
-                        .iter()
-                        .flatten()
-                        .all(|&i| (i as usize) < m.positions.len()),
-                    "triangle index out of range"
-                );
+                mesh_is_sound(&m)?;
                 require!(
                     m.faces.iter().all(|f| f.verts.len() == 3
                         && f.src < m.parts.len()
