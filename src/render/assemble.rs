@@ -18,36 +18,12 @@ use smallvec::SmallVec;
 
 use super::Sample;
 use super::pixel::{self, ApparentTempLut, RadiometryContext, SampleResult};
-use super::planes::Planes;
+use super::planes::{FIRST_TERM, PIXEL_PLANES, PLANES, Planes};
 use super::prepare::{Conditions, Static};
 use crate::radiometry::RadianceTerms;
 
-const RADIANCE: &str = "W m-2 sr-1 um-1";
-
-/// The planes filled pixel by pixel, in output order (the sensor adds
-/// `dn` and `sensor_radiance` after them).
-const PIXEL_PLANES: [(&str, &str); 19] = [
-    ("band_radiance", RADIANCE),
-    ("apparent_temperature", "K"),
-    ("surface_temperature", "K"),
-    ("material", "index (-1 none)"),
-    ("facet", "triangle index (-1 none)"),
-    ("sun_now", "fraction"),
-    ("hours_sunlit", "h"),
-    ("range", "m"),
-    ("ground_x", "m"),
-    ("ground_y", "m"),
-    ("ground_z", "m"),
-    ("view_angle", "deg"),
-    ("case", "eq. 1-4 (0 outside)"),
-    ("emitted", RADIANCE),
-    ("reflected_solar", RADIANCE),
-    ("reflected_sky", RADIANCE),
-    ("reflected_background", RADIANCE),
-    ("path_thermal", RADIANCE),
-    ("path_scattered", RADIANCE),
-];
-const NP: usize = PIXEL_PLANES.len();
+/// The planes filled pixel by pixel ([`PLANES`] up to `dn`).
+const NP: usize = PIXEL_PLANES;
 
 /// Each radiometric term plane from a sample's terms (the order of
 /// [`super::planes::TERM_PLANES`]).
@@ -65,7 +41,8 @@ pub struct FramePlanes<'a> {
     st: &'a Static,
     width: u32,
     height: u32,
-    /// One vector per [`PIXEL_PLANES`] entry, `width`×`height`, row-major.
+    /// One vector per pixel-made entry of [`PLANES`], `width`×`height`,
+    /// row-major.
     data: Vec<Vec<f32>>,
     interval_h: f64,
     lut: ApparentTempLut,
@@ -135,7 +112,7 @@ impl<'a> FramePlanes<'a> {
         Ok(filled.iter().map(|(_, e)| e).sum())
     }
 
-    /// Every [`PIXEL_PLANES`] value of one output pixel from its n×n
+    /// Every pixel-made [`PLANES`] value of one output pixel from its n×n
     /// samples (row-major); also the number of samples evaluated.
     fn pixel(
         &self,
@@ -197,7 +174,7 @@ impl<'a> FramePlanes<'a> {
         v[11] = mean(&|k| res(k).view_angle_deg);
         v[12] = res(c).case as f32;
         for (t, f) in TERMS.iter().enumerate() {
-            v[13 + t] = mean(&|k| f(&res(k).terms));
+            v[FIRST_TERM + t] = mean(&|k| f(&res(k).terms));
         }
         Ok((v, results.len()))
     }
@@ -212,7 +189,7 @@ impl<'a> FramePlanes<'a> {
         let (w, h) = (self.width, self.height);
         let mut p = Planes::new(w, h);
         let mut sr = self.data[0].clone();
-        for ((name, unit), data) in PIXEL_PLANES.iter().zip(self.data) {
+        for ((name, unit), data) in PLANES.iter().zip(self.data) {
             p.push(name, unit, data);
         }
         let sensor = &st.scene.scene.sensor;
@@ -271,13 +248,50 @@ impl<'a> FramePlanes<'a> {
                     crate::sensor::quantise::Quantiser::spanning(q.bits, lo, hi)
                 }
             };
+            let (dn, counts) = PLANES[NP];
             p.push(
-                "dn",
-                "counts",
+                dn,
+                counts,
                 sr.par_iter().map(|&v| quant.dn(v as f64) as f32).collect(),
             );
         }
-        p.push("sensor_radiance", RADIANCE, sr);
+        let (name, unit) = PLANES[NP + 1];
+        p.push(name, unit, sr);
         Ok(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::planes::{PLANE_NAMES, TERM_PLANES};
+
+    /// The indices [`FramePlanes::pixel`] and [`FramePlanes::finish`] write
+    /// are the planes [`PLANES`] names there.
+    #[test]
+    fn pixel_values_land_in_their_named_planes() {
+        let at = [
+            (0, "band_radiance"),
+            (1, "apparent_temperature"),
+            (2, "surface_temperature"),
+            (3, "material"),
+            (4, "facet"),
+            (5, "sun_now"),
+            (6, "hours_sunlit"),
+            (7, "range"),
+            (8, "ground_x"),
+            (10, "ground_z"),
+            (11, "view_angle"),
+            (12, "case"),
+            (FIRST_TERM, "emitted"),
+            (NP - 1, "path_scattered"),
+            (NP, "dn"),
+            (NP + 1, "sensor_radiance"),
+        ];
+        for (i, name) in at {
+            assert_eq!(PLANE_NAMES[i], name, "plane {i}");
+        }
+        assert_eq!(TERM_PLANES.len(), TERMS.len());
+        assert_eq!(FIRST_TERM + TERMS.len(), NP);
     }
 }

@@ -494,6 +494,9 @@ fn bands(sample_width: u32, sample_height: u32, n: u32) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// A traced block: its sample pixels (tile order) and their samples.
+type TracedBlock = (Vec<(u32, u32)>, Vec<Sample>);
+
 /// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) into
 /// `out`, in row-major order: rows of blocks in parallel, the blocks of a row in
 /// parallel, each block's samples moved straight to their places (no
@@ -515,20 +518,21 @@ fn trace_band(
         .enumerate()
         .for_each(|(r, rows)| {
             let by = y0 + r as u32 * BLOCK;
-            let traced: Vec<Vec<Sample>> = (0..w)
+            let traced: Vec<TracedBlock> = (0..w)
                 .into_par_iter()
                 .step_by(BLOCK as usize)
                 .map(|bx| {
                     if cancel::cancelled() {
-                        return Vec::new();
+                        return (Vec::new(), Vec::new());
                     }
-                    let s = trace_block(st, cond, cam, &block_pixels(bx, by, w, h), c);
+                    let px = block_pixels(bx, by, w, h);
+                    let s = trace_block(st, cond, cam, &px, c);
                     progress.add(1);
-                    s
+                    (px, s)
                 })
                 .collect();
-            for (bx, ss) in (0..w).step_by(BLOCK as usize).zip(traced) {
-                for (&(x, y), s) in block_pixels(bx, by, w, h).iter().zip(ss) {
+            for (px, ss) in traced {
+                for (&(x, y), s) in px.iter().zip(ss) {
                     rows[((y - by) * w + x) as usize] = s;
                 }
             }

@@ -2,41 +2,63 @@
 //! radiometric terms): named, unit-annotated, row-major f32 images of one
 //! size. Defined here, where they are made; `output` writes them.
 
-/// Every plane a render can produce, in render order (`dn` only with the
-/// sensor's quantisation): what `--planes` chooses from.
-pub const PLANE_NAMES: [&str; 21] = [
-    "band_radiance",
-    "apparent_temperature",
-    "surface_temperature",
-    "material",
-    "facet",
-    "sun_now",
-    "hours_sunlit",
-    "range",
-    "ground_x",
-    "ground_y",
-    "ground_z",
-    "view_angle",
-    "case",
-    "emitted",
-    "reflected_solar",
-    "reflected_sky",
-    "reflected_background",
-    "path_thermal",
-    "path_scattered",
-    "dn",
-    "sensor_radiance",
+const RADIANCE: &str = "W m-2 sr-1 um-1";
+
+/// Every plane a render can produce with its unit, in render order (`dn`
+/// only with the sensor's quantisation): the first [`PIXEL_PLANES`] are made
+/// pixel by pixel, `dn` and `sensor_radiance` by the sensor model.
+pub const PLANES: [(&str, &str); 21] = [
+    ("band_radiance", RADIANCE),
+    ("apparent_temperature", "K"),
+    ("surface_temperature", "K"),
+    ("material", "index (-1 none)"),
+    ("facet", "triangle index (-1 none)"),
+    ("sun_now", "fraction"),
+    ("hours_sunlit", "h"),
+    ("range", "m"),
+    ("ground_x", "m"),
+    ("ground_y", "m"),
+    ("ground_z", "m"),
+    ("view_angle", "deg"),
+    ("case", "eq. 1-4 (0 outside)"),
+    ("emitted", RADIANCE),
+    ("reflected_solar", RADIANCE),
+    ("reflected_sky", RADIANCE),
+    ("reflected_background", RADIANCE),
+    ("path_thermal", RADIANCE),
+    ("path_scattered", RADIANCE),
+    ("dn", "counts"),
+    ("sensor_radiance", RADIANCE),
 ];
 
-/// The radiometric terms of eqs. 1-4, as planes (W m⁻² sr⁻¹ µm⁻¹).
-pub const TERM_PLANES: [&str; 6] = [
-    "emitted",
-    "reflected_solar",
-    "reflected_sky",
-    "reflected_background",
-    "path_thermal",
-    "path_scattered",
-];
+/// How many of [`PLANES`] are made pixel by pixel (before `dn`).
+pub const PIXEL_PLANES: usize = 19;
+
+/// The names of [`PLANES`]: what `--planes` chooses from.
+pub const PLANE_NAMES: [&str; 21] = {
+    let mut names = [""; 21];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = PLANES[i].0;
+        i += 1;
+    }
+    names
+};
+
+/// Where the radiometric term planes start in [`PLANES`].
+pub const FIRST_TERM: usize = 13;
+
+/// The radiometric terms of eqs. 1-4, as planes (W m⁻² sr⁻¹ µm⁻¹): the
+/// six of [`PLANES`] from [`FIRST_TERM`].
+pub const TERM_PLANES: [&str; 6] = {
+    let mut names = [""; 6];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = PLANES[FIRST_TERM + i].0;
+        i += 1;
+    }
+    names
+};
 
 /// One image plane (an "AOV"): name, unit, row-major f32 samples.
 #[derive(Clone, Debug, PartialEq)]
