@@ -139,10 +139,26 @@ pub const MIN_RICHARDSON: f64 = -1.0;
 /// (very stable nights keep a little exchange, as observed; the Webb form
 /// `(1 − 5Ri)²` would shut it off at Ri = 0.2).
 pub fn stability_factor(richardson: f64) -> f64 {
+    stability_factor_and_slope(richardson).0
+}
+
+/// [`stability_factor`] `F(Ri)` and its derivative `dF/dRi`:
+/// unstable `−12·F/(1 − 16·Ri)` (0 below the cap [`MIN_RICHARDSON`]);
+/// stable `−F²·15·(w + 2.5·Ri/w)`, `w = √(1 + 5·Ri)`.
+pub fn stability_factor_and_slope(richardson: f64) -> (f64, f64) {
     if richardson < 0.0 {
-        (1.0 - 16.0 * richardson.max(MIN_RICHARDSON)).powf(0.75)
+        let base = 1.0 - 16.0 * richardson.max(MIN_RICHARDSON);
+        let f = base.powf(0.75);
+        let slope = if richardson < MIN_RICHARDSON {
+            0.0
+        } else {
+            -12.0 * f / base
+        };
+        (f, slope)
     } else {
-        1.0 / (1.0 + 15.0 * richardson * (1.0 + 5.0 * richardson).sqrt())
+        let w = (1.0 + 5.0 * richardson).sqrt();
+        let f = 1.0 / (1.0 + 15.0 * richardson * w);
+        (f, -f * f * 15.0 * (w + 2.5 * richardson / w))
     }
 }
 
@@ -334,34 +350,44 @@ impl Exchange {
     /// Convective coefficient at surface temperature `surf_temp_k`:
     /// `(h_n·F(Ri))³ + (C·|ΔT|^(1/3))³` blended, W m⁻² K⁻¹.
     pub fn coefficient_w_m2k(&self, air_temp_k: f64, surf_temp_k: f64) -> f64 {
+        self.coefficient_and_slope(air_temp_k, surf_temp_k).0
+    }
+
+    /// The coefficient `h` of [`Self::coefficient_w_m2k`] and its analytic
+    /// derivative `dh/dT_s`, W m⁻² K⁻². With `ΔT = T_a − T_s`, `h_f =
+    /// h_n·F(Ri)`, `Ri = Ri_K·ΔT` and `h³ = h_f³ + C³·|ΔT|` (the free term
+    /// cubed analytically, so one cube root, not two):
+    /// `dh/dΔT = (h_f²·h_n·F'(Ri)·Ri_K + C³·sgn(ΔT)/3)/h²` and `dh/dT_s =
+    /// −dh/dΔT`. On the kink at ΔT = 0 (C switches between its warm and
+    /// cold values) the one-sided derivative of the side `ΔT` is on.
+    pub fn coefficient_and_slope(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64) {
         let dt = air_temp_k - surf_temp_k;
-        let forced = self.h_neutral_w_m2k * stability_factor(self.richardson_per_k * dt);
+        let (f, df) = stability_factor_and_slope(self.richardson_per_k * dt);
+        let forced = self.h_neutral_w_m2k * f;
         let c = if dt < 0.0 {
             self.free_warm
         } else {
             self.free_cold
         };
-        // blend_convection(forced, C·|ΔT|^(1/3)) with the free term cubed
-        // analytically, (C·|ΔT|^(1/3))³ = C³·|ΔT|: one cube root, not two
-        // (the flux and its central difference take three of these per
-        // Newton iteration; the cube roots were a third of the thermal
-        // stage's time).
-        (forced.powi(3) + c.powi(3) * dt.abs()).cbrt()
+        let c3 = c * c * c;
+        let h = (forced * forced * forced + c3 * dt.abs()).cbrt();
+        if h <= 0.0 {
+            return (h, 0.0);
+        }
+        let dh_ddt = (forced * forced * self.h_neutral_w_m2k * df * self.richardson_per_k
+            + c3 * dt.signum() / 3.0)
+            / (h * h);
+        (h, -dh_ddt)
     }
 
     /// Sensible heat flux into the surface `h·(T_a − T_s)`, W/m², its
-    /// derivative with respect to `T_s` (central difference of 1 mK: the
-    /// stability factor and the blend make the analytic form long) and the
-    /// coefficient `h` at `T_s`.
+    /// derivative with respect to `T_s`, `dh/dT_s·(T_a − T_s) − h`
+    /// (analytic, [`Self::coefficient_and_slope`]), and the coefficient `h`
+    /// at `T_s`.
     pub fn sensible_w_m2(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64, f64) {
-        let q = |t: f64| self.coefficient_w_m2k(air_temp_k, t) * (air_temp_k - t);
-        let h = self.coefficient_w_m2k(air_temp_k, surf_temp_k);
-        let d = 1e-3;
-        (
-            h * (air_temp_k - surf_temp_k),
-            (q(surf_temp_k + d) - q(surf_temp_k - d)) / (2.0 * d),
-            h,
-        )
+        let (h, dh) = self.coefficient_and_slope(air_temp_k, surf_temp_k);
+        let dt = air_temp_k - surf_temp_k;
+        (h * dt, dh * dt - h, h)
     }
 }
 
@@ -433,6 +459,12 @@ pub fn specific_humidity(vapour_pressure_pa: f64, pressure_pa: f64) -> f64 {
 /// (`e°(T_s) < e_a`) meets no surface resistance (dew forms on the
 /// surface) when `dew` is true, else no flux. Evaporation is limited to
 /// `evaporation_cap_w_m2` (a drying store).
+///
+/// Returns the flux, its derivative with respect to `T_s` at fixed `h`
+/// (`−(ρ_a·c_p/γ)·g·Δ(T_s)`, Δ the slope of e°) and its derivative with
+/// respect to `h` (`−(ρ_a·c_p/γ)·(e°(T_s) − e_a)·dg/dh`, `g = 1/(r_a +
+/// r_s)`, `dg/dh = g²·ρ_a·c_p/h²`; 0 on the cap), so that a caller whose
+/// `h` depends on `T_s` has the total derivative.
 #[allow(clippy::too_many_arguments)]
 pub fn latent_w_m2(
     h_w_m2k: f64,
@@ -444,26 +476,36 @@ pub fn latent_w_m2(
     pressure_pa: f64,
     air_temp_k: f64,
     surf_temp_k: f64,
-) -> (f64, f64) {
+) -> (f64, f64, f64) {
     let es = saturation_vapour_pressure_pa(surf_temp_k);
     let deficit = es - vapour_pressure_pa;
     let r_a = rho_cp_j_m3k / h_w_m2k.max(1e-6);
     let g = if deficit >= 0.0 {
         if conductance_m_s <= 0.0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0.0);
         }
         1.0 / (r_a + 1.0 / conductance_m_s)
     } else if dew {
         1.0 / r_a
     } else {
-        return (0.0, 0.0);
+        return (0.0, 0.0, 0.0);
     };
-    let coeff = rho_cp_j_m3k / psychrometric_pa_k(pressure_pa, air_temp_k) * g;
+    let per_g = rho_cp_j_m3k / psychrometric_pa_k(pressure_pa, air_temp_k);
+    let coeff = per_g * g;
     let out = coeff * deficit;
     if out > evaporation_cap_w_m2 {
-        return (-evaporation_cap_w_m2, 0.0);
+        return (-evaporation_cap_w_m2, 0.0, 0.0);
     }
-    (-out, -coeff * saturation_slope_pa_k(surf_temp_k))
+    let dg_dh = if h_w_m2k > 1e-6 {
+        g * g * rho_cp_j_m3k / (h_w_m2k * h_w_m2k)
+    } else {
+        0.0
+    };
+    (
+        -out,
+        -coeff * saturation_slope_pa_k(surf_temp_k),
+        -per_g * deficit * dg_dh,
+    )
 }
 
 #[cfg(test)]
@@ -540,6 +582,60 @@ mod tests {
         assert!((free_convection_coeff(180.0, false) - 1.78).abs() < 0.01);
     }
 
+    /// The analytic `dh/dT_s` (and so the sensible flux's derivative)
+    /// against a central difference of the coefficient (1e-5 K step,
+    /// agreement to 1e-6 relative) on walls and horizontal facets, in calm
+    /// and wind, stable and unstable, and past the Richardson cap; the
+    /// stability slope against a central difference of `F(Ri)`.
+    #[test]
+    fn coefficient_slope_against_central_difference() {
+        for ri in [-0.9, -0.3, -1e-3, 1e-3, 0.05, 0.5, 3.0] {
+            let (_, df) = stability_factor_and_slope(ri);
+            let num = (stability_factor(ri + 1e-7) - stability_factor(ri - 1e-7)) / 2e-7;
+            assert!(
+                (num - df).abs() < 1e-6 * num.abs(),
+                "Ri {ri}: {num} vs {df}"
+            );
+        }
+        assert_eq!(stability_factor_and_slope(-2.0).1, 0.0);
+        let layer = SurfaceLayer::default();
+        for (slope_deg, wind) in [
+            (0.0, 0.3),
+            (0.0, 4.0),
+            (90.0, 1.0),
+            (30.0, 0.0),
+            (150.0, 2.0),
+        ] {
+            let ex = Exchange::new(
+                &layer,
+                &Roughness::bare(0.01),
+                slope_deg,
+                0.0,
+                wind,
+                295.0,
+                1e5,
+            );
+            // ΔT from −40 K (surface much warmer: capped) to +15 K (stable).
+            for surf in [335.0, 310.0, 300.0, 296.0, 294.5, 290.0, 280.0] {
+                let (h, dh) = ex.coefficient_and_slope(295.0, surf);
+                let d = 1e-5;
+                let num = (ex.coefficient_w_m2k(295.0, surf + d)
+                    - ex.coefficient_w_m2k(295.0, surf - d))
+                    / (2.0 * d);
+                assert!(
+                    (num - dh).abs() < 1e-6 * num.abs().max(1e-3 * h),
+                    "slope {slope_deg} wind {wind} T_s {surf}: {num} vs {dh}"
+                );
+                let (q, dq, h2) = ex.sensible_w_m2(295.0, surf);
+                assert_eq!((q, h2), (h * (295.0 - surf), h));
+                let num_q = (ex.sensible_w_m2(295.0, surf + d).0
+                    - ex.sensible_w_m2(295.0, surf - d).0)
+                    / (2.0 * d);
+                assert!((num_q - dq).abs() < 1e-6 * num_q.abs(), "{num_q} vs {dq}");
+            }
+        }
+    }
+
     /// Stability: neutral 1; Businger-Dyer at Ri = −0.1: 2.6^0.75; Louis
     /// (1979) stable at Ri = 0.1 and 1: 1/(1 + 1.5·√1.5), 1/(1 + 15·√6).
     #[test]
@@ -557,7 +653,7 @@ mod tests {
     fn latent_flux_form() {
         let (h, rho_cp) = (10.0, 1.2 * 1013.0);
         let ea = 1500.0;
-        let f = |t: f64| {
+        let f = |t: f64, h: f64| {
             latent_w_m2(
                 h,
                 rho_cp,
@@ -570,17 +666,26 @@ mod tests {
                 t,
             )
         };
-        let (q, dq) = f(300.0);
+        let (q, dq, dq_dh) = f(300.0, h);
         assert!(q < 0.0, "evaporation takes heat from the surface");
-        let num = (f(300.001).0 - f(299.999).0) / 0.002;
+        let num = (f(300.001, h).0 - f(299.999, h).0) / 0.002;
         assert!((num - dq).abs() < 1e-4 * num.abs());
+        let num_h = (f(300.0, h + 1e-3).0 - f(300.0, h - 1e-3).0) / 2e-3;
+        assert!(
+            (num_h - dq_dh).abs() < 1e-6 * num_h.abs(),
+            "{num_h} {dq_dh}"
+        );
+        // Dew (no surface resistance, g = h/ρc_p): the h-derivative too.
+        let fd = |h: f64| latent_w_m2(h, rho_cp, 0.0, true, 0.0, ea, 101_325.0, 300.0, 284.0);
+        let num_h = (fd(10.001).0 - fd(9.999).0) / 2e-3;
+        assert!((num_h - fd(10.0).2).abs() < 1e-6 * num_h.abs());
         // By hand: r_a = ρc_p/h = 121.56 s/m; λE = ρc_p/γ·(e°−e_a)/(r_a + 70).
         let gamma = psychrometric_pa_k(101_325.0, 300.0);
         let by_hand =
             rho_cp / gamma * (saturation_vapour_pressure_pa(300.0) - ea) / (rho_cp / h + 70.0);
         assert!((q + by_hand).abs() < 1e-9);
         // Cap.
-        let (qc, dqc) = latent_w_m2(
+        let (qc, dqc, dqc_dh) = latent_w_m2(
             h,
             rho_cp,
             1.0 / 70.0,
@@ -591,7 +696,7 @@ mod tests {
             300.0,
             300.0,
         );
-        assert_eq!((qc, dqc), (-50.0, 0.0));
+        assert_eq!((qc, dqc, dqc_dh), (-50.0, 0.0, 0.0));
         // Dew on a surface below the dew point: heat released into it.
         let td = 286.0; // e°(286) ≈ 1497 Pa < e_a
         assert!(latent_w_m2(h, rho_cp, 0.0, true, 0.0, ea, 101_325.0, 300.0, td - 2.0).0 > 0.0);

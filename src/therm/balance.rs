@@ -152,36 +152,45 @@ impl Convection {
         air_temp_k: f64,
         surf_temp_k: f64,
     ) -> f64 {
-        match *self {
-            Convection::Linear { .. } => {
-                let (forced, free) = self.linear_parts(wind_speed_m_s, air_temp_k - surf_temp_k);
-                forced.max(free)
-            }
-            Convection::SurfaceLayer(_) => ex.coefficient_w_m2k(air_temp_k, surf_temp_k),
-        }
+        self.coefficient_and_slope(ex, wind_speed_m_s, air_temp_k, surf_temp_k)
+            .0
     }
 
-    /// The forced `a + b·v` and free `c·|ΔT|^(1/3)` parts of
-    /// [`Convection::Linear`] (zero for the surface layer).
-    fn linear_parts(&self, wind_speed_m_s: f64, dt: f64) -> (f64, f64) {
+    /// `h_c` and its derivative `dh_c/dT_s`, W m⁻² K⁻². Linear: `max(a +
+    /// b·v, c·|ΔT|^(1/3))`, whose free branch has `dh/dT_s = −h/(3·ΔT)`
+    /// (ΔT = T_air − T_s); the surface layer:
+    /// [`Exchange::coefficient_and_slope`].
+    pub fn coefficient_and_slope(
+        &self,
+        ex: &Exchange,
+        wind_speed_m_s: f64,
+        air_temp_k: f64,
+        surf_temp_k: f64,
+    ) -> (f64, f64) {
         match *self {
             Convection::Linear {
                 still_air_w_m2k,
                 wind_coeff_j_m3k,
                 free_coeff_w_m2k4_3,
-            } => (
-                still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0),
-                free_coeff_w_m2k4_3 * dt.abs().cbrt(),
-            ),
-            Convection::SurfaceLayer(_) => (0.0, 0.0),
+            } => {
+                let dt = air_temp_k - surf_temp_k;
+                let forced = still_air_w_m2k + wind_coeff_j_m3k * wind_speed_m_s.max(0.0);
+                let free = free_coeff_w_m2k4_3 * dt.abs().cbrt();
+                if forced >= free {
+                    (forced, 0.0)
+                } else {
+                    (free, -free / (3.0 * dt))
+                }
+            }
+            Convection::SurfaceLayer(_) => ex.coefficient_and_slope(air_temp_k, surf_temp_k),
         }
     }
 
     /// Convective flux into a surface `h_c·(T_air − T_s)`, its derivative
-    /// with respect to `T_s` and the coefficient `h_c` itself (W/m², W m⁻²
-    /// K⁻¹, W m⁻² K⁻¹), under the exchange `ex` (used by
-    /// [`Convection::SurfaceLayer`]) or the station wind (used by
-    /// [`Convection::Linear`]).
+    /// with respect to `T_s` (`dh_c/dT_s·(T_air − T_s) − h_c`, analytic) and
+    /// the coefficient `h_c` itself (W/m², W m⁻² K⁻¹, W m⁻² K⁻¹), under the
+    /// exchange `ex` (used by [`Convection::SurfaceLayer`]) or the station
+    /// wind (used by [`Convection::Linear`]).
     pub fn flux_w_m2(
         &self,
         ex: &Exchange,
@@ -189,19 +198,9 @@ impl Convection {
         air_temp_k: f64,
         surf_temp_k: f64,
     ) -> (f64, f64, f64) {
-        match *self {
-            Convection::Linear { .. } => {
-                let dt = air_temp_k - surf_temp_k;
-                let (forced, free) = self.linear_parts(wind_speed_m_s, dt);
-                if forced >= free {
-                    (forced * dt, -forced, forced)
-                } else {
-                    // d/dTs [c |dt|^(1/3) dt] = -(4/3) c |dt|^(1/3)
-                    (free * dt, -4.0 / 3.0 * free, free)
-                }
-            }
-            Convection::SurfaceLayer(_) => ex.sensible_w_m2(air_temp_k, surf_temp_k),
-        }
+        let (h, dh) = self.coefficient_and_slope(ex, wind_speed_m_s, air_temp_k, surf_temp_k);
+        let dt = air_temp_k - surf_temp_k;
+        (h * dt, dh * dt - h, h)
     }
 }
 
@@ -379,12 +378,14 @@ pub fn surface_fluxes(
     let sig = STEFAN_BOLTZMANN_W_M2K4;
     let emitted = emissivity * sig * surf_temp_k.powi(4);
     let d_emitted = 4.0 * emissivity * sig * surf_temp_k.powi(3);
-    let (convection, d_conv, h) = conv.flux_w_m2(
+    let (h, dh) = conv.coefficient_and_slope(
         &drive.exchange,
         drive.wind_speed_m_s,
         drive.air_temp_k,
         surf_temp_k,
     );
+    let dt = drive.air_temp_k - surf_temp_k;
+    let (convection, d_conv) = (h * dt, dh * dt - h);
     let (latent, d_latent) = if drive.conductance_m_s > 0.0 || drive.dew {
         let rho_cp = if drive.exchange.rho_cp_j_m3k > 0.0 {
             drive.exchange.rho_cp_j_m3k
@@ -392,34 +393,22 @@ pub fn surface_fluxes(
             super::aero::air_density_kg_m3(drive.pressure_pa, drive.air_temp_k)
                 * super::aero::CP_AIR_J_KGK
         };
-        let latent_at = |t: f64, h: f64| {
-            super::aero::latent_w_m2(
-                h,
-                rho_cp,
-                drive.conductance_m_s,
-                drive.dew,
-                drive.evaporation_cap_w_m2,
-                drive.vapour_pressure_pa,
-                drive.pressure_pa,
-                drive.air_temp_k,
-                t,
-            )
-            .0
-        };
-        // The derivative includes the coefficient's own dependence on T_s
-        // (stability): a central difference of 1 mK, as for the sensible
-        // flux. Without it Newton's Jacobian is wrong wherever the
-        // exchange is strongly stable, and the iteration crawls.
-        let d = 1e-3;
-        let h_at = |t: f64| {
-            conv.coefficient_w_m2k(&drive.exchange, drive.wind_speed_m_s, drive.air_temp_k, t)
-        };
-        (
-            latent_at(surf_temp_k, h),
-            (latent_at(surf_temp_k + d, h_at(surf_temp_k + d))
-                - latent_at(surf_temp_k - d, h_at(surf_temp_k - d)))
-                / (2.0 * d),
-        )
+        let (latent, d_fixed_h, d_per_h) = super::aero::latent_w_m2(
+            h,
+            rho_cp,
+            drive.conductance_m_s,
+            drive.dew,
+            drive.evaporation_cap_w_m2,
+            drive.vapour_pressure_pa,
+            drive.pressure_pa,
+            drive.air_temp_k,
+            surf_temp_k,
+        );
+        // The total derivative includes the coefficient's own dependence
+        // on T_s (stability): without it Newton's Jacobian is wrong
+        // wherever the exchange is strongly stable, and the iteration
+        // crawls.
+        (latent, d_fixed_h + d_per_h * dh)
     } else {
         (0.0, 0.0)
     };

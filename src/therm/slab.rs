@@ -621,10 +621,25 @@ pub struct SlabModel {
 }
 
 /// Scratch of the Newton step: the interior elimination's coefficients.
+/// Scratch of [`SlabModel::implicit_step`]'s elimination of the linear
+/// interior. `diag`, `beta` and `gamma` depend only on the step size, the
+/// conductances and the back-face case, so they are kept for the next step
+/// when those repeat (most steps of a march are the largest step on a
+/// solid's constant conductances); `alpha` depends on the old profile and
+/// is redone every step.
 struct Work {
     alpha: Vec<f64>,
     beta: Vec<f64>,
     gamma: Vec<f64>,
+    /// `1/diag_i` and `g_i/diag_i` of the eliminated rows: the right-hand
+    /// side's recurrence is then a multiply-add per row, not a division in
+    /// the loop-carried chain.
+    inv_diag: Vec<f64>,
+    g_inv_diag: Vec<f64>,
+    /// What `diag`, `beta`, `gamma` were built for: 1/h's bits, m, whether
+    /// the back node is fixed, and the conductances.
+    built: Option<(u64, usize, bool)>,
+    built_g: Vec<f64>,
 }
 
 impl SlabModel {
@@ -729,6 +744,18 @@ impl SlabModel {
     /// sunlit fraction `sunlit` (0 shadow … 1 sun). A solid's water store
     /// is taken as dry; [`SlabModel::march`] wets it.
     pub fn drive(&self, f: &Forcing, sunlit: f64) -> SurfaceDrive {
+        self.drive_with(f, sunlit, true)
+    }
+
+    /// [`Self::drive`] for a march step: the rain's wet-bulb temperature
+    /// (four arctangents and two exponentials) is worked out only while it
+    /// rains — with no rain its coefficient is 0 and the rain term is 0
+    /// whatever the temperature (the air temperature stands in).
+    fn step_drive(&self, f: &Forcing, sunlit: f64) -> SurfaceDrive {
+        self.drive_with(f, sunlit, f.precip_mm_h > 0.0)
+    }
+
+    fn drive_with(&self, f: &Forcing, sunlit: f64, rain_temp: bool) -> SurfaceDrive {
         let mut d = balance::surface_drive(
             &DriveInputs {
                 air_temp_k: f.air_temp_k,
@@ -759,11 +786,14 @@ impl SlabModel {
                 )
             };
             d.exchange = ex(slope, &self.roughness);
-            // The back of a plate: a smooth face looking the other way.
-            d.back_exchange = ex(
-                180.0 - slope,
-                &Roughness::bare(super::surface::DEFAULT_SOLID_ROUGHNESS_M),
-            );
+            // The back of a plate: a smooth face looking the other way
+            // (only a back exposed to air exchanges with it).
+            if matches!(self.material.back, BackBoundary::ExposedToAir { .. }) {
+                d.back_exchange = ex(
+                    180.0 - slope,
+                    &Roughness::bare(super::surface::DEFAULT_SOLID_ROUGHNESS_M),
+                );
+            }
         } else {
             d.exchange.rho_cp_j_m3k =
                 aero::air_density_kg_m3(f.pressure_pa, f.air_temp_k) * aero::CP_AIR_J_KGK;
@@ -772,7 +802,11 @@ impl SlabModel {
         d.pressure_pa = f.pressure_pa;
         d.rain_coeff_w_m2k =
             aero::CP_WATER_J_KGK * f.precip_mm_h.max(0.0) / 3600.0 * aero::RHO_WATER_KG_M3 / 1000.0;
-        d.rain_temp_k = aero::wet_bulb_k(f.air_temp_k, f.dew_point_k);
+        d.rain_temp_k = if rain_temp {
+            aero::wet_bulb_k(f.air_temp_k, f.dew_point_k)
+        } else {
+            f.air_temp_k
+        };
         match self.material.surface {
             SurfaceKind::Solid {
                 water_capacity_mm, ..
@@ -912,29 +946,50 @@ impl SlabModel {
         // conduction terms keep the full system's rounding (a thin plate's
         // huge conductances amplify the rounding of T ≈ 300 K otherwise).
         let t_ref = new[0];
-        let (alpha, beta, gamma) = (&mut w.alpha, &mut w.beta, &mut w.gamma);
-        for i in (1..=m).rev() {
-            let mut diag = cap[i] * inv_h + g[i - 1];
-            let mut rhs = cap[i] * inv_h * (old[i] - t_ref) + self.sw_fraction[i] * sw;
-            let mut gam = 0.0;
-            if i + 1 < n {
-                diag += g[i];
-                if i < m {
-                    diag -= g[i] * beta[i + 1];
-                    rhs += g[i] * alpha[i + 1];
-                    gam = g[i] * gamma[i + 1];
-                } else if let Some(d) = deep {
-                    rhs += g[i] * (d - t_ref);
-                } else {
-                    gam = g[i];
+        let key = (inv_h.to_bits(), m, deep.is_some());
+        if w.built != Some(key) || w.built_g[..] != g[..] {
+            // The matrix part of the elimination (the same operations as
+            // the right-hand side's below, so reuse changes no bit).
+            let (beta, gamma) = (&mut w.beta, &mut w.gamma);
+            let (inv_diag, g_inv_diag) = (&mut w.inv_diag, &mut w.g_inv_diag);
+            w.built = None;
+            for i in (1..=m).rev() {
+                let mut diag = cap[i] * inv_h + g[i - 1];
+                let mut gam = 0.0;
+                if i + 1 < n {
+                    diag += g[i];
+                    if i < m {
+                        diag -= g[i] * beta[i + 1];
+                        gam = g[i] * gamma[i + 1];
+                    } else if deep.is_none() {
+                        gam = g[i];
+                    }
                 }
+                if diag == 0.0 || !diag.is_finite() {
+                    return false;
+                }
+                let inv = 1.0 / diag;
+                inv_diag[i] = inv;
+                g_inv_diag[i] = if i < m { g[i] * inv } else { 0.0 };
+                beta[i] = g[i - 1] * inv;
+                gamma[i] = gam * inv;
             }
-            if diag == 0.0 || !diag.is_finite() {
-                return false;
+            w.built = Some(key);
+            w.built_g.copy_from_slice(g);
+        }
+        let (alpha, beta, gamma) = (&mut w.alpha, &w.beta, &w.gamma);
+        if m >= 1 {
+            let mut rhs = cap[m] * inv_h * (old[m] - t_ref) + self.sw_fraction[m] * sw;
+            if let (true, Some(d)) = (m + 1 < n, deep) {
+                rhs += g[m] * (d - t_ref);
             }
-            alpha[i] = rhs / diag;
-            beta[i] = g[i - 1] / diag;
-            gamma[i] = gam / diag;
+            let mut a = rhs * w.inv_diag[m];
+            alpha[m] = a;
+            for i in (1..m).rev() {
+                let rhs = cap[i] * inv_h * (old[i] - t_ref) + self.sw_fraction[i] * sw;
+                a = rhs * w.inv_diag[i] + w.g_inv_diag[i] * a;
+                alpha[i] = a;
+            }
         }
         // u_1 = a1 + b1·u_0 + c1·u_b, and (back unknown) u_{n−2} = p + q·u_0 + s·u_b.
         let (a1, b1, c1) = match (m, deep) {
@@ -1253,7 +1308,7 @@ impl SlabModel {
                 let t_new = if last { b } else { t + h };
                 let f = forcing_at(forcing, t_new);
                 let sunlit = sun_fraction(shadow, t + 0.5 * h, s.shadow_ramp);
-                let mut drive = self.drive(&f, sunlit);
+                let mut drive = self.step_drive(&f, sunlit);
                 if capacity_mm > 0.0 {
                     wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, h);
                 }
@@ -1296,34 +1351,38 @@ impl SlabModel {
                         h_try = h_try.max(h);
                     }
                 }
-                // Accept.
-                let (sf, _) = balance::surface_fluxes(
-                    &drive,
-                    self.material.thermal_emissivity,
-                    &s.convection,
-                    new[0],
-                );
-                let g_last = g[n - 2];
-                let back = match deep {
-                    Some(d) => g_last * (d - new[n - 2]),
-                    None => self.back_flux(&drive, new[n - 1], None, g_last).0,
-                };
-                // Shortwave that reaches a fixed deep node leaves the slab.
-                let lost = if deep.is_some() {
-                    self.sw_fraction[n - 1] * drive.absorbed_shortwave_w_m2()
-                } else {
-                    0.0
-                };
-                energy_in += h * (sf.net_w_m2 - lost + back);
-                if capacity_mm > 0.0 {
-                    store_mm = update_store_mm(
-                        store_mm,
-                        capacity_mm,
-                        f.precip_mm_h,
-                        sf.latent_w_m2,
-                        f.air_temp_k,
-                        h,
+                // Accept. The step's fluxes are needed only for the energy
+                // record and the water store (a third of a solve's flux
+                // evaluations otherwise).
+                if record || capacity_mm > 0.0 {
+                    let (sf, _) = balance::surface_fluxes(
+                        &drive,
+                        self.material.thermal_emissivity,
+                        &s.convection,
+                        new[0],
                     );
+                    let g_last = g[n - 2];
+                    let back = match deep {
+                        Some(d) => g_last * (d - new[n - 2]),
+                        None => self.back_flux(&drive, new[n - 1], None, g_last).0,
+                    };
+                    // Shortwave that reaches a fixed deep node leaves the slab.
+                    let lost = if deep.is_some() {
+                        self.sw_fraction[n - 1] * drive.absorbed_shortwave_w_m2()
+                    } else {
+                        0.0
+                    };
+                    energy_in += h * (sf.net_w_m2 - lost + back);
+                    if capacity_mm > 0.0 {
+                        store_mm = update_store_mm(
+                            store_mm,
+                            capacity_mm,
+                            f.precip_mm_h,
+                            sf.latent_w_m2,
+                            f.air_temp_k,
+                            h,
+                        );
+                    }
                 }
                 for i in 0..n {
                     prev_inc[i] = new[i] - temps[i];
@@ -1440,6 +1499,10 @@ impl Work {
             alpha: vec![0.0; n],
             beta: vec![0.0; n],
             gamma: vec![0.0; n],
+            inv_diag: vec![0.0; n],
+            g_inv_diag: vec![0.0; n],
+            built: None,
+            built_g: vec![0.0; n.saturating_sub(1)],
         }
     }
 }
