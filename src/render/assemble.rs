@@ -85,13 +85,14 @@ impl<'a> FramePlanes<'a> {
                 let mut out = Vec::with_capacity(w);
                 let mut evaluated = 0u64;
                 let mut px: Vec<&Sample> = Vec::with_capacity(n * n);
+                let mut memo = pixel::EvalMemo::default();
                 for x in 0..w {
                     px.clear();
                     px.extend(
                         (0..n)
                             .flat_map(|j| (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])),
                     );
-                    let (v, e) = this.pixel(ctx, &px, n)?;
+                    let (v, e) = this.pixel(ctx, &px, n, &mut memo)?;
                     out.push(v);
                     evaluated += e as u64;
                 }
@@ -119,14 +120,15 @@ impl<'a> FramePlanes<'a> {
         ctx: &RadiometryContext,
         px: &[&Sample],
         n: usize,
+        memo: &mut pixel::EvalMemo,
     ) -> anyhow::Result<([f32; NP], usize)> {
         let c = (n / 2) * n + n / 2;
         let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
         let results: SmallVec<[SampleResult; 1]> = if uniform {
-            smallvec::smallvec![ctx.evaluate(px[c])?]
+            smallvec::smallvec![ctx.evaluate_memo(px[c], memo)?]
         } else {
             px.iter()
-                .map(|s| ctx.evaluate(s))
+                .map(|s| ctx.evaluate_memo(s, memo))
                 .collect::<anyhow::Result<_>>()?
         };
         let res = |k: usize| &results[if uniform { 0 } else { k }];

@@ -399,6 +399,15 @@ impl<'a> RadiometryContext<'a> {
     /// (the sky and the ground beyond are the loop's own sums, memoised).
     /// Specular and partly specular materials run the spectral loop.
     pub fn evaluate(&self, s: &Sample) -> anyhow::Result<SampleResult> {
+        self.evaluate_memo(s, &mut EvalMemo::default())
+    }
+
+    /// [`Self::evaluate`] with a worker's [`EvalMemo`]: neighbouring
+    /// samples mostly share a diffuse key, and a memo hit skips the shared
+    /// map's hash, lock and reference count (cache lines the workers would
+    /// otherwise pass between cores). The values are the map's, so the
+    /// result is the same.
+    pub fn evaluate_memo(&self, s: &Sample, memo: &mut EvalMemo) -> anyhow::Result<SampleResult> {
         let Some(surf) = &s.surface else {
             if s.dir.z > 0.0 {
                 let t = self.sky_band.get_or_try_insert(self.sky_key(s.dir), |k| {
@@ -419,9 +428,15 @@ impl<'a> RadiometryContext<'a> {
             return self.evaluate_with(s, |_, _| {});
         }
         let k = (surf.material, self.path_key(surf.point.as_dvec3()));
-        let c = self
-            .diffuse
-            .get_or_try_insert(k, |k| self.diffuse_coeffs(k))?;
+        let c = match &memo.diffuse {
+            Some((last, c)) if *last == k => c,
+            _ => {
+                let c = self
+                    .diffuse
+                    .get_or_try_insert(k, |k| self.diffuse_coeffs(k))?;
+                &memo.diffuse.insert((k, c)).1
+            }
+        };
         let sun = if surf.sun_now() { 1.0 } else { 0.0 }
             * (surf.normal.dot(self.sun_dir) as f64).max(0.0);
         let terms = c.terms(&self.planck, surf.temp_k, sun, self.sky_view(surf));
@@ -659,9 +674,12 @@ impl ApparentTempLut {
         let (y0, y1) = (r[i - 1], r[i]);
         let (m0, m1) = (self.tangent[i - 1], self.tangent[i]);
         // p(u) = h00 y0 + h10 m0 + h01 y1 + h11 m1, u in [0, 1]; monotone
-        // here (L rises with T), so Newton from the chord converges.
+        // here (L rises with T), so Newton from the chord converges. Over a
+        // 0.25-K cell the chord is off by ~1e-3 in u; Newton squares that
+        // (times the small curvature) twice: ~1e-19, below f64's rounding,
+        // so two iterations are exact (a third changed no output bit).
         let mut u = (l - y0) / (y1 - y0);
-        for _ in 0..3 {
+        for _ in 0..2 {
             let (u2, u3) = (u * u, u * u * u);
             let p = (2.0 * u3 - 3.0 * u2 + 1.0) * y0
                 + (u3 - 2.0 * u2 + u) * m0
@@ -674,6 +692,13 @@ impl ApparentTempLut {
         }
         Some(self.t0_k + self.dt_k * (i as f64 - 1.0 + u))
     }
+}
+
+/// A worker's last diffuse key and its coefficients (see
+/// [`RadiometryContext::evaluate_memo`]).
+#[derive(Default)]
+pub struct EvalMemo {
+    diffuse: Option<((u32, PathKey), Arc<DiffuseCoeffs>)>,
 }
 
 /// Planes that are NaN by design where no sample of a pixel hit a surface.
