@@ -284,8 +284,9 @@ impl Roughness {
 }
 
 /// Temperature-independent exchange quantities of one facet at one
-/// instant; with the surface temperature they give the sensible flux
-/// ([`Exchange::sensible_w_m2`]).
+/// instant; with the surface temperature they give the convective
+/// coefficient ([`Exchange::coefficient_and_slope`]) and so the sensible flux
+/// ([`super::balance::Convection::flux_w_m2`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Exchange {
     /// Wind at the facet's reference height, m/s.
@@ -347,14 +348,9 @@ impl Exchange {
         }
     }
 
-    /// Convective coefficient at surface temperature `surf_temp_k`:
-    /// `(h_n·F(Ri))³ + (C·|ΔT|^(1/3))³` blended, W m⁻² K⁻¹.
-    pub fn coefficient_w_m2k(&self, air_temp_k: f64, surf_temp_k: f64) -> f64 {
-        self.coefficient_and_slope(air_temp_k, surf_temp_k).0
-    }
-
-    /// The coefficient `h` of [`Self::coefficient_w_m2k`] and its analytic
-    /// derivative `dh/dT_s`, W m⁻² K⁻². With `ΔT = T_a − T_s`, `h_f =
+    /// Convective coefficient `h` at surface temperature `surf_temp_k`,
+    /// `(h_n·F(Ri))³ + (C·|ΔT|^(1/3))³` blended (W m⁻² K⁻¹), and its
+    /// analytic derivative `dh/dT_s`, W m⁻² K⁻². With `ΔT = T_a − T_s`, `h_f =
     /// h_n·F(Ri)`, `Ri = Ri_K·ΔT` and `h³ = h_f³ + C³·|ΔT|` (the free term
     /// cubed analytically, so one cube root, not two):
     /// `dh/dΔT = (h_f²·h_n·F'(Ri)·Ri_K + C³·sgn(ΔT)/3)/h²` and `dh/dT_s =
@@ -378,16 +374,6 @@ impl Exchange {
             + c3 * dt.signum() / 3.0)
             / (h * h);
         (h, -dh_ddt)
-    }
-
-    /// Sensible heat flux into the surface `h·(T_a − T_s)`, W/m², its
-    /// derivative with respect to `T_s`, `dh/dT_s·(T_a − T_s) − h`
-    /// (analytic, [`Self::coefficient_and_slope`]), and the coefficient `h`
-    /// at `T_s`.
-    pub fn sensible_w_m2(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64, f64) {
-        let (h, dh) = self.coefficient_and_slope(air_temp_k, surf_temp_k);
-        let dt = air_temp_k - surf_temp_k;
-        (h * dt, dh * dt - h, h)
     }
 }
 
@@ -582,8 +568,8 @@ mod tests {
         assert!((free_convection_coeff(180.0, false) - 1.78).abs() < 0.01);
     }
 
-    /// The analytic `dh/dT_s` (and so the sensible flux's derivative)
-    /// against a central difference of the coefficient (1e-5 K step,
+    /// The analytic `dh/dT_s` (and so the sensible flux's derivative, as
+    /// the surface balance takes it) against a central difference of the coefficient (1e-5 K step,
     /// agreement to 1e-6 relative) on walls and horizontal facets, in calm
     /// and wind, stable and unstable, and past the Richardson cap; the
     /// stability slope against a central difference of `F(Ri)`.
@@ -615,22 +601,21 @@ mod tests {
                 295.0,
                 1e5,
             );
+            let conv = crate::therm::balance::Convection::SurfaceLayer(layer);
+            let h_at = |t: f64| ex.coefficient_and_slope(295.0, t).0;
+            let q_at = |t: f64| conv.flux_w_m2(&ex, wind, 295.0, t);
             // ΔT from −40 K (surface much warmer: capped) to +15 K (stable).
             for surf in [335.0, 310.0, 300.0, 296.0, 294.5, 290.0, 280.0] {
                 let (h, dh) = ex.coefficient_and_slope(295.0, surf);
                 let d = 1e-5;
-                let num = (ex.coefficient_w_m2k(295.0, surf + d)
-                    - ex.coefficient_w_m2k(295.0, surf - d))
-                    / (2.0 * d);
+                let num = (h_at(surf + d) - h_at(surf - d)) / (2.0 * d);
                 assert!(
                     (num - dh).abs() < 1e-6 * num.abs().max(1e-3 * h),
                     "slope {slope_deg} wind {wind} T_s {surf}: {num} vs {dh}"
                 );
-                let (q, dq, h2) = ex.sensible_w_m2(295.0, surf);
+                let (q, dq, h2) = q_at(surf);
                 assert_eq!((q, h2), (h * (295.0 - surf), h));
-                let num_q = (ex.sensible_w_m2(295.0, surf + d).0
-                    - ex.sensible_w_m2(295.0, surf - d).0)
-                    / (2.0 * d);
+                let num_q = (q_at(surf + d).0 - q_at(surf - d).0) / (2.0 * d);
                 assert!((num_q - dq).abs() < 1e-6 * num_q.abs(), "{num_q} vs {dq}");
             }
         }

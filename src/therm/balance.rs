@@ -144,19 +144,8 @@ impl Convection {
     }
 
     /// The convective coefficient `h_c` at surface temperature
-    /// `surf_temp_k`, W m⁻² K⁻¹ (see [`Convection::flux_w_m2`]).
-    pub fn coefficient_w_m2k(
-        &self,
-        ex: &Exchange,
-        wind_speed_m_s: f64,
-        air_temp_k: f64,
-        surf_temp_k: f64,
-    ) -> f64 {
-        self.coefficient_and_slope(ex, wind_speed_m_s, air_temp_k, surf_temp_k)
-            .0
-    }
-
-    /// `h_c` and its derivative `dh_c/dT_s`, W m⁻² K⁻². Linear: `max(a +
+    /// `surf_temp_k`, W m⁻² K⁻¹ (see [`Convection::flux_w_m2`]), and its
+    /// derivative `dh_c/dT_s`, W m⁻² K⁻². Linear: `max(a +
     /// b·v, c·|ΔT|^(1/3))`, whose free branch has `dh/dT_s = −h/(3·ΔT)`
     /// (ΔT = T_air − T_s); the surface layer:
     /// [`Exchange::coefficient_and_slope`].

@@ -620,13 +620,12 @@ pub struct SlabModel {
     full_newton: bool,
 }
 
-/// Scratch of the Newton step: the interior elimination's coefficients.
 /// Scratch of [`SlabModel::implicit_step`]'s elimination of the linear
-/// interior. `diag`, `beta` and `gamma` depend only on the step size, the
-/// conductances and the back-face case, so they are kept for the next step
-/// when those repeat (most steps of a march are the largest step on a
-/// solid's constant conductances); `alpha` depends on the old profile and
-/// is redone every step.
+/// interior. `beta`, `gamma`, `inv_diag` and `g_inv_diag` depend only on
+/// the step size, the conductances and the back-face case, so they are kept
+/// for the next step when those repeat (every step at the largest step size
+/// on a solid's constant conductances); `alpha` depends on the old profile
+/// and is redone every step.
 struct Work {
     alpha: Vec<f64>,
     beta: Vec<f64>,
@@ -636,7 +635,7 @@ struct Work {
     /// the loop-carried chain.
     inv_diag: Vec<f64>,
     g_inv_diag: Vec<f64>,
-    /// What `diag`, `beta`, `gamma` were built for: 1/h's bits, m, whether
+    /// What the kept coefficients were built for: 1/h's bits, m, whether
     /// the back node is fixed, and the conductances.
     built: Option<(u64, usize, bool)>,
     built_g: Vec<f64>,
@@ -948,8 +947,8 @@ impl SlabModel {
         let t_ref = new[0];
         let key = (inv_h.to_bits(), m, deep.is_some());
         if w.built != Some(key) || w.built_g[..] != g[..] {
-            // The matrix part of the elimination (the same operations as
-            // the right-hand side's below, so reuse changes no bit).
+            // The matrix part of the elimination (a function of the key
+            // alone, so reusing it gives the bits a rebuild would).
             let (beta, gamma) = (&mut w.beta, &mut w.gamma);
             let (inv_diag, g_inv_diag) = (&mut w.inv_diag, &mut w.g_inv_diag);
             w.built = None;
@@ -980,7 +979,8 @@ impl SlabModel {
         let (alpha, beta, gamma) = (&mut w.alpha, &w.beta, &w.gamma);
         if m >= 1 {
             let mut rhs = cap[m] * inv_h * (old[m] - t_ref) + self.sw_fraction[m] * sw;
-            if let (true, Some(d)) = (m + 1 < n, deep) {
+            // (a fixed deep node is node m + 1)
+            if let Some(d) = deep {
                 rhs += g[m] * (d - t_ref);
             }
             let mut a = rhs * w.inv_diag[m];
