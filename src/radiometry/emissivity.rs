@@ -94,6 +94,25 @@ impl Emissivity {
         }
     }
 
+    /// ε at one angle for every wavelength of `wavelength_um`, into `out`
+    /// (same length): the values of [`Self::at`], bit for bit, with the
+    /// angle's bracket or Fresnel factor computed once instead of per
+    /// wavelength (the spectral loop of a specular pixel needs a spectrum
+    /// at its view angle).
+    pub fn spectrum_at(&self, angle_deg: f64, wavelength_um: &[f64], out: &mut [f64]) {
+        debug_assert_eq!(wavelength_um.len(), out.len());
+        match self {
+            Emissivity::Constant(e) => out.fill(*e),
+            Emissivity::Table(t) => {
+                let (ia, ta) = bracket(&t.angles_deg, angle_deg);
+                for (o, &wl) in out.iter_mut().zip(wavelength_um) {
+                    *o = t.at_bracket(ia, ta, wl);
+                }
+            }
+            Emissivity::Fresnel { n, k } => out.fill(fresnel_emissivity(*n, *k, angle_deg)),
+        }
+    }
+
     /// Reflectance ρ = 1 − ε (opaque surface, Kirchhoff).
     pub fn reflectance(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
         1.0 - self.at(angle_deg, wavelength_um)
@@ -230,6 +249,11 @@ impl EmissivityTable {
 
     pub fn at(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
         let (ia, ta) = bracket(&self.angles_deg, angle_deg);
+        self.at_bracket(ia, ta, wavelength_um)
+    }
+
+    /// [`Self::at`] with the angle's bracket `(ia, ta)` given.
+    fn at_bracket(&self, ia: usize, ta: f64, wavelength_um: f64) -> f64 {
         let (iw, tw) = bracket(&self.wavelengths_um, wavelength_um);
         let nw = self.wavelengths_um.len();
         let v = |a: usize, w: usize| self.values[a * nw + w];
@@ -353,5 +377,31 @@ mod tests {
         assert!((t.at(30.0, 10.0) - 0.75).abs() < 1e-12);
         assert!((t.at(90.0, 20.0) - 0.6).abs() < 1e-12);
         assert!(EmissivityTable::new(vec![0.0], vec![8.0], vec![1.2]).is_err());
+    }
+
+    #[test]
+    fn spectrum_at_is_at_per_wavelength() {
+        // Bilinear by hand at 30°: halfway between the 0° and 60° rows; at
+        // 10 µm halfway between 8 and 12 µm, clamped outside the grid.
+        let t = EmissivityTable::new(vec![0.0, 60.0], vec![8.0, 12.0], vec![0.9, 0.8, 0.7, 0.6])
+            .unwrap();
+        let wl = [7.0, 8.0, 10.0, 11.0, 12.0, 14.0];
+        let by_hand = [0.8, 0.8, 0.75, 0.725, 0.7, 0.7];
+        for e in [
+            Emissivity::Table(t),
+            Emissivity::Fresnel { n: 1.33, k: 0.1 },
+            Emissivity::Constant(0.93),
+        ] {
+            let mut out = [0.0; 6];
+            e.spectrum_at(30.0, &wl, &mut out);
+            for (w, o) in wl.iter().zip(out) {
+                assert_eq!(o.to_bits(), e.at(30.0, *w).to_bits(), "{e:?} at {w} µm");
+            }
+            if matches!(e, Emissivity::Table(_)) {
+                for (o, h) in out.iter().zip(by_hand) {
+                    assert!((o - h).abs() < 1e-12, "{o} against {h}");
+                }
+            }
+        }
     }
 }

@@ -44,8 +44,8 @@ use crate::atmos::PathSpectra;
 use crate::radiometry::band_coeffs::{DiffuseCoeffs, DiffuseSpectra, Memo, PlanckTable};
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
 use crate::radiometry::{
-    Background, Emissivity, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination,
-    case1_diffuse, case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
+    Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
+    case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
 };
 
 const LOWEST_ALT_KM: f64 = 0.3;
@@ -86,6 +86,8 @@ pub struct RadiometryContext<'a> {
     dome: SkyPair,
     /// L(λᵢ, T_gnd) of the ground a diffuse facet sees.
     ground_blackbody: Vec<f64>,
+    /// ε(0°, λᵢ) of each material (the diffuse part's emissivity).
+    eps_normal: Vec<Vec<f64>>,
     paths: Memo<PathKey, PathSpectra>,
     skies: Memo<SkyKey, SkyPair>,
     /// The fast path of [`Self::evaluate`]: band sums per (material, path)
@@ -203,6 +205,15 @@ impl<'a> RadiometryContext<'a> {
                 .wavelength_um
                 .iter()
                 .map(|&wl| planck_radiance_w_m2_sr_um(wl, cond.ground_temp_k))
+                .collect(),
+            eps_normal: st
+                .emissivity
+                .iter()
+                .map(|eps| {
+                    let mut e = vec![0.0; n];
+                    eps.spectrum_at(0.0, &st.wavelength_um, &mut e);
+                    e
+                })
                 .collect(),
             paths: Memo::default(),
             skies: Memo::default(),
@@ -366,17 +377,10 @@ impl<'a> RadiometryContext<'a> {
     /// The band sums of eq. 1 for material `k.0` seen along path `k.1`.
     fn diffuse_coeffs(&self, k: &(u32, PathKey)) -> anyhow::Result<DiffuseCoeffs> {
         let path = self.path_of(k.1)?;
-        let eps = &self.st.emissivity[k.0 as usize];
-        let e: Vec<f64> = self
-            .st
-            .wavelength_um
-            .iter()
-            .map(|&wl| eps.at(0.0, wl))
-            .collect();
         Ok(DiffuseCoeffs::new(
             &self.st.band,
             &DiffuseSpectra {
-                emissivity: &e,
+                emissivity: &self.eps_normal[k.0 as usize],
                 e_sun_exo_w_m2_um: &self.e_exo,
                 tau1: &self.tau1,
                 sky_dome_l_de: &self.dome.0,
@@ -471,7 +475,7 @@ impl<'a> RadiometryContext<'a> {
             return Ok(result(0, terms, f64::NAN, 1.0));
         };
         let m = surf.material as usize;
-        let eps = &st.emissivity[m];
+        let eps0 = &self.eps_normal[m];
         let spec = st.specularity[m].clamp(0.0, 1.0);
         let path_arc = self.path(surf.point.as_dvec3())?;
         let path: &PathSpectra = &path_arc;
@@ -481,13 +485,14 @@ impl<'a> RadiometryContext<'a> {
         // (the sky dome), ground F_gnd = 1 − F_sky (a black body at the
         // ground material's temperature, as in the thermal balance).
         let f_sky = self.sky_view(surf);
-        let t_gnd = self.cond.ground_temp_k;
-        let diffuse = |i: usize| {
-            let e = eps.at(0.0, wl[i]);
+        // (the target's L(λᵢ, T) is passed in: the diffuse and specular
+        // parts of a partly specular pixel share it)
+        let diffuse = |i: usize, target: f64| {
+            let e = eps0[i];
             let p = Self::path_at(path, i);
             let mut t = case1_diffuse(
                 e,
-                lt(i, surf.temp_k),
+                target,
                 &self.sun_on(surf, i),
                 &SkyRadiance {
                     l_de_w_m2_sr_um: f_sky * self.dome.0[i],
@@ -496,57 +501,55 @@ impl<'a> RadiometryContext<'a> {
                 &p,
             );
             if f_sky < 1.0 {
-                t.reflected_background_emitted = (1.0 - f_sky) * lt(i, t_gnd) * (1.0 - e) * p.tau2;
+                t.reflected_background_emitted =
+                    (1.0 - f_sky) * self.ground_blackbody[i] * (1.0 - e) * p.tau2;
             }
             t
         };
-        let eps_band = band
-            .weights
-            .iter()
-            .enumerate()
-            .map(|(i, w)| w * eps.at(if spec > 0.0 { view_angle } else { 0.0 }, wl[i]))
-            .sum::<f64>();
+        let band_mean = |e: &[f64]| band.weights.iter().zip(e).map(|(w, e)| w * e).sum::<f64>();
         if spec <= 0.0 {
             return Ok(result(
                 1,
-                integrate_terms(band, |i| tap(i, diffuse(i))),
+                integrate_terms(band, |i| tap(i, diffuse(i, lt(i, surf.temp_k)))),
                 view_angle,
-                eps_band,
+                band_mean(eps0),
             ));
         }
+        // ε(θ_view, λᵢ) of the target, and of a facet the mirror ray meets
+        // at its own angle.
+        let mut eps_view = vec![0.0; wl.len()];
+        st.emissivity[m].spectrum_at(view_angle, wl, &mut eps_view);
+        let eps_band = band_mean(&eps_view);
         let (rdir, bg) = s.bounce.as_ref().expect("specular samples have a bounce");
         // What the mirror ray sees: the sky (eq. 2), or a background (eq. 3)
         // that is either a facet or the ground beyond the scene.
         enum Mirror<'m> {
             Sky(Arc<SkyPair>),
-            Ground {
-                temp_k: f64,
-            },
-            Facet {
-                b: &'m Surface,
-                eps_b: &'m Emissivity,
-                theta_bt_deg: f64,
-            },
+            Ground { temp_k: f64 },
+            Facet { b: &'m Surface, eps_b: Vec<f64> },
         }
         let mirror = match bg {
             None if rdir.z > 0.0 => Mirror::Sky(self.sky(*rdir)?),
             None => Mirror::Ground {
                 temp_k: self.cond.air_temp_k,
             },
-            Some(b) => Mirror::Facet {
-                b,
-                eps_b: &st.emissivity[b.material as usize],
-                theta_bt_deg: angle_deg(-*rdir, b.normal),
-            },
+            Some(b) => {
+                let mut eps_b = vec![0.0; wl.len()];
+                st.emissivity[b.material as usize].spectrum_at(
+                    angle_deg(-*rdir, b.normal),
+                    wl,
+                    &mut eps_b,
+                );
+                Mirror::Facet { b, eps_b }
+            }
         };
         let case = if matches!(mirror, Mirror::Sky(_)) {
             2
         } else {
             3
         };
-        let specular = |i: usize| {
-            let eps_theta = eps.at(view_angle, wl[i]);
-            let target = lt(i, surf.temp_k);
+        let specular = |i: usize, target: f64| {
+            let eps_theta = eps_view[i];
             let sun = self.sun_on(surf, i);
             let path = Self::path_at(path, i);
             let background = match &mirror {
@@ -562,12 +565,8 @@ impl<'a> RadiometryContext<'a> {
                     blackbody_w_m2_sr_um: lt(i, *temp_k),
                     sun: SunIllumination::DARK,
                 },
-                Mirror::Facet {
-                    b,
-                    eps_b,
-                    theta_bt_deg,
-                } => Background {
-                    emissivity: eps_b.at(*theta_bt_deg, wl[i]),
+                Mirror::Facet { b, eps_b } => Background {
+                    emissivity: eps_b[i],
                     blackbody_w_m2_sr_um: lt(i, b.temp_k),
                     sun: self.sun_on(b, i),
                 },
@@ -575,11 +574,12 @@ impl<'a> RadiometryContext<'a> {
             case3_specular_background(eps_theta, target, &sun, &background, &path)
         };
         let terms = integrate_terms(band, |i| {
+            let target = lt(i, surf.temp_k);
             let mut t = RadianceTerms::default();
             if spec < 1.0 {
-                t.accumulate(&diffuse(i), 1.0 - spec);
+                t.accumulate(&diffuse(i, target), 1.0 - spec);
             }
-            t.accumulate(&specular(i), spec);
+            t.accumulate(&specular(i, target), spec);
             tap(i, t)
         });
         Ok(result(case, terms, view_angle, eps_band))
