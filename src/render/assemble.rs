@@ -39,11 +39,19 @@ const TERMS: [fn(&RadianceTerms) -> f64; 6] = [
 /// A frame's planes while its bands are rendered.
 pub struct FramePlanes<'a> {
     st: &'a Static,
+    maker: PixelMaker<'a>,
     width: u32,
     height: u32,
     /// One vector per pixel-made entry of [`PLANES`], `width`×`height`,
-    /// row-major.
+    /// row-major (allocated whole, zero pages until written).
     data: Vec<Vec<f32>>,
+    /// Output rows filled so far (bands come in order).
+    rows_filled: u32,
+}
+
+/// What [`PixelMaker::pixel`] needs beside the samples.
+struct PixelMaker<'a> {
+    st: &'a Static,
     interval_h: f64,
     lut: ApparentTempLut,
 }
@@ -57,9 +65,13 @@ impl<'a> FramePlanes<'a> {
             st,
             width,
             height,
-            data: (0..NP).map(|_| Vec::with_capacity(npx)).collect(),
-            interval_h: cond.interval_s as f64 / 3600.0,
-            lut: ApparentTempLut::new(&st.band),
+            data: (0..NP).map(|_| vec![0.0; npx]).collect(),
+            rows_filled: 0,
+            maker: PixelMaker {
+                st,
+                interval_h: cond.interval_s as f64 / 3600.0,
+                lut: ApparentTempLut::new(&st.band),
+            },
         }
     }
 
@@ -77,12 +89,27 @@ impl<'a> FramePlanes<'a> {
     ) -> anyhow::Result<u64> {
         let (sw, n, w) = (sample_width as usize, n as usize, self.width as usize);
         let rows = band.len() / (sw * n);
-        let this = &*self;
-        let filled: Vec<(Vec<[f32; NP]>, u64)> = (0..rows)
+        // Bands come in order and fill whole rows.
+        anyhow::ensure!(
+            row0 == self.rows_filled && (row0 as usize + rows) <= self.height as usize,
+            "bands out of order"
+        );
+        let maker = &self.maker;
+        // Each output row's slice of every plane, written in place by the
+        // row's worker (no per-row staging and no second pass).
+        let span = row0 as usize * w..(row0 as usize + rows) * w;
+        let mut row_planes: Vec<Vec<&mut [f32]>> =
+            (0..rows).map(|_| Vec::with_capacity(NP)).collect();
+        for plane in &mut self.data {
+            for (r, chunk) in plane[span.clone()].chunks_mut(w).enumerate() {
+                row_planes[r].push(chunk);
+            }
+        }
+        let evaluated = row_planes
             .into_par_iter()
-            .map(|r| -> anyhow::Result<(Vec<[f32; NP]>, u64)> {
+            .enumerate()
+            .map(|(r, mut out)| -> anyhow::Result<u64> {
                 super::cancel::check()?;
-                let mut out = Vec::with_capacity(w);
                 let mut evaluated = 0u64;
                 let mut px: Vec<&Sample> = Vec::with_capacity(n * n);
                 let mut memo = pixel::EvalMemo::default();
@@ -92,93 +119,18 @@ impl<'a> FramePlanes<'a> {
                         (0..n)
                             .flat_map(|j| (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])),
                     );
-                    let (v, e) = this.pixel(ctx, &px, n, &mut memo)?;
-                    out.push(v);
+                    let (v, e) = maker.pixel(ctx, &px, n, &mut memo)?;
+                    for (plane, v) in out.iter_mut().zip(v) {
+                        plane[x] = v;
+                    }
                     evaluated += e as u64;
                 }
                 done((w * n * n) as u64);
-                Ok((out, evaluated))
+                Ok(evaluated)
             })
-            .collect::<anyhow::Result<_>>()?;
-        // Bands come in order: each plane grows by the band's rows.
-        anyhow::ensure!(
-            self.data[0].len() == row0 as usize * w,
-            "bands out of order"
-        );
-        self.data.par_iter_mut().enumerate().for_each(|(p, plane)| {
-            for (vals, _) in &filled {
-                plane.extend(vals.iter().map(|v| v[p]));
-            }
-        });
-        Ok(filled.iter().map(|(_, e)| e).sum())
-    }
-
-    /// Every pixel-made [`PLANES`] value of one output pixel from its n×n
-    /// samples (row-major); also the number of samples evaluated.
-    fn pixel(
-        &self,
-        ctx: &RadiometryContext,
-        px: &[&Sample],
-        n: usize,
-        memo: &mut pixel::EvalMemo,
-    ) -> anyhow::Result<([f32; NP], usize)> {
-        let c = (n / 2) * n + n / 2;
-        let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
-        let results: SmallVec<[SampleResult; 1]> = if uniform {
-            smallvec::smallvec![ctx.evaluate_memo(px[c], memo)?]
-        } else {
-            px.iter()
-                .map(|s| ctx.evaluate_memo(s, memo))
-                .collect::<anyhow::Result<_>>()?
-        };
-        let res = |k: usize| &results[if uniform { 0 } else { k }];
-        let mean = |f: &dyn Fn(usize) -> f64| -> f32 {
-            let (mut s, mut count) = (0.0, 0u32);
-            for k in 0..px.len() {
-                let v = f(k);
-                if v.is_finite() {
-                    s += v;
-                    count += 1;
-                }
-            }
-            if count > 0 {
-                (s / count as f64) as f32
-            } else {
-                f32::NAN
-            }
-        };
-        let surf = |k: usize| px[k].surface.as_ref();
-        let radiance = mean(&|k| res(k).radiance_w_m2_sr_um);
-        let band = &self.st.band;
-        let t_app = self
-            .lut
-            .apparent_temp_k(band, radiance as f64)
-            .map_or(f32::NAN, |t| t as f32);
-        let mut v = [0f32; NP];
-        v[0] = radiance;
-        v[1] = t_app;
-        v[2] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.temp_k));
-        v[3] = surf(c).map_or(-1.0, |s| s.material as f64) as f32;
-        v[4] = surf(c).map_or(-1.0, |s| s.prim as f64) as f32;
-        v[5] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64));
-        v[6] = mean(&|k| {
-            surf(k).map_or(f64::NAN, |s| {
-                s.history.count_sunlit() as f64 * self.interval_h
-            })
-        });
-        v[7] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
-        // The hit point in the tracer's local frame: world coordinates minus
-        // the frame's origin (`scene::frame`), which the georeferencing
-        // states as its ground origin (f32 keeps 0.5 mm within 16 km of it).
-        for axis in 0..3 {
-            v[8 + axis] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
-        }
-        v[11] = mean(&|k| res(k).view_angle_deg);
-        v[12] = res(c).case as f32;
-        for (t, f) in TERMS.iter().enumerate() {
-            v[FIRST_TERM + t] = mean(&|k| f(&res(k).terms));
-        }
-        Ok((v, results.len()))
+            .collect::<anyhow::Result<Vec<u64>>>()?;
+        self.rows_filled += rows as u32;
+        Ok(evaluated.iter().sum())
     }
 
     /// The finished planes: the per-pixel planes, then the sensor model on
@@ -187,7 +139,10 @@ impl<'a> FramePlanes<'a> {
     pub fn finish(self) -> anyhow::Result<Planes> {
         let st = self.st;
         let npx = self.width as usize * self.height as usize;
-        anyhow::ensure!(self.data[0].len() == npx, "planes not filled");
+        anyhow::ensure!(
+            self.rows_filled == self.height && self.data[0].len() == npx,
+            "planes not filled"
+        );
         let (w, h) = (self.width, self.height);
         let mut p = Planes::new(w, h);
         let mut sr = self.data[0].clone();
@@ -260,6 +215,76 @@ impl<'a> FramePlanes<'a> {
         let (name, unit) = PLANES[NP + 1];
         p.push(name, unit, sr);
         Ok(p)
+    }
+}
+
+impl PixelMaker<'_> {
+    /// Every pixel-made [`PLANES`] value of one output pixel from its n×n
+    /// samples (row-major); also the number of samples evaluated.
+    fn pixel(
+        &self,
+        ctx: &RadiometryContext,
+        px: &[&Sample],
+        n: usize,
+        memo: &mut pixel::EvalMemo,
+    ) -> anyhow::Result<([f32; NP], usize)> {
+        let c = (n / 2) * n + n / 2;
+        let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
+        let results: SmallVec<[SampleResult; 1]> = if uniform {
+            smallvec::smallvec![ctx.evaluate_memo(px[c], memo)?]
+        } else {
+            px.iter()
+                .map(|s| ctx.evaluate_memo(s, memo))
+                .collect::<anyhow::Result<_>>()?
+        };
+        let res = |k: usize| &results[if uniform { 0 } else { k }];
+        let mean = |f: &dyn Fn(usize) -> f64| -> f32 {
+            let (mut s, mut count) = (0.0, 0u32);
+            for k in 0..px.len() {
+                let v = f(k);
+                if v.is_finite() {
+                    s += v;
+                    count += 1;
+                }
+            }
+            if count > 0 {
+                (s / count as f64) as f32
+            } else {
+                f32::NAN
+            }
+        };
+        let surf = |k: usize| px[k].surface.as_ref();
+        let radiance = mean(&|k| res(k).radiance_w_m2_sr_um);
+        let band = &self.st.band;
+        let t_app = self
+            .lut
+            .apparent_temp_k(band, radiance as f64)
+            .map_or(f32::NAN, |t| t as f32);
+        let mut v = [0f32; NP];
+        v[0] = radiance;
+        v[1] = t_app;
+        v[2] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.temp_k));
+        v[3] = surf(c).map_or(-1.0, |s| s.material as f64) as f32;
+        v[4] = surf(c).map_or(-1.0, |s| s.prim as f64) as f32;
+        v[5] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64));
+        v[6] = mean(&|k| {
+            surf(k).map_or(f64::NAN, |s| {
+                s.history.count_sunlit() as f64 * self.interval_h
+            })
+        });
+        v[7] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
+        // The hit point in the tracer's local frame: world coordinates minus
+        // the frame's origin (`scene::frame`), which the georeferencing
+        // states as its ground origin (f32 keeps 0.5 mm within 16 km of it).
+        for axis in 0..3 {
+            v[8 + axis] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
+        }
+        v[11] = mean(&|k| res(k).view_angle_deg);
+        v[12] = res(c).case as f32;
+        for (t, f) in TERMS.iter().enumerate() {
+            v[FIRST_TERM + t] = mean(&|k| f(&res(k).terms));
+        }
+        Ok((v, results.len()))
     }
 }
 
