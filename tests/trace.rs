@@ -272,6 +272,58 @@ fn embree_packets_equal_single_rays() {
     assert!(hp.iter().filter(|h| h.is_some()).count() > hp.len() / 3);
 }
 
+/// The solar-history query (`occluded_along`: many origins, one sun
+/// direction, packets filled from the origins) answers exactly as
+/// `occluded` on `Ray::new(origin, dir)`, for Embree packets, Embree single
+/// rays and the obvhs backend (the trait's default), over lengths that
+/// leave short tails (below the packet threshold), and with invalid
+/// origins (NaN, beyond Embree's range) that must never be blocked.
+#[test]
+fn occluded_along_equals_occluded_of_the_same_rays() {
+    let g = geometry(meshgen::mixed_scene());
+    let tracers: Vec<Box<dyn Tracer>> = vec![
+        Box::new(EmbreeTracer::new(g.clone(), QueryMode::Packet16).unwrap()),
+        Box::new(EmbreeTracer::new(g.clone(), QueryMode::Single).unwrap()),
+        Box::new(BvhTracer::new(g.clone())),
+    ];
+    let mut rng = SplitMix(7);
+    let mut origins: Vec<Vec3> = (0..203)
+        .map(|_| {
+            Vec3::new(
+                rng.unit() * 60.0 - 30.0,
+                rng.unit() * 60.0 - 30.0,
+                rng.unit() * 6.0 + 0.05,
+            )
+        })
+        .collect();
+    origins[17] = Vec3::new(f32::NAN, 0.0, 1.0);
+    origins[18] = Vec3::new(0.0, 1e30, 1.0);
+    let (mut blocked_seen, mut open_seen) = (0, 0);
+    for t in &tracers {
+        for dir in sun_dirs() {
+            for len in [1, 3, 4, 16, 19, 203] {
+                let os = &origins[..len];
+                let rays: Vec<Ray> = os.iter().map(|o| Ray::new(*o, dir)).collect();
+                let mut want = vec![false; len];
+                t.occluded(&rays, &mut want);
+                let mut got = vec![true; len];
+                t.occluded_along(os, dir, &mut got);
+                assert_same(&got, &want, &rays);
+                if len == 203 {
+                    assert!(!got[17] && !got[18], "invalid origins are never blocked");
+                    blocked_seen += got.iter().filter(|b| **b).count();
+                    open_seen += got.iter().filter(|b| !**b).count();
+                }
+            }
+        }
+    }
+    // Both answers occur, so the comparison can fail.
+    assert!(
+        blocked_seen > 50 && open_seen > 50,
+        "{blocked_seen} blocked, {open_seen} open"
+    );
+}
+
 /// A 10 km × 10 km undulating ground at 1 km altitude, seen from 3 km above:
 /// shadow rays to a 60°-high sun and mirror rays from every hit, with the
 /// robust origin offset, never hit the surface they start on. (The slopes

@@ -240,7 +240,7 @@ fn trace_block(
         t.history = SunFlags::shaded(nsun);
     }
     let (mut away, mut down, mut solar) = (0, 0, 0);
-    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 16];
+    let mut from = [Vec3::ZERO; 16];
     let mut which = [0usize; 16];
     let mut blocked = [false; 16];
     for start in (0..targets.len()).step_by(16) {
@@ -253,7 +253,7 @@ fn trace_block(
             let mut m = 0;
             for p in chunk.clone() {
                 if targets[p].normal.dot(sun.dir) > 0.0 {
-                    rays[m] = Ray::new(origins[p], sun.dir);
+                    from[m] = origins[p];
                     which[m] = p;
                     m += 1;
                 } else {
@@ -263,7 +263,7 @@ fn trace_block(
             if m == 0 {
                 continue;
             }
-            tracer.occluded(&rays[..m], &mut blocked[..m]);
+            tracer.occluded_along(&from[..m], sun.dir, &mut blocked[..m]);
             solar += m;
             for (&p, &b) in which[..m].iter().zip(&blocked[..m]) {
                 if !b {

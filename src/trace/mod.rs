@@ -114,6 +114,21 @@ pub trait Tracer: Send + Sync {
     fn intersect(&self, rays: &[Ray], hits: &mut [Option<Hit>]);
     /// Whether anything blocks each ray within `[tnear, tfar]`.
     fn occluded(&self, rays: &[Ray], blocked: &mut [bool]);
+    /// Shadow queries from many origins along one direction (the solar
+    /// history: one sun direction per packet): `blocked[i]` is
+    /// [`Self::occluded`] of `Ray::new(origins[i], dir)`, the same answer.
+    /// Backends may fill their packets straight from the origins (no
+    /// [`Ray`] per query).
+    fn occluded_along(&self, origins: &[Vec3], dir: Vec3, blocked: &mut [bool]) {
+        assert_eq!(origins.len(), blocked.len(), "one slot per origin");
+        let mut rays = [Ray::new(Vec3::ZERO, dir); 16];
+        for (os, bs) in origins.chunks(16).zip(blocked.chunks_mut(16)) {
+            for (r, o) in rays.iter_mut().zip(os) {
+                r.org = *o;
+            }
+            self.occluded(&rays[..os.len()], bs);
+        }
+    }
 }
 
 /// Errors in geometry handed to the tracer.

@@ -8,7 +8,9 @@ pub mod ffi;
 use std::ffi::CStr;
 use std::sync::Arc;
 
-use super::{Backend, Geometry, GeometryError, Hit, QueryMode, Ray, Tracer};
+use glam::Vec3;
+
+use super::{Backend, Geometry, GeometryError, Hit, MAX_RAY_COORD, QueryMode, Ray, Tracer};
 
 const INVALID_ID: u32 = u32::MAX; // RTC_INVALID_GEOMETRY_ID
 
@@ -328,6 +330,44 @@ impl Tracer for EmbreeTracer {
                 }
             } else {
                 self.occluded_packet(rs, bs);
+            }
+        }
+    }
+
+    fn occluded_along(&self, origins: &[Vec3], dir: Vec3, blocked: &mut [bool]) {
+        assert_eq!(origins.len(), blocked.len(), "one slot per origin");
+        // `Ray::is_valid` of Ray::new(o, dir): the direction's part once,
+        // the origin's per lane.
+        let dir_ok = Ray::new(Vec3::ZERO, dir).is_valid();
+        for (os, bs) in origins.chunks(16).zip(blocked.chunks_mut(16)) {
+            if self.mode == QueryMode::Single || os.len() < MIN_PACKET_FILL {
+                for (o, b) in os.iter().zip(bs.iter_mut()) {
+                    *b = self.occluded_single(&Ray::new(*o, dir));
+                }
+                continue;
+            }
+            // The lanes `fill_lane` writes for Ray::new(o, dir).
+            let mut r = ffi::RTCRay16::default();
+            let mut valid = Valid16([0; 16]);
+            for (lane, o) in os.iter().enumerate() {
+                if dir_ok && o.is_finite() && o.abs().max_element() <= MAX_RAY_COORD {
+                    valid.0[lane] = -1;
+                    r.org_x[lane] = o.x;
+                    r.org_y[lane] = o.y;
+                    r.org_z[lane] = o.z;
+                    r.dir_x[lane] = dir.x;
+                    r.dir_y[lane] = dir.y;
+                    r.dir_z[lane] = dir.z;
+                    r.tfar[lane] = f32::INFINITY;
+                    r.mask[lane] = u32::MAX;
+                    r.id[lane] = lane as u32;
+                }
+            }
+            // SAFETY: as in intersect_packet (tnear, time and flags are the
+            // default's zeros, as fill_lane writes them).
+            unsafe { ffi::irsig_occluded16(valid.0.as_ptr(), self.scene.0, 1, &mut r) };
+            for (lane, b) in bs.iter_mut().enumerate() {
+                *b = valid.0[lane] != 0 && r.tfar[lane] == f32::NEG_INFINITY;
             }
         }
     }
