@@ -37,7 +37,7 @@ use serde::Serialize;
 
 use crate::sensor::camera::Camera;
 use crate::therm::balance::Orientation;
-use crate::therm::cache::{HistoryRef, ThermMemo, ThermQuery};
+use crate::therm::cache::{FacetParts, HistoryRef, ThermCache, ThermMemo, ThermQuery};
 use crate::therm::slab::{ThermError, ThermSolution};
 use crate::trace::offset::offset_origin;
 use crate::trace::{Hit, Ray};
@@ -314,22 +314,61 @@ fn therm_error(st: &Static, m: usize, e: ThermError) -> anyhow::Error {
     )
 }
 
+/// A worker's memo for step 4: the thermal cache's last-key memo, and the
+/// key parts of the last facet side and height seen — pure functions of
+/// (facet, normal) and of z that neighbouring samples mostly share (the
+/// orientation's acos/atan2, the blocked-sky lookup and the height's log
+/// are skipped on a repeat; the key is the same).
+#[derive(Default)]
+struct TempMemo {
+    therm: ThermMemo,
+    facet: Option<((u32, [u32; 3]), FacetParts)>,
+    height: Option<(u32, i32)>,
+}
+
 /// Step 4: the temperature of a surface at the image time, K (through
-/// the worker's memo of its last key).
+/// the worker's memo).
 fn temperature(
     st: &Static,
     cond: &Conditions,
     s: &Surface,
-    memo: &mut ThermMemo,
+    memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
     let m = s.material as usize;
+    let side = (s.prim, s.normal.to_array().map(f32::to_bits));
+    let facet = match memo.facet {
+        Some((k, parts)) if k == side => parts,
+        _ => {
+            let parts = cond.cache.facet_parts(
+                Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
+                st.blocked_sky(s.prim, s.normal),
+            );
+            memo.facet = Some((side, parts));
+            parts
+        }
+    };
+    let height_m = s.point.z as f64 - cond.ground_z_m;
+    let height_q = match memo.height {
+        Some((z, q)) if z == s.point.z.to_bits() => q,
+        _ => {
+            let q = ThermCache::quantise_height(height_m).0;
+            memo.height = Some((s.point.z.to_bits(), q));
+            q
+        }
+    };
+    let q = cond.cache.query_parts(
+        s.material,
+        facet,
+        Some(HistoryRef {
+            start_s: 0,
+            interval_s: cond.interval_s,
+            sunlit: s.history.flags(),
+        }),
+        0,
+        height_q,
+    );
     cond.cache
-        .surface_temp_k_memo(
-            &therm_query(st, cond, s),
-            &cond.slabs[m],
-            &cond.forcing,
-            memo,
-        )
+        .surface_temp_k_memo(&q, &cond.slabs[m], &cond.forcing, &mut memo.therm)
         .map_err(|e| therm_error(st, m, e))
 }
 
@@ -553,7 +592,7 @@ fn solve_temperatures(
         .par_chunks_mut(PROGRESS_CHUNK)
         .try_for_each(|chunk| -> anyhow::Result<()> {
             cancel::check()?;
-            let mut memo = ThermMemo::default();
+            let mut memo = TempMemo::default();
             let solved = chunk.iter_mut().try_for_each(|s| -> anyhow::Result<()> {
                 if let Some(surf) = s.surface.as_mut() {
                     surf.temp_k = temperature(st, cond, surf, &mut memo)?;
@@ -563,7 +602,7 @@ fn solve_temperatures(
                 }
                 Ok(())
             });
-            cond.cache.absorb_memo(&memo);
+            cond.cache.absorb_memo(&memo.therm);
             solved?;
             progress.add(chunk.len() as u64);
             Ok(())

@@ -227,6 +227,14 @@ impl ThermQuery<'_> {
     }
 }
 
+/// The key parts of a facet side ([`ThermCache::facet_parts`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FacetParts {
+    slope_q: i32,
+    aspect_q: i32,
+    blocked_q: i32,
+}
+
 /// A worker's memo of the last key it asked for and the surface
 /// temperature found (see the module docs). Start one per worker (or per
 /// chunk of pixels) with `ThermMemo::default()`; it keeps its own copy of
@@ -443,16 +451,46 @@ impl ThermCache {
         height_m: f64,
         blocked_sky: f64,
     ) -> ThermQuery<'a> {
-        let (slope_q, aspect_q, _) = self.quantise(o);
-        ThermQuery {
+        self.query_parts(
             material_id,
+            self.facet_parts(o, blocked_sky),
+            shadow,
+            weather_id,
+            Self::quantise_height(height_m).0,
+        )
+    }
+
+    /// The key parts of a facet side: its quantised orientation and blocked
+    /// sky (a pure function of them, so a caller may keep it for the next
+    /// sample on the same facet).
+    pub fn facet_parts(&self, o: Orientation, blocked_sky: f64) -> FacetParts {
+        let (slope_q, aspect_q, _) = self.quantise(o);
+        FacetParts {
             slope_q,
             aspect_q,
+            blocked_q: Self::quantise_blocked(blocked_sky),
+        }
+    }
+
+    /// [`Self::query`] from a facet's key parts ([`Self::facet_parts`]) and
+    /// a quantised height ([`Self::quantise_height`]): the same key.
+    pub fn query_parts<'a>(
+        &self,
+        material_id: u32,
+        facet: FacetParts,
+        shadow: Option<HistoryRef<'a>>,
+        weather_id: u64,
+        height_q: i32,
+    ) -> ThermQuery<'a> {
+        ThermQuery {
+            material_id,
+            slope_q: facet.slope_q,
+            aspect_q: facet.aspect_q,
             // An all-sunlit history is the same as no history.
             history: shadow.filter(|h| h.sunlit.any_shaded()),
             weather_id,
-            height_q: Self::quantise_height(height_m).0,
-            blocked_q: Self::quantise_blocked(blocked_sky),
+            height_q,
+            blocked_q: facet.blocked_q,
         }
     }
 
