@@ -533,13 +533,10 @@ fn bands(sample_width: u32, sample_height: u32, n: u32) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// A traced block: its sample pixels (tile order) and their samples.
-type TracedBlock = (Vec<(u32, u32)>, Vec<Sample>);
-
 /// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) into
 /// `out`, in row-major order: rows of blocks in parallel, the blocks of a row in
-/// parallel, each block's samples moved straight to their places (no
-/// whole-frame reorder).
+/// parallel, each block's task moving its samples straight to their places
+/// (no whole-frame reorder).
 fn trace_band(
     st: &Static,
     cond: &Conditions,
@@ -557,24 +554,30 @@ fn trace_band(
         .enumerate()
         .for_each(|(r, rows)| {
             let by = y0 + r as u32 * BLOCK;
-            let traced: Vec<TracedBlock> = (0..w)
-                .into_par_iter()
+            // Each block's BLOCK-wide segment of each of these rows: the
+            // block's task moves its samples there while they are hot.
+            let mut segments: Vec<_> = rows
+                .chunks_mut(w as usize)
+                .map(|row| row.chunks_mut(BLOCK as usize))
+                .collect();
+            let blocks: Vec<(u32, Vec<&mut [Sample]>)> = (0..w)
                 .step_by(BLOCK as usize)
                 .map(|bx| {
-                    if cancel::cancelled() {
-                        return (Vec::new(), Vec::new());
-                    }
-                    let px = block_pixels(bx, by, w, h);
-                    let s = trace_block(st, cond, cam, &px, c);
-                    progress.add(1);
-                    (px, s)
+                    let dest = segments.iter_mut().filter_map(Iterator::next).collect();
+                    (bx, dest)
                 })
                 .collect();
-            for (px, ss) in traced {
-                for (&(x, y), s) in px.iter().zip(ss) {
-                    rows[((y - by) * w + x) as usize] = s;
+            blocks.into_par_iter().for_each(|(bx, mut dest)| {
+                if cancel::cancelled() {
+                    return;
                 }
-            }
+                let px = block_pixels(bx, by, w, h);
+                let traced = trace_block(st, cond, cam, &px, c);
+                progress.add(1);
+                for (&(x, y), s) in px.iter().zip(traced) {
+                    dest[(y - by) as usize][(x - bx) as usize] = s;
+                }
+            });
         });
 }
 
