@@ -38,7 +38,6 @@ const TERMS: [fn(&RadianceTerms) -> f64; 6] = [
 
 /// A frame's planes while its bands are rendered.
 pub struct FramePlanes<'a> {
-    st: &'a Static,
     maker: PixelMaker<'a>,
     width: u32,
     height: u32,
@@ -62,7 +61,6 @@ impl<'a> FramePlanes<'a> {
     pub fn new(st: &'a Static, cond: &Conditions, width: u32, height: u32) -> Self {
         let npx = width as usize * height as usize;
         FramePlanes {
-            st,
             width,
             height,
             data: (0..NP).map(|_| vec![0.0; npx]).collect(),
@@ -137,12 +135,8 @@ impl<'a> FramePlanes<'a> {
     /// the band radiance (PSF, noise, quantisation → `dn`) as
     /// `sensor_radiance`.
     pub fn finish(self) -> anyhow::Result<Planes> {
-        let st = self.st;
-        let npx = self.width as usize * self.height as usize;
-        anyhow::ensure!(
-            self.rows_filled == self.height && self.data[0].len() == npx,
-            "planes not filled"
-        );
+        let st = self.maker.st;
+        anyhow::ensure!(self.rows_filled == self.height, "planes not filled");
         let (w, h) = (self.width, self.height);
         let mut p = Planes::new(w, h);
         let mut sr = self.data[0].clone();

@@ -68,6 +68,39 @@ impl Surface {
     pub fn sun_now(&self) -> bool {
         self.history.last().unwrap_or(false)
     }
+
+    /// The facet side the record is on: its facet and the bits of its
+    /// normal (which faces the incoming ray). What is a function of the
+    /// side alone (orientation, blocked sky) may be kept under this key.
+    pub fn side(&self) -> (u32, [u32; 3]) {
+        (self.prim, self.normal.to_array().map(f32::to_bits))
+    }
+}
+
+/// A worker's one-entry memo of a pure function: the value for the last
+/// key asked for (neighbouring samples mostly repeat a key, so a repeat
+/// skips the computation and gives the same value).
+#[derive(Debug)]
+pub(crate) struct LastKey<K, V>(Option<(K, V)>);
+
+impl<K, V> Default for LastKey<K, V> {
+    fn default() -> Self {
+        LastKey(None)
+    }
+}
+
+impl<K: PartialEq, V: Copy> LastKey<K, V> {
+    /// The value for `key`: the kept one on a repeat, else `f()` (kept).
+    pub(crate) fn get_or(&mut self, key: K, f: impl FnOnce() -> V) -> V {
+        match &self.0 {
+            Some((last, v)) if *last == key => *v,
+            _ => {
+                let v = f();
+                self.0 = Some((key, v));
+                v
+            }
+        }
+    }
 }
 
 /// What a (sub-)pixel's ray found.
@@ -286,24 +319,48 @@ pub fn thermal_solution(
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
     let m = s.material as usize;
+    let q = therm_query(st, cond, s, &mut KeyMemo::default());
     cond.cache
-        .solve_query(&therm_query(st, cond, s), &cond.slabs[m], &cond.forcing)
+        .solve_query(&q, &cond.slabs[m], &cond.forcing)
         .map_err(|e| therm_error(st, m, e))
 }
 
+/// The key parts of the last facet side and height a worker saw: pure
+/// functions of [`Surface::side`] and of z that neighbouring samples mostly
+/// share (a repeat skips the orientation's acos/atan2, the blocked-sky
+/// lookup and the height's log; the key is the same).
+#[derive(Default)]
+struct KeyMemo {
+    facet: LastKey<(u32, [u32; 3]), FacetParts>,
+    height: LastKey<u32, i32>,
+}
+
 /// The thermal cache's key of a surface (borrows its history).
-fn therm_query<'a>(st: &Static, cond: &Conditions, s: &'a Surface) -> ThermQuery<'a> {
-    cond.cache.query(
+fn therm_query<'a>(
+    st: &Static,
+    cond: &Conditions,
+    s: &'a Surface,
+    memo: &mut KeyMemo,
+) -> ThermQuery<'a> {
+    let facet = memo.facet.get_or(s.side(), || {
+        cond.cache.facet_parts(
+            Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
+            st.blocked_sky(s.prim, s.normal),
+        )
+    });
+    let height_q = memo.height.get_or(s.point.z.to_bits(), || {
+        ThermCache::quantise_height(s.point.z as f64 - cond.ground_z_m).0
+    });
+    cond.cache.query_parts(
         s.material,
-        Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
+        facet,
         Some(HistoryRef {
             start_s: 0,
             interval_s: cond.interval_s,
             sunlit: s.history.flags(),
         }),
         0,
-        s.point.z as f64 - cond.ground_z_m,
-        st.blocked_sky(s.prim, s.normal),
+        height_q,
     )
 }
 
@@ -314,16 +371,12 @@ fn therm_error(st: &Static, m: usize, e: ThermError) -> anyhow::Error {
     )
 }
 
-/// A worker's memo for step 4: the thermal cache's last-key memo, and the
-/// key parts of the last facet side and height seen — pure functions of
-/// (facet, normal) and of z that neighbouring samples mostly share (the
-/// orientation's acos/atan2, the blocked-sky lookup and the height's log
-/// are skipped on a repeat; the key is the same).
+/// A worker's memo for step 4: the thermal cache's last-key memo and the
+/// key parts' ([`KeyMemo`]).
 #[derive(Default)]
 struct TempMemo {
     therm: ThermMemo,
-    facet: Option<((u32, [u32; 3]), FacetParts)>,
-    height: Option<(u32, i32)>,
+    keys: KeyMemo,
 }
 
 /// Step 4: the temperature of a surface at the image time, K (through
@@ -335,38 +388,7 @@ fn temperature(
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
     let m = s.material as usize;
-    let side = (s.prim, s.normal.to_array().map(f32::to_bits));
-    let facet = match memo.facet {
-        Some((k, parts)) if k == side => parts,
-        _ => {
-            let parts = cond.cache.facet_parts(
-                Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
-                st.blocked_sky(s.prim, s.normal),
-            );
-            memo.facet = Some((side, parts));
-            parts
-        }
-    };
-    let height_m = s.point.z as f64 - cond.ground_z_m;
-    let height_q = match memo.height {
-        Some((z, q)) if z == s.point.z.to_bits() => q,
-        _ => {
-            let q = ThermCache::quantise_height(height_m).0;
-            memo.height = Some((s.point.z.to_bits(), q));
-            q
-        }
-    };
-    let q = cond.cache.query_parts(
-        s.material,
-        facet,
-        Some(HistoryRef {
-            start_s: 0,
-            interval_s: cond.interval_s,
-            sunlit: s.history.flags(),
-        }),
-        0,
-        height_q,
-    );
+    let q = therm_query(st, cond, s, &mut memo.keys);
     cond.cache
         .surface_temp_k_memo(&q, &cond.slabs[m], &cond.forcing, &mut memo.therm)
         .map_err(|e| therm_error(st, m, e))

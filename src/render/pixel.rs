@@ -39,7 +39,7 @@ use serde::Serialize;
 
 use super::planes::Planes;
 use super::prepare::{Conditions, Static};
-use super::{Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
+use super::{LastKey, Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
 use crate::atmos::PathSpectra;
 use crate::radiometry::band_coeffs::{DiffuseCoeffs, DiffuseSpectra, Memo, PlanckTable};
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;
@@ -443,17 +443,8 @@ impl<'a> RadiometryContext<'a> {
         };
         let sun = if surf.sun_now() { 1.0 } else { 0.0 }
             * (surf.normal.dot(self.sun_dir) as f64).max(0.0);
-        // F_sky is a function of the facet side alone: kept for the next
-        // sample on the same one.
-        let side = (surf.prim, surf.normal.to_array().map(f32::to_bits));
-        let f_sky = match memo.sky_view {
-            Some((k, f)) if k == side => f,
-            _ => {
-                let f = self.sky_view(surf);
-                memo.sky_view = Some((side, f));
-                f
-            }
-        };
+        // F_sky is a function of the facet side alone.
+        let f_sky = memo.sky_view.get_or(surf.side(), || self.sky_view(surf));
         let terms = c.terms(&self.planck, surf.temp_k, sun, f_sky);
         let view_angle = angle_deg(-s.dir, surf.normal);
         Ok(result(1, terms, view_angle, c.emissivity))
@@ -719,8 +710,8 @@ impl ApparentTempLut {
 #[derive(Default)]
 pub struct EvalMemo {
     diffuse: Option<((u32, PathKey), Arc<DiffuseCoeffs>)>,
-    /// The last facet side (facet, normal bits) and its F_sky.
-    sky_view: Option<((u32, [u32; 3]), f64)>,
+    /// The last facet side ([`Surface::side`]) and its F_sky.
+    sky_view: LastKey<(u32, [u32; 3]), f64>,
 }
 
 /// Planes that are NaN by design where no sample of a pixel hit a surface.

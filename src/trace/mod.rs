@@ -49,14 +49,18 @@ impl Ray {
     /// True when origin and direction are finite, within Embree's range
     /// ([`MAX_RAY_COORD`]) and the direction non-zero.
     pub fn is_valid(&self) -> bool {
-        self.org.is_finite()
-            && self.dir.is_finite()
-            && self.org.abs().max_element() <= MAX_RAY_COORD
-            && self.dir.abs().max_element() <= MAX_RAY_COORD
+        in_ray_range(self.org)
+            && in_ray_range(self.dir)
             && self.dir.length_squared() > 0.0
             && !self.tnear.is_nan()
             && !self.tfar.is_nan()
     }
+}
+
+/// A ray origin's or direction's part of [`Ray::is_valid`]: finite and
+/// within Embree's range ([`MAX_RAY_COORD`]).
+pub fn in_ray_range(v: Vec3) -> bool {
+    v.is_finite() && v.abs().max_element() <= MAX_RAY_COORD
 }
 
 /// The closest hit of a ray: distance along the ray, the input triangle

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::{Backend, Geometry, GeometryError, Hit, MAX_RAY_COORD, QueryMode, Ray, Tracer};
+use super::{Backend, Geometry, GeometryError, Hit, QueryMode, Ray, Tracer, in_ray_range};
 
 const INVALID_ID: u32 = u32::MAX; // RTC_INVALID_GEOMETRY_ID
 
@@ -249,12 +249,28 @@ impl EmbreeTracer {
     }
 
     fn occluded_packet(&self, rays: &[Ray], blocked: &mut [bool]) {
+        self.occluded16(blocked, |r, lane| {
+            let ray = &rays[lane];
+            ray.is_valid() && {
+                fill_lane(r, lane, ray);
+                true
+            }
+        });
+    }
+
+    /// One 16-wide occlusion query of `blocked.len()` lanes: `fill` writes
+    /// a lane of the packet and says whether it is valid (an invalid lane
+    /// is masked off and never blocked).
+    fn occluded16(
+        &self,
+        blocked: &mut [bool],
+        mut fill: impl FnMut(&mut ffi::RTCRay16, usize) -> bool,
+    ) {
         let mut r = ffi::RTCRay16::default();
         let mut valid = Valid16([0; 16]);
-        for (lane, ray) in rays.iter().enumerate() {
-            if ray.is_valid() {
+        for lane in 0..blocked.len() {
+            if fill(&mut r, lane) {
                 valid.0[lane] = -1;
-                fill_lane(&mut r, lane, ray);
             }
         }
         // SAFETY: as in intersect_packet.
@@ -337,7 +353,7 @@ impl Tracer for EmbreeTracer {
     fn occluded_along(&self, origins: &[Vec3], dir: Vec3, blocked: &mut [bool]) {
         assert_eq!(origins.len(), blocked.len(), "one slot per origin");
         // `Ray::is_valid` of Ray::new(o, dir): the direction's part once,
-        // the origin's per lane.
+        // the origin's (`in_ray_range`) per lane.
         let dir_ok = Ray::new(Vec3::ZERO, dir).is_valid();
         for (os, bs) in origins.chunks(16).zip(blocked.chunks_mut(16)) {
             if self.mode == QueryMode::Single || os.len() < MIN_PACKET_FILL {
@@ -346,12 +362,13 @@ impl Tracer for EmbreeTracer {
                 }
                 continue;
             }
-            // The lanes `fill_lane` writes for Ray::new(o, dir).
-            let mut r = ffi::RTCRay16::default();
-            let mut valid = Valid16([0; 16]);
-            for (lane, o) in os.iter().enumerate() {
-                if dir_ok && o.is_finite() && o.abs().max_element() <= MAX_RAY_COORD {
-                    valid.0[lane] = -1;
+            // The lanes `fill_lane` writes for Ray::new(o, dir); tnear, time
+            // and flags are the default packet's zeros and not written again
+            // (writing them, through fill_lane's form, cost 3 % of the trace
+            // at 2048²).
+            self.occluded16(bs, |r, lane| {
+                let o = os[lane];
+                dir_ok && in_ray_range(o) && {
                     r.org_x[lane] = o.x;
                     r.org_y[lane] = o.y;
                     r.org_z[lane] = o.z;
@@ -361,14 +378,9 @@ impl Tracer for EmbreeTracer {
                     r.tfar[lane] = f32::INFINITY;
                     r.mask[lane] = u32::MAX;
                     r.id[lane] = lane as u32;
+                    true
                 }
-            }
-            // SAFETY: as in intersect_packet (tnear, time and flags are the
-            // default's zeros, as fill_lane writes them).
-            unsafe { ffi::irsig_occluded16(valid.0.as_ptr(), self.scene.0, 1, &mut r) };
-            for (lane, b) in bs.iter_mut().enumerate() {
-                *b = valid.0[lane] != 0 && r.tfar[lane] == f32::NEG_INFINITY;
-            }
+            });
         }
     }
 }
