@@ -1,6 +1,6 @@
 //! Measures the EXR writer's lossless compressions on a rendered frame: for
-//! each, the best-of-N write time (the exr crate's parallel block
-//! compression, as `irsig render` writes), the process CPU time of that
+//! each, the best-of-N write time (blocks compressed in parallel on the
+//! rayon pool, as `irsig render` writes), the process CPU time of that
 //! write (user + system, Linux /proc; steadier than the wall time on a
 //! shared machine) and the file size, and checks that the planes read back
 //! bit for bit. BENCHMARKS.md, "EXR compression".
@@ -83,5 +83,64 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             best * size
         );
     }
+    zlib_levels(&planes, repeats);
     Ok(())
+}
+
+/// The ZIPS blocks of the frame (one scan line of every channel, in the
+/// file's channel order) compressed in parallel with irsig's
+/// `exr_zip::compress` at zlib-rs levels 1-9, and with miniz_oxide at level
+/// 4 (the exr crate's own ZIP compression): best-of-N wall time and the
+/// compressed size (compression alone, no file write).
+fn zlib_levels(planes: &Planes, repeats: usize) {
+    use rayon::prelude::*;
+    let (w, h) = (planes.width as usize, planes.height as usize);
+    let mut chans: Vec<(String, &[f32])> = planes
+        .planes
+        .iter()
+        .map(|p| (irsig::output::exr::channel_name(&p.name), &p.data[..]))
+        .collect();
+    chans.sort_by(|a, b| a.0.cmp(&b.0));
+    let blocks: Vec<Vec<u8>> = (0..h)
+        .map(|y| {
+            chans
+                .iter()
+                .flat_map(|(_, d)| d[y * w..(y + 1) * w].iter().flat_map(|v| v.to_le_bytes()))
+                .collect()
+        })
+        .collect();
+    let raw: usize = blocks.iter().map(Vec::len).sum();
+    let mib = |b: usize| b as f64 / (1 << 20) as f64;
+    println!();
+    println!(
+        "ZIPS blocks alone ({h} blocks, {:.1} MiB), compressed in parallel, best of {repeats}:",
+        mib(raw)
+    );
+    println!();
+    println!("| zlib | compress s | MiB | size / uncompressed | compress s x MiB |");
+    println!("|---|---|---|---|---|");
+    let run = |name: &str, f: &(dyn Fn(&[u8]) -> Vec<u8> + Sync)| {
+        let (mut best, mut size) = (f64::INFINITY, 0);
+        for _ in 0..repeats {
+            let t = Instant::now();
+            let out: Vec<Vec<u8>> = blocks.par_iter().map(|b| f(b)).collect();
+            best = best.min(t.elapsed().as_secs_f64());
+            size = out.iter().map(Vec::len).sum();
+        }
+        println!(
+            "| {name} | {best:.3} | {:.1} | {:.3} | {:.1} |",
+            mib(size),
+            size as f64 / raw as f64,
+            best * mib(size)
+        );
+    };
+    run("miniz_oxide 4 (exr crate)", &|b| {
+        let z = miniz_oxide::deflate::compress_to_vec_zlib(&irsig::output::exr_zip::predict(b), 4);
+        if z.len() < b.len() { z } else { b.to_vec() }
+    });
+    for level in 1..=9 {
+        run(&format!("zlib-rs {level}"), &|b| {
+            irsig::output::exr_zip::compress(b.to_vec(), level)
+        });
+    }
 }

@@ -141,28 +141,38 @@ fn exr_groups_channels_types_integers_and_states_units() {
     assert!(get("software").starts_with("irsig "));
 }
 
-/// The header's attributes come from a hash map in the exr crate; the file
-/// must still be the same bytes every time (reproducible outputs).
+/// The header's attributes come from a hash map in the exr crate, and the
+/// blocks are compressed in parallel; the file must still be the same bytes
+/// every time and for any thread count (reproducible outputs).
 #[test]
 fn exr_bytes_are_reproducible() {
     use irsig::output::exr::Attr;
     let dir = tempfile::tempdir().unwrap();
-    let p = planes_with_truth();
     let attrs: Vec<(String, Attr)> = (0..20)
         .map(|i| (format!("key_{i}"), Attr::F64(i as f64)))
         .collect();
-    for c in ExrCompression::ALL {
+    // Truth planes (UINT channels) and planes of 70 lines: more than one
+    // batch of blocks in flight at every thread count.
+    for (c, p) in ExrCompression::ALL
+        .into_iter()
+        .flat_map(|c| [(c, planes_with_truth()), (c, planes_to_compress())])
+    {
         let bytes: Vec<Vec<u8>> = (0..3)
             .map(|k| {
-                let path = dir.path().join(format!("{c}{k}.exr"));
+                let path = dir.path().join(format!("{c}{}{k}.exr", p.height));
                 let mut set = OutputSet::new(&path).unwrap();
-                write_exr(&mut set, &path, &p, &attrs, c).unwrap();
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(1 + 2 * k)
+                    .build()
+                    .unwrap();
+                pool.install(|| write_exr(&mut set, &path, &p, &attrs, c))
+                    .unwrap();
                 set.commit().unwrap();
                 std::fs::read(&path).unwrap()
             })
             .collect();
         assert!(bytes[0] == bytes[1] && bytes[1] == bytes[2], "{c}");
-        let (_, _, chans) = read_exr(&dir.path().join(format!("{c}2.exr"))).unwrap();
+        let (_, _, chans) = read_exr(&dir.path().join(format!("{c}{}2.exr", p.height))).unwrap();
         assert_eq!(chans.len(), p.planes.len());
     }
 }

@@ -110,9 +110,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         if let Some(b) = &bar {
             b.finish();
         }
+        // On the same pool: the EXR blocks are compressed in parallel.
+        write_rendered(&a.output, &image, formats, None)?;
         Ok(image)
     })?;
-    write_rendered(&a.output, &image, formats, None)?;
     let s = &image.frame.stats;
     let wrote = format!(
         "wrote {} ({}x{}), {:.2} s",

@@ -19,7 +19,7 @@ use std::path::Path;
 use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
     AnyChannel, AnyChannels, Blocks, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-    LineOrder, WritableImage, read_first_flat_layer_from_file,
+    LineOrder, read_first_flat_layer_from_file,
 };
 
 use super::{OutputError, OutputSet, Plane, Planes};
@@ -154,10 +154,10 @@ pub enum ExrCompression {
     None,
     /// Run-length encoding, one scan line per block.
     Rle,
-    /// zlib (deflate) of one scan line per block (OpenEXR's ZIPS): the
-    /// default, the fastest to write and read of the three that shrink
-    /// irsig's planes to a fifth (2048² airfield: 2.6 s against 4.9 s for
-    /// ZIP, 0.3 % larger; BENCHMARKS.md).
+    /// zlib (deflate) of one scan line per block (OpenEXR's ZIPS), at
+    /// [`super::exr_zip::ZLIB_LEVEL`]: the default, the fastest to write of
+    /// all (2048² airfield, 2 threads: 0.52 s for a file 0.22 of the
+    /// samples; `none` 0.55 s; BENCHMARKS.md, "EXR compression").
     #[default]
     Zips,
     /// zlib of 16 scan lines per block (OpenEXR's ZIP).
@@ -316,18 +316,66 @@ pub fn write_exr_planes(
     );
     let image = Image::from_layer(layer);
     out.stage(path, |w| {
-        let mut cursor = std::io::Cursor::new(Vec::new());
-        // Blocks are compressed in parallel; with increasing line order the
-        // exr crate writes them in order, so the bytes do not depend on the
-        // thread count.
-        image
-            .write()
-            .to_buffered(&mut cursor)
-            .map_err(|e| e.to_string())?;
-        let mut bytes = cursor.into_inner();
+        let mut bytes = encode(&image, compression).map_err(|e| e.to_string())?;
         sort_header_attributes(&mut bytes)?;
         std::io::Write::write_all(w, &bytes).map_err(|e| e.to_string())
     })
+}
+
+/// The file's bytes: the exr crate's header and block layout, the blocks
+/// compressed in parallel on the current rayon pool (so `--threads` holds)
+/// a batch at a time and written in increasing line order — the bytes do
+/// not depend on the thread count. ZIP and ZIPS blocks are compressed by
+/// [`super::exr_zip`] (zlib-rs at a level chosen by measurement), the
+/// others by the exr crate.
+fn encode(
+    image: &Image<Layer<AnyChannels<PlaneSamples<'_>>>>,
+    compression: ExrCompression,
+) -> exr::error::Result<Vec<u8>> {
+    use exr::block::UncompressedBlock;
+    use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
+    use exr::block::writer::ChunksWriter;
+    use exr::image::write::layers::{LayersWriter, WritableLayers};
+    use rayon::prelude::*;
+    let headers = image.layer_data.infer_headers(&image.attributes);
+    let layers = image.layer_data.create_writer(&headers);
+    let mut cursor = std::io::Cursor::new(Vec::new());
+    exr::block::write(&mut cursor, headers, true, |meta, chunks| {
+        let order: Vec<_> = meta.enumerate_ordered_header_block_indices().collect();
+        // Bounded memory: a batch of blocks in flight, not the image.
+        let batch = 16 * rayon::current_num_threads();
+        for part in order.chunks(batch) {
+            let done: Vec<exr::error::Result<Chunk>> = part
+                .par_iter()
+                .map(|&(_, index)| {
+                    let data = layers.extract_uncompressed_block(&meta.headers, index);
+                    let zip = matches!(compression, ExrCompression::Zips | ExrCompression::Zip);
+                    if zip && cfg!(target_endian = "little") {
+                        // Native-endian samples are the little-endian bytes.
+                        Ok(Chunk {
+                            layer_index: index.layer,
+                            compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+                                y_coordinate: i32::try_from(index.pixel_position.y()).map_err(
+                                    |_| exr::error::Error::Invalid("image height".into()),
+                                )?,
+                                compressed_pixels_le: super::exr_zip::compress(
+                                    data,
+                                    super::exr_zip::ZLIB_LEVEL,
+                                ),
+                            }),
+                        })
+                    } else {
+                        UncompressedBlock { index, data }.compress_to_chunk(&meta.headers)
+                    }
+                })
+                .collect();
+            for (&(at, _), chunk) in part.iter().zip(done) {
+                chunks.write_chunk(at, chunk?)?;
+            }
+        }
+        Ok(())
+    })?;
+    Ok(cursor.into_inner())
 }
 
 /// Sorts the attributes of a single-part EXR's header by name, in place.

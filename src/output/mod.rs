@@ -8,6 +8,7 @@
 
 pub mod envi;
 pub mod exr;
+pub mod exr_zip;
 pub mod frame;
 pub mod geotiff;
 pub mod quicklook;
