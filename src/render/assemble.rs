@@ -112,12 +112,15 @@ impl<'a> FramePlanes<'a> {
                 let mut px: Vec<&Sample> = Vec::with_capacity(n * n);
                 let mut memo = pixel::EvalMemo::default();
                 for x in 0..w {
-                    px.clear();
-                    px.extend(
-                        (0..n)
-                            .flat_map(|j| (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])),
-                    );
-                    let (v, e) = maker.pixel(ctx, &px, n, &mut memo)?;
+                    let (v, e) = if n == 1 {
+                        maker.pixel(ctx, &[&band[r * sw + x]], 1, &mut memo)?
+                    } else {
+                        px.clear();
+                        px.extend((0..n).flat_map(|j| {
+                            (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])
+                        }));
+                        maker.pixel(ctx, &px, n, &mut memo)?
+                    };
                     for (plane, v) in out.iter_mut().zip(v) {
                         plane[x] = v;
                     }
@@ -232,23 +235,25 @@ impl PixelMaker<'_> {
                 .collect::<anyhow::Result<_>>()?
         };
         let res = |k: usize| &results[if uniform { 0 } else { k }];
-        let mean = |f: &dyn Fn(usize) -> f64| -> f32 {
-            let (mut s, mut count) = (0.0, 0u32);
-            for k in 0..px.len() {
+        // (generic, not `&dyn Fn`: each plane's closure is inlined)
+        fn mean_of(count: usize, f: impl Fn(usize) -> f64) -> f32 {
+            let (mut s, mut finite) = (0.0, 0u32);
+            for k in 0..count {
                 let v = f(k);
                 if v.is_finite() {
                     s += v;
-                    count += 1;
+                    finite += 1;
                 }
             }
-            if count > 0 {
-                (s / count as f64) as f32
+            if finite > 0 {
+                (s / finite as f64) as f32
             } else {
                 f32::NAN
             }
-        };
+        }
+        let np = px.len();
         let surf = |k: usize| px[k].surface.as_ref();
-        let radiance = mean(&|k| res(k).radiance_w_m2_sr_um);
+        let radiance = mean_of(np, |k| res(k).radiance_w_m2_sr_um);
         let band = &self.st.band;
         let t_app = self
             .lut
@@ -257,26 +262,28 @@ impl PixelMaker<'_> {
         let mut v = [0f32; NP];
         v[0] = radiance;
         v[1] = t_app;
-        v[2] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.temp_k));
+        v[2] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.temp_k));
         v[3] = surf(c).map_or(-1.0, |s| s.material as f64) as f32;
         v[4] = surf(c).map_or(-1.0, |s| s.prim as f64) as f32;
-        v[5] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64));
-        v[6] = mean(&|k| {
+        v[5] = mean_of(np, |k| {
+            surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64)
+        });
+        v[6] = mean_of(np, |k| {
             surf(k).map_or(f64::NAN, |s| {
                 s.history.count_sunlit() as f64 * self.interval_h
             })
         });
-        v[7] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
+        v[7] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
         // The hit point in the tracer's local frame: world coordinates minus
         // the frame's origin (`scene::frame`), which the georeferencing
         // states as its ground origin (f32 keeps 0.5 mm within 16 km of it).
         for axis in 0..3 {
-            v[8 + axis] = mean(&|k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
+            v[8 + axis] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
         }
-        v[11] = mean(&|k| res(k).view_angle_deg);
+        v[11] = mean_of(np, |k| res(k).view_angle_deg);
         v[12] = res(c).case as f32;
         for (t, f) in TERMS.iter().enumerate() {
-            v[FIRST_TERM + t] = mean(&|k| f(&res(k).terms));
+            v[FIRST_TERM + t] = mean_of(np, |k| f(&res(k).terms));
         }
         Ok((v, results.len()))
     }
