@@ -191,9 +191,21 @@ impl<'a> FramePlanes<'a> {
                     offset: -off.unwrap_or(0.0) / g,
                 },
                 _ => {
-                    let fin = sr.iter().filter(|v| v.is_finite());
-                    let lo = fin.clone().fold(f32::INFINITY, |a, &b| a.min(b)) as f64;
-                    let hi = fin.fold(f32::NEG_INFINITY, |a, &b| a.max(b)) as f64;
+                    // (min and max do not depend on the order, up to the
+                    // sign of a zero, which + 0.0 makes +0: the same for any
+                    // thread count)
+                    let (lo, hi) = sr
+                        .par_iter()
+                        .filter(|v| v.is_finite())
+                        .fold(
+                            || (f32::INFINITY, f32::NEG_INFINITY),
+                            |(lo, hi), &v| (lo.min(v), hi.max(v)),
+                        )
+                        .reduce(
+                            || (f32::INFINITY, f32::NEG_INFINITY),
+                            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+                        );
+                    let (lo, hi) = (lo as f64 + 0.0, hi as f64 + 0.0);
                     let (lo, hi) = if lo.is_finite() && hi > lo {
                         (lo, hi)
                     } else {

@@ -732,13 +732,33 @@ pub const SURFACE_PLANES: [&str; 8] = [
 /// error naming the plane and the pixel (issue 17: accepted input must not
 /// yield NaN or ∞ silently).
 pub fn check_finite(p: &Planes) -> anyhow::Result<()> {
+    use rayon::prelude::*;
     let material = p.get("material").map(|m| &m.data);
     for plane in &p.planes {
         let may_be_nan = SURFACE_PLANES.contains(&plane.name.as_str());
-        for (i, v) in plane.data.iter().enumerate() {
-            if v.is_finite() || (may_be_nan && material.is_none_or(|m| m[i] < 0.0)) {
-                continue;
-            }
+        // The first offending pixel (in parallel; the same one whatever
+        // the thread count).
+        const CHUNK: usize = 1 << 16;
+        let ok =
+            |i: usize, v: f32| v.is_finite() || (may_be_nan && material.is_none_or(|m| m[i] < 0.0));
+        let bad = plane
+            .data
+            .par_chunks(CHUNK)
+            .enumerate()
+            .find_map_first(|(c, chunk)| {
+                let at = c * CHUNK;
+                // (all finite, the common case: a loop without early exit)
+                if chunk.iter().fold(true, |a, v| a & v.is_finite()) {
+                    return None;
+                }
+                chunk
+                    .iter()
+                    .enumerate()
+                    .position(|(j, &v)| !ok(at + j, v))
+                    .map(|j| at + j)
+            });
+        if let Some(i) = bad {
+            let v = plane.data[i];
             let (x, y) = (i as u32 % p.width, i as u32 / p.width);
             anyhow::bail!(
                 "the render produced {v} in the {} plane at pixel ({x}, {y}) from accepted \
@@ -754,6 +774,50 @@ pub fn check_finite(p: &Planes) -> anyhow::Result<()> {
 mod tests {
     use super::ApparentTempLut;
     use crate::radiometry::{Band, SpectralGrid, SpectralResponse};
+
+    /// check_finite names the first non-finite value (plane order, then
+    /// pixel order), across the parallel search's chunks, and lets a
+    /// surface plane be NaN only where the pixel saw no surface.
+    #[test]
+    fn check_finite_reports_the_first_bad_pixel() {
+        use super::check_finite;
+        use crate::output::Planes;
+        let (w, h) = (400u32, 300u32); // more than one chunk of 65536
+        let npx = (w * h) as usize;
+        let planes = |bad: &[(usize, usize)], sky: usize| {
+            let mut p = Planes::new(w, h);
+            let mut material = vec![0.0f32; npx];
+            material[sky] = -1.0;
+            let mut data = [vec![300.0f32; npx], vec![1.0f32; npx]];
+            for &(k, i) in bad {
+                data[k][i] = if k == 0 { f32::NAN } else { f32::INFINITY };
+            }
+            let [temp, radiance] = data;
+            p.push("material", "", material);
+            p.push("surface_temperature", "K", temp);
+            p.push("band_radiance", "W", radiance);
+            p
+        };
+        let sky = 70_123;
+        assert!(check_finite(&planes(&[], sky)).is_ok());
+        // NaN temperature where the pixel saw no surface: allowed.
+        assert!(check_finite(&planes(&[(0, sky)], sky)).is_ok());
+        // The first bad pixel of the first bad plane, in the second chunk.
+        let e = check_finite(&planes(&[(1, 5), (0, 100_401), (0, 119_999)], sky))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("NaN in the surface_temperature plane at pixel (1, 251)"),
+            "{e}"
+        );
+        let e = check_finite(&planes(&[(1, 99_999), (1, 100_000)], sky))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("inf in the band_radiance plane at pixel (399, 249)"),
+            "{e}"
+        );
+    }
 
     /// The table inversion agrees with the band's own Newton solver (itself
     /// checked against scipy-referenced Planck integrals) to 1e-6 K over
