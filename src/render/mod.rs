@@ -254,7 +254,8 @@ fn trace_block(
 
     // Solar-history rays from every surface point (primary and
     // background); packets of 16 points share one sun direction, built on
-    // the stack, and each answer sets a bit of the point's history.
+    // the stack, and each answer sets a bit of the point's history (in a
+    // flat word array, copied into each history at the end).
     let nsun = cond.suns.len();
     let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
     for s in samples.iter_mut() {
@@ -269,23 +270,24 @@ fn trace_block(
         .iter()
         .map(|t| offset_origin(t.point, t.normal))
         .collect();
-    for t in targets.iter_mut() {
-        t.history = SunFlags::shaded(nsun);
-    }
-    let (mut away, mut down, mut solar) = (0, 0, 0);
+    let normals: Vec<Vec3> = targets.iter().map(|t| t.normal).collect();
+    let up: Vec<(usize, Vec3)> = (cond.suns.iter().enumerate())
+        .filter(|(_, sun)| sun.up)
+        .map(|(k, sun)| (k, sun.dir))
+        .collect();
+    let nw = nsun.div_ceil(64);
+    let mut words = vec![0u64; targets.len() * nw];
+    let (mut away, mut solar) = (0, 0);
+    let down = targets.len() * (nsun - up.len());
     let mut from = [Vec3::ZERO; 16];
     let mut which = [0usize; 16];
     let mut blocked = [false; 16];
     for start in (0..targets.len()).step_by(16) {
         let chunk = start..(start + 16).min(targets.len());
-        for (k, sun) in cond.suns.iter().enumerate() {
-            if !sun.up {
-                down += chunk.len();
-                continue;
-            }
+        for &(k, dir) in &up {
             let mut m = 0;
             for p in chunk.clone() {
-                if targets[p].normal.dot(sun.dir) > 0.0 {
+                if normals[p].dot(dir) > 0.0 {
                     from[m] = origins[p];
                     which[m] = p;
                     m += 1;
@@ -296,14 +298,18 @@ fn trace_block(
             if m == 0 {
                 continue;
             }
-            tracer.occluded_along(&from[..m], sun.dir, &mut blocked[..m]);
+            tracer.occluded_along(&from[..m], dir, &mut blocked[..m]);
             solar += m;
+            let (word, bit) = (k / 64, 1u64 << (k % 64));
             for (&p, &b) in which[..m].iter().zip(&blocked[..m]) {
                 if !b {
-                    targets[p].history.set_sunlit(k);
+                    words[p * nw + word] |= bit;
                 }
             }
         }
+    }
+    for (p, t) in targets.iter_mut().enumerate() {
+        t.history = SunFlags::from_words(&words[p * nw..(p + 1) * nw], nsun);
     }
     add(&c.sun_down, down);
     add(&c.away, away);

@@ -27,6 +27,16 @@ impl SunFlags {
         }
     }
 
+    /// `len` samples from their packed words (sample `i` in bit `i % 64`
+    /// of `words[i / 64]`; `len.div_ceil(64)` words, bits past `len` zero).
+    pub fn from_words(words: &[u64], len: usize) -> Self {
+        debug_assert_eq!(words.len(), len.div_ceil(64));
+        SunFlags {
+            words: SmallVec::from_slice(words),
+            len: len as u32,
+        }
+    }
+
     pub fn len(&self) -> usize {
         self.len as usize
     }
@@ -88,6 +98,7 @@ mod tests {
                 }
             }
             assert_eq!(f.iter().collect::<Vec<_>>(), bools);
+            assert_eq!(SunFlags::from_words(&f.words, len), f);
             assert_eq!(f.count_sunlit(), bools.iter().filter(|b| **b).count());
             assert_eq!(f.last(), bools.last().copied());
             assert_eq!(f.flags(), Flags::Bools(&bools));
