@@ -267,10 +267,11 @@ impl PixelMaker<'_> {
         let surf = |k: usize| px[k].surface.as_ref();
         let radiance = mean_of(np, |k| res(k).radiance_w_m2_sr_um);
         let band = &self.st.band;
-        let t_app = self
-            .lut
-            .apparent_temp_k(band, radiance as f64)
-            .map_or(f32::NAN, |t| t as f32);
+        let t_app = memo.apparent.get_or(radiance.to_bits(), || {
+            self.lut
+                .apparent_temp_k(band, radiance as f64)
+                .map_or(f32::NAN, |t| t as f32)
+        });
         let mut v = [0f32; NP];
         v[0] = radiance;
         v[1] = t_app;

@@ -712,6 +712,10 @@ pub struct EvalMemo {
     diffuse: Option<((u32, PathKey), Arc<DiffuseCoeffs>)>,
     /// The last facet side ([`Surface::side`]) and its F_sky.
     sky_view: LastKey<(u32, [u32; 3]), f64>,
+    /// The last pixel radiance (f32 bits) and its apparent temperature:
+    /// neighbouring pixels of one facet, temperature and path key have the
+    /// same radiance.
+    pub(crate) apparent: LastKey<u32, f32>,
 }
 
 /// Planes that are NaN by design where no sample of a pixel hit a surface.
