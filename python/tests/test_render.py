@@ -146,6 +146,34 @@ def test_every_exr_compression_reads_back_bit_for_bit(compression, cli_small, tm
         assert np.array_equal(bits(exr[name]), bits(a)), name
 
 
+def test_the_scene_chooses_the_exr_compression_and_the_flag_overrides_it(tmp_path):
+    """`output.exr_compression` in the scene picks the EXR's compression
+    (read by OpenEXR's reference library); `--exr-compression` wins over
+    it; a value outside the lossless options is refused with the valid
+    ones."""
+    import OpenEXR
+
+    def compression(*extra):
+        out = tmp_path / "x.exr"
+        run_cli("render", AIRFIELD, "-o", out, *set_args(SMALL), *extra)
+        with OpenEXR.File(str(out)) as f:
+            return f.header()["compression"].name
+
+    assert compression() == "ZIPS_COMPRESSION"
+    assert compression("--set", 'output.exr_compression="piz"') == "PIZ_COMPRESSION"
+    assert (
+        compression("--set", 'output.exr_compression="piz"', "--exr-compression", "rle")
+        == "RLE_COMPRESSION"
+    )
+    p = run_cli(
+        "render", AIRFIELD, "-o", tmp_path / "y.exr", *set_args(SMALL),
+        "--set", 'output.exr_compression="pxr24"', check=False,
+    )
+    assert p.returncode != 0, p.stderr
+    assert "unknown variant `pxr24`, expected one of `none`, `rle`, `zips`, `zip`, `piz`" in p.stderr
+    assert not (tmp_path / "y.exr").exists()
+
+
 def test_unknown_exr_compression_is_refused_with_the_valid_names(tmp_path):
     p = run_cli("render", AIRFIELD, "-o", tmp_path / "x.exr", "--exr-compression", "pxr24", check=False)
     assert p.returncode != 0

@@ -49,10 +49,11 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', value_name = "PLANE,...")]
     pub planes: Vec<String>,
     /// The EXR's compression, all lossless: none, rle, zips (zlib per scan
-    /// line), zip (zlib per 16 lines), piz (wavelet). The default was chosen
-    /// by measured write time and size (BENCHMARKS.md, "EXR compression").
-    #[arg(long, value_name = "none|rle|zips|zip|piz", default_value_t = ExrCompression::default())]
-    pub exr_compression: ExrCompression,
+    /// line), zip (zlib per 16 lines), piz (wavelet). Default: the scene's
+    /// `output.exr_compression`, itself zips by default, chosen by measured
+    /// write time and size (BENCHMARKS.md, "EXR compression").
+    #[arg(long, value_name = "none|rle|zips|zip|piz")]
+    pub exr_compression: Option<ExrCompression>,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,

@@ -36,8 +36,9 @@ pub struct Common {
     #[arg(long)]
     pub envi: bool,
     /// The EXRs' compression (lossless; see `irsig render --help`).
-    #[arg(long, value_name = "none|rle|zips|zip|piz", default_value_t = ExrCompression::default())]
-    pub exr_compression: ExrCompression,
+    /// Default: each frame's scene's `output.exr_compression` (zips).
+    #[arg(long, value_name = "none|rle|zips|zip|piz")]
+    pub exr_compression: Option<ExrCompression>,
     /// Render every frame, even those already complete in the output
     /// folder from an earlier run of the same scene (by default such
     /// frames, e.g. of a killed run, are kept and not rendered again).

@@ -147,7 +147,9 @@ impl exr::image::write::samples::SamplesWriter for PlaneWriter<'_, '_> {
 /// float channels to 24 bits, B44/B44A are lossy for half floats (and
 /// leave 32-bit channels uncompressed), DWAA/DWAB are lossy — all refused.
 /// The default is chosen by measurement (BENCHMARKS.md, "EXR compression").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum ExrCompression {
     /// Uncompressed.

@@ -37,8 +37,9 @@ pub struct Formats {
     /// The planes the EXR and the GeoTIFF hold (`None`: all; the ENVI
     /// cubes, the PNG and the geolocation are not affected).
     pub planes: Option<Vec<String>>,
-    /// The EXR's compression (lossless).
-    pub exr_compression: ExrCompression,
+    /// The EXR's compression (lossless); `None`: the scene's
+    /// (`output.exr_compression`, default zips).
+    pub exr_compression: Option<ExrCompression>,
 }
 
 impl Formats {
@@ -425,7 +426,7 @@ pub fn write_rendered(
             (w, h),
             &kept,
             &attrs,
-            formats.exr_compression,
+            formats.exr_compression.unwrap_or(r.output.exr_compression),
         )?;
     }
     if formats.geotiff {

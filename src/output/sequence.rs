@@ -171,8 +171,8 @@ pub struct SequenceOutput {
     pub scene: String,
     /// Also write an ENVI cube per frame.
     pub envi: bool,
-    /// The frames' EXR compression.
-    pub exr_compression: super::exr::ExrCompression,
+    /// The frames' EXR compression (`None`: each frame's scene's).
+    pub exr_compression: Option<super::exr::ExrCompression>,
 }
 
 impl SequenceOutput {
@@ -195,7 +195,7 @@ impl SequenceOutput {
             "command": self.command,
             "key": self.key,
             "envi": self.envi,
-            "exr_compression": self.exr_compression.name(),
+            "exr_compression": self.exr_compression.map(|c| c.name()),
             "plan": plan.job,
         })
     }

@@ -40,6 +40,8 @@ pub struct Rendered {
     /// The tracer's local frame (`scene::frame`): the samples' points are
     /// in it; `local_frame.to_world` gives world coordinates.
     pub local_frame: crate::scene::LocalFrame,
+    /// The scene's output options (`[output]`).
+    pub output: crate::scene::spec::OutputOptions,
 }
 
 /// Renders the prepared scene `st` at `image_time` (UTC): the conditions
@@ -88,6 +90,7 @@ pub fn render_conditions(
         georef,
         frame,
         local_frame: st.scene.frame,
+        output: sc.output.clone(),
     })
 }
 

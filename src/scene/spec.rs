@@ -28,6 +28,9 @@ pub struct Scene {
     /// Render (accuracy/speed) options.
     #[serde(default)]
     pub render: RenderOptions,
+    /// Output file options.
+    #[serde(default)]
+    pub output: OutputOptions,
     /// Objects placed in the scene (`[[object]]` tables).
     #[serde(rename = "object", default)]
     pub objects: Vec<ObjectSpec>,
@@ -714,6 +717,17 @@ pub struct Quantisation {
     /// Counts at zero radiance; absent: automatic stretch.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset_counts: Option<f64>,
+}
+
+/// `[output]`: how the output files are written (what is written is the
+/// command's: `-o`, `--exr`, `--geotiff`, `--planes`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputOptions {
+    /// The EXR's lossless compression: none, rle, zips (default), zip,
+    /// piz; a command's `--exr-compression` overrides it.
+    #[serde(default)]
+    pub exr_compression: crate::output::exr::ExrCompression,
 }
 
 /// `[render]`: accuracy/speed knobs.
