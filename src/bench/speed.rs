@@ -59,7 +59,8 @@ pub struct SpeedRow {
     pub radiometry_s: f64,
     pub sensor_s: f64,
     pub total_s: f64,
-    /// Writing the frame as `irsig render` does (EXR with every plane, PNG
+    /// Writing the frame as `irsig render` does (EXR with every plane at the
+    /// scene's `output.exr_compression`, PNG
     /// quicklook, JSON summary), into a temporary folder, s.
     pub output_s: f64,
     /// `total_s` + `output_s`.
@@ -179,6 +180,7 @@ pub fn speed(
                 &frame,
                 |_, _| Ok("{}".into()),
                 false,
+                st.scene.scene.output.exr_compression,
             )?;
             let output = t2.elapsed().as_secs_f64();
             // The peak of the render and its write (before the floor's own

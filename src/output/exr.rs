@@ -346,14 +346,15 @@ fn encode(
         let order: Vec<_> = meta.enumerate_ordered_header_block_indices().collect();
         // Bounded memory: a batch of blocks in flight, not the image.
         let batch = 16 * rayon::current_num_threads();
+        // Native-endian samples are the little-endian bytes ZIP compresses.
+        let zip = matches!(compression, ExrCompression::Zips | ExrCompression::Zip)
+            && cfg!(target_endian = "little");
         for part in order.chunks(batch) {
             let done: Vec<exr::error::Result<Chunk>> = part
                 .par_iter()
                 .map(|&(_, index)| {
                     let data = layers.extract_uncompressed_block(&meta.headers, index);
-                    let zip = matches!(compression, ExrCompression::Zips | ExrCompression::Zip);
-                    if zip && cfg!(target_endian = "little") {
-                        // Native-endian samples are the little-endian bytes.
+                    if zip {
                         Ok(Chunk {
                             layer_index: index.layer,
                             compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {

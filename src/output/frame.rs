@@ -152,7 +152,8 @@ pub struct Summary<'a> {
     pub stats: &'a Stats,
 }
 
-/// Writes a bare frame's outputs as one [`OutputSet`]: the EXR at `exr`,
+/// Writes a bare frame's outputs as one [`OutputSet`]: the EXR at `exr`
+/// (with `compression`),
 /// the PNG quicklook, with `envi` an ENVI cube of every plane, and last
 /// the JSON that `summary_of(quicklook description, file names of the
 /// others)` makes. (A render's full set, georeferenced, is
@@ -163,11 +164,12 @@ pub fn write_frame(
     frame: &Frame,
     summary_of: impl FnOnce(String, Vec<String>) -> anyhow::Result<String>,
     envi: bool,
+    compression: ExrCompression,
 ) -> anyhow::Result<()> {
     let json_path = exr.with_extension("json");
     let mut set = OutputSet::new(&json_path)?;
     let p = &frame.planes;
-    write_exr(&mut set, exr, p, &[], ExrCompression::default())?;
+    write_exr(&mut set, exr, p, &[], compression)?;
     let ql = p
         .get("sensor_radiance")
         .expect("render writes sensor_radiance");
