@@ -272,14 +272,16 @@ fn embree_packets_equal_single_rays() {
     assert!(hp.iter().filter(|h| h.is_some()).count() > hp.len() / 3);
 }
 
-/// The solar-history query (`occluded_along`: many origins, one sun
-/// direction, packets filled from the origins) answers exactly as
-/// `occluded` on `Ray::new(origin, dir)`, for Embree packets, Embree single
-/// rays and the obvhs backend (the trait's default), over lengths that
-/// leave short tails (below the packet threshold), and with invalid
-/// origins (NaN, beyond Embree's range) that must never be blocked.
+/// The solar-history query (`occluded_fan`: up to 16 origins, one packet
+/// traced toward several sun directions, lanes chosen by a mask) answers
+/// exactly as `occluded` on `Ray::new(origin, dir)` for every active lane
+/// and never blocks an inactive one, for Embree packets, Embree single rays
+/// and the obvhs backend (the trait's default), with groups shorter than 16,
+/// masks below the packet threshold (fewer than 4 lanes), empty masks, and
+/// invalid origins (NaN, beyond Embree's range) and an invalid direction that
+/// must never be blocked.
 #[test]
-fn occluded_along_equals_occluded_of_the_same_rays() {
+fn occluded_fan_equals_occluded_of_the_same_rays() {
     let g = geometry(meshgen::mixed_scene());
     let tracers: Vec<Box<dyn Tracer>> = vec![
         Box::new(EmbreeTracer::new(g.clone(), QueryMode::Packet16).unwrap()),
@@ -298,22 +300,43 @@ fn occluded_along_equals_occluded_of_the_same_rays() {
         .collect();
     origins[17] = Vec3::new(f32::NAN, 0.0, 1.0);
     origins[18] = Vec3::new(0.0, 1e30, 1.0);
+    // Each sun twice (other masks) and an invalid (zero) direction.
+    let mut dirs = sun_dirs();
+    dirs.extend(sun_dirs());
+    dirs.push(Vec3::ZERO);
     let (mut blocked_seen, mut open_seen) = (0, 0);
     for t in &tracers {
-        for dir in sun_dirs() {
-            for len in [1, 3, 4, 16, 19, 203] {
-                let os = &origins[..len];
-                let rays: Vec<Ray> = os.iter().map(|o| Ray::new(*o, dir)).collect();
-                let mut want = vec![false; len];
+        for start in (0..origins.len()).step_by(16) {
+            let os = &origins[start..(start + 16).min(origins.len())];
+            let full = if os.len() == 16 {
+                u16::MAX
+            } else {
+                (1u16 << os.len()) - 1
+            };
+            // Per direction: all lanes, a random half, at most 3 lanes, none.
+            let active: Vec<u16> = (0..dirs.len())
+                .map(|k| {
+                    let r = (rng.unit() * 65536.0) as u16;
+                    full & [u16::MAX, r, r & 0x0111, 0][k % 4]
+                })
+                .collect();
+            let mut got = vec![0xffffu16; dirs.len()];
+            t.occluded_fan(os, &dirs, &active, &mut got);
+            for (k, dir) in dirs.iter().enumerate() {
+                let rays: Vec<Ray> = os.iter().map(|o| Ray::new(*o, *dir)).collect();
+                let mut want = vec![false; os.len()];
                 t.occluded(&rays, &mut want);
-                let mut got = vec![true; len];
-                t.occluded_along(os, dir, &mut got);
-                assert_same(&got, &want, &rays);
-                if len == 203 {
-                    assert!(!got[17] && !got[18], "invalid origins are never blocked");
-                    blocked_seen += got.iter().filter(|b| **b).count();
-                    open_seen += got.iter().filter(|b| !**b).count();
+                let got_k: Vec<bool> = (0..os.len()).map(|i| got[k] >> i & 1 == 1).collect();
+                let want_k: Vec<bool> = (0..os.len())
+                    .map(|i| active[k] >> i & 1 == 1 && want[i])
+                    .collect();
+                assert_same(&got_k, &want_k, &rays);
+                assert_eq!(got[k] & !active[k], 0, "an inactive lane is never blocked");
+                if start == 16 {
+                    assert!(got[k] & 0b110 == 0, "invalid origins are never blocked");
                 }
+                blocked_seen += got[k].count_ones();
+                open_seen += (active[k] & !got[k]).count_ones();
             }
         }
     }

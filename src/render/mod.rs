@@ -253,8 +253,9 @@ fn trace_block(
     }
 
     // Solar-history rays from every surface point (primary and
-    // background); packets of 16 points share one sun direction, built on
-    // the stack, and each answer sets a bit of the point's history (in a
+    // background): groups of 16 points, one packet per group whose origins
+    // are written once and traced toward each sun in turn (the points that
+    // face it); each open answer sets a bit of the point's history (in a
     // flat word array, copied into each history at the end).
     let nsun = cond.suns.len();
     let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
@@ -279,32 +280,28 @@ fn trace_block(
     let mut words = vec![0u64; targets.len() * nw];
     let (mut away, mut solar) = (0, 0);
     let down = targets.len() * (nsun - up.len());
-    let mut from = [Vec3::ZERO; 16];
-    let mut which = [0usize; 16];
-    let mut blocked = [false; 16];
+    let dirs: Vec<Vec3> = up.iter().map(|&(_, dir)| dir).collect();
+    let mut active = vec![0u16; up.len()];
+    let mut blocked = vec![0u16; up.len()];
     for start in (0..targets.len()).step_by(16) {
         let chunk = start..(start + 16).min(targets.len());
-        for &(k, dir) in &up {
-            let mut m = 0;
-            for p in chunk.clone() {
-                if normals[p].dot(dir) > 0.0 {
-                    from[m] = origins[p];
-                    which[m] = p;
-                    m += 1;
-                } else {
-                    away += 1;
-                }
-            }
-            if m == 0 {
-                continue;
-            }
-            tracer.occluded_along(&from[..m], dir, &mut blocked[..m]);
-            solar += m;
+        // The points of the group that face each sun (lane bits).
+        for (act, &dir) in active.iter_mut().zip(&dirs) {
+            *act = (normals[chunk.clone()].iter().enumerate())
+                .filter(|(_, n)| n.dot(dir) > 0.0)
+                .fold(0, |m, (lane, _)| m | 1 << lane);
+            let facing = act.count_ones() as usize;
+            solar += facing;
+            away += chunk.len() - facing;
+        }
+        tracer.occluded_fan(&origins[chunk.clone()], &dirs, &active, &mut blocked);
+        for ((&(k, _), &act), &b) in up.iter().zip(&active).zip(&blocked) {
             let (word, bit) = (k / 64, 1u64 << (k % 64));
-            for (&p, &b) in which[..m].iter().zip(&blocked[..m]) {
-                if !b {
-                    words[p * nw + word] |= bit;
-                }
+            let mut open = act & !b;
+            while open != 0 {
+                let lane = open.trailing_zeros() as usize;
+                words[(start + lane) * nw + word] |= bit;
+                open &= open - 1;
             }
         }
     }

@@ -118,19 +118,32 @@ pub trait Tracer: Send + Sync {
     fn intersect(&self, rays: &[Ray], hits: &mut [Option<Hit>]);
     /// Whether anything blocks each ray within `[tnear, tfar]`.
     fn occluded(&self, rays: &[Ray], blocked: &mut [bool]);
-    /// Shadow queries from many origins along one direction (the solar
-    /// history: one sun direction per packet): `blocked[i]` is
-    /// [`Self::occluded`] of `Ray::new(origins[i], dir)`, the same answer.
-    /// Backends may fill their packets straight from the origins (no
+    /// Shadow queries from up to 16 origins toward several directions (the
+    /// solar history of a group of points: one sun direction at a time).
+    /// For each `k`, the origins whose lane bit is set in `active[k]` are
+    /// queried toward `dirs[k]`, and `blocked[k]` gets the lanes whose ray
+    /// is blocked: lane `i` of `blocked[k]` is [`Self::occluded`] of
+    /// `Ray::new(origins[i], dirs[k])` where `active[k]` has it, else 0.
+    /// Backends may fill a packet's origins once for all directions (no
     /// [`Ray`] per query).
-    fn occluded_along(&self, origins: &[Vec3], dir: Vec3, blocked: &mut [bool]) {
-        assert_eq!(origins.len(), blocked.len(), "one slot per origin");
-        let mut rays = [Ray::new(Vec3::ZERO, dir); 16];
-        for (os, bs) in origins.chunks(16).zip(blocked.chunks_mut(16)) {
-            for (r, o) in rays.iter_mut().zip(os) {
-                r.org = *o;
+    fn occluded_fan(&self, origins: &[Vec3], dirs: &[Vec3], active: &[u16], blocked: &mut [u16]) {
+        assert!(origins.len() <= 16, "at most 16 origins");
+        assert!(dirs.len() == active.len() && dirs.len() == blocked.len());
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 16];
+        let (mut lanes, mut hit) = ([0usize; 16], [false; 16]);
+        for ((dir, &act), out) in dirs.iter().zip(active).zip(blocked.iter_mut()) {
+            let mut m = 0;
+            for (lane, o) in origins.iter().enumerate() {
+                if act >> lane & 1 == 1 {
+                    rays[m] = Ray::new(*o, *dir);
+                    lanes[m] = lane;
+                    m += 1;
+                }
             }
-            self.occluded(&rays[..os.len()], bs);
+            self.occluded(&rays[..m], &mut hit[..m]);
+            *out = (lanes[..m].iter().zip(&hit[..m]))
+                .filter(|(_, b)| **b)
+                .fold(0, |acc, (lane, _)| acc | 1 << lane);
         }
     }
 }

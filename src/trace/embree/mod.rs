@@ -350,37 +350,63 @@ impl Tracer for EmbreeTracer {
         }
     }
 
-    fn occluded_along(&self, origins: &[Vec3], dir: Vec3, blocked: &mut [bool]) {
-        assert_eq!(origins.len(), blocked.len(), "one slot per origin");
-        // `Ray::is_valid` of Ray::new(o, dir): the direction's part once,
-        // the origin's (`in_ray_range`) per lane.
-        let dir_ok = Ray::new(Vec3::ZERO, dir).is_valid();
-        for (os, bs) in origins.chunks(16).zip(blocked.chunks_mut(16)) {
-            if self.mode == QueryMode::Single || os.len() < MIN_PACKET_FILL {
-                for (o, b) in os.iter().zip(bs.iter_mut()) {
-                    *b = self.occluded_single(&Ray::new(*o, dir));
+    fn occluded_fan(&self, origins: &[Vec3], dirs: &[Vec3], active: &[u16], blocked: &mut [u16]) {
+        assert!(origins.len() <= 16, "at most 16 origins");
+        assert!(dirs.len() == active.len() && dirs.len() == blocked.len());
+        // One packet for all directions: the origins, mask and id lanes
+        // are written once (tnear, time and flags stay the default zeros);
+        // per direction only the direction lanes and tfar (which Embree
+        // sets to −∞ on a hit and changes nothing else: rtcOccluded16 docs)
+        // are written. A lane's answer does not depend on its position in
+        // the packet or on the other lanes.
+        let mut r = ffi::RTCRay16::default();
+        let mut in_range = 0u16;
+        for (lane, o) in origins.iter().enumerate() {
+            r.org_x[lane] = o.x;
+            r.org_y[lane] = o.y;
+            r.org_z[lane] = o.z;
+            r.mask[lane] = u32::MAX;
+            r.id[lane] = lane as u32;
+            if in_ray_range(*o) {
+                in_range |= 1 << lane;
+            }
+        }
+        for ((dir, &act), out) in dirs.iter().zip(active).zip(blocked.iter_mut()) {
+            *out = 0;
+            let fill = act.count_ones() as usize;
+            if fill == 0 {
+                continue;
+            }
+            if self.mode == QueryMode::Single || fill < MIN_PACKET_FILL {
+                for (lane, o) in origins.iter().enumerate() {
+                    if act >> lane & 1 == 1 && self.occluded_single(&Ray::new(*o, *dir)) {
+                        *out |= 1 << lane;
+                    }
                 }
                 continue;
             }
-            // The lanes `fill_lane` writes for Ray::new(o, dir); tnear, time
-            // and flags are the default packet's zeros and not written again
-            // (writing them, through fill_lane's form, cost 3 % of the trace
-            // at 2048²).
-            self.occluded16(bs, |r, lane| {
-                let o = os[lane];
-                dir_ok && in_ray_range(o) && {
-                    r.org_x[lane] = o.x;
-                    r.org_y[lane] = o.y;
-                    r.org_z[lane] = o.z;
-                    r.dir_x[lane] = dir.x;
-                    r.dir_y[lane] = dir.y;
-                    r.dir_z[lane] = dir.z;
-                    r.tfar[lane] = f32::INFINITY;
-                    r.mask[lane] = u32::MAX;
-                    r.id[lane] = lane as u32;
-                    true
+            // `Ray::is_valid` of Ray::new(o, dir): the direction's part
+            // once, the origin's (`in_ray_range`) per lane.
+            let live = if Ray::new(Vec3::ZERO, *dir).is_valid() {
+                act & in_range
+            } else {
+                0
+            };
+            let mut valid = Valid16([0; 16]);
+            for lane in 0..16 {
+                valid.0[lane] = -((live >> lane & 1) as i32);
+                r.dir_x[lane] = dir.x;
+                r.dir_y[lane] = dir.y;
+                r.dir_z[lane] = dir.z;
+                r.tfar[lane] = f32::INFINITY;
+            }
+            // SAFETY: as in intersect_packet.
+            unsafe { ffi::irsig_occluded16(valid.0.as_ptr(), self.scene.0, 1, &mut r) };
+            for lane in 0..16 {
+                if valid.0[lane] != 0 && r.tfar[lane] == f32::NEG_INFINITY {
+                    *out |= 1 << lane;
                 }
-            });
+            }
         }
     }
 }
