@@ -244,11 +244,78 @@ impl Fixture {
     }
     /// The error message with the temp dir replaced by `D`.
     fn err(&self) -> String {
-        let Err(e) = self.load() else {
+        self.err_with(&[])
+    }
+    /// [`Self::err`] of the scene loaded with `--set` overrides.
+    fn err_with(&self, set: &[(&str, &str)]) -> String {
+        let set: Vec<(String, String)> = set
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        let Err(e) = scene::load_with_overrides(&self.dir.path().join("scene.toml"), &set) else {
             panic!("expected an error")
         };
         let e = e.to_string();
         e.replace(&format!("{}/", self.dir.path().display()), "D/")
+    }
+}
+
+/// An error in an item a `--set` override put there names the override
+/// (the edited text's line would be the wrong line of the file, or one
+/// past its end: a new key is inserted); an error elsewhere keeps its line
+/// and column in the file as it is on disk although an override inserted
+/// lines above it (independent reference: the same file's errors without
+/// overrides).
+#[test]
+fn errors_with_overrides_name_the_override_or_the_files_own_line() {
+    let f = Fixture::new(SCENE, MATS, OBJ);
+    // Replaced value, new key in an existing table, new table, range check.
+    assert_eq!(
+        f.err_with(&[("sensor.band", "lwirr")]),
+        "D/scene.toml (--set sensor.band=lwirr): unknown variant `lwirr`, expected one of \
+         `lwir`, `mwir`, `range_um`, `response_file`; did you mean `lwir`?"
+    );
+    assert_eq!(
+        f.err_with(&[("site.elevation", "3")]),
+        "D/scene.toml (--set site.elevation=3): unknown field `elevation`, expected one of \
+         `name`, `latitude_deg`, `longitude_deg`, `elevation_m`, `utc_offset_h`, `crs`; \
+         did you mean `elevation_m`?"
+    );
+    assert_eq!(
+        f.err_with(&[("output.exr_compression", "jpeg")]),
+        "D/scene.toml (--set output.exr_compression=jpeg): unknown variant `jpeg`, expected \
+         one of `none`, `rle`, `zips`, `zip`, `piz`"
+    );
+    assert_eq!(
+        f.err_with(&[("site.latitude_deg", "95")]),
+        "D/scene.toml (--set site.latitude_deg=95): `latitude_deg` = 95 is out of range: \
+         expected -90 <= latitude_deg <= 90 degrees"
+    );
+    // Errors in the file's own text, with overrides that insert lines
+    // above them: the same location as without overrides.
+    let inserts = [("site.name", "x"), ("sensor.psf", "none")];
+    for (from, to, want) in [
+        (
+            "latitude_deg = 43.0",
+            "latitude_deg = 95.0",
+            "D/scene.toml:4:16: ",
+        ),
+        ("band = \"lwir\"", "band = \"lwirr\"", "D/scene.toml:21:8: "),
+        (
+            "width_px = 16",
+            "width_px = \"wide\"",
+            "D/scene.toml:18:12: ",
+        ),
+        (
+            "altitude_m = 100.0",
+            "altitud_m = 100.0",
+            "D/scene.toml:24:1: ",
+        ),
+    ] {
+        let f = Fixture::new(&SCENE.replace(from, to), MATS, OBJ);
+        let plain = f.err();
+        assert!(plain.starts_with(want), "{plain}");
+        assert_eq!(f.err_with(&inserts), plain);
     }
 }
 

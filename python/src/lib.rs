@@ -140,7 +140,10 @@ impl Scene {
                 irsig::scene::remove_keys(&path, &text, &unset)?
             };
             let text = irsig::scene::apply_overrides(&path, &text, &overrides)?;
-            Ok((irsig::scene::load_text(&path, text.clone())?, text))
+            Ok((
+                irsig::scene::load_edited(&path, text.clone(), &overrides)?,
+                text,
+            ))
         };
         let (scene, text) = read().map_err(to_py)?;
         Ok(Scene {
@@ -586,7 +589,14 @@ fn sweep<'py>(
         Some(t) => Some(image_time(Some(t), &scene.scene).map_err(to_py)?.0),
     };
     let values: Vec<&str> = values.iter().map(String::as_str).collect();
-    let mut plans = plan_sweep(&scene.scene.path, &scene.text, &key, &values).map_err(to_py)?;
+    let mut plans = plan_sweep(
+        &scene.scene.path,
+        &scene.text,
+        &scene.overrides,
+        &key,
+        &values,
+    )
+    .map_err(to_py)?;
     for p in &mut plans {
         p.local = local.or(p.local);
     }

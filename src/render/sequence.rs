@@ -179,12 +179,14 @@ pub fn plan_sequence(scene: LoadedScene, times: &[NaiveDateTime]) -> Vec<FramePl
 
 /// One frame per value of the dotted scene `key` (TOML values, e.g. `4.47`
 /// or an inline table), applied to the scene text `text` of the file at
-/// `path` (as read, with any other edits applied: see [`scene_text`]).
+/// `path` (as read, with any other edits applied: see [`scene_text`];
+/// `overrides` are the `--set` ones already in `text`, named in errors).
 /// Every value's scene is loaded, and so validated, here. File stems are
 /// `NN_<last key part>_<value>`.
 pub fn plan_sweep(
     path: &Path,
     text: &str,
+    overrides: &[(String, String)],
     key: &str,
     values: &[&str],
 ) -> anyhow::Result<Vec<FramePlan>> {
@@ -216,8 +218,10 @@ pub fn plan_sweep(
         .map(|v| v.trim())
         .enumerate()
         .map(|(i, v)| -> anyhow::Result<FramePlan> {
-            let t = crate::scene::apply_overrides(path, text, &[(key.to_string(), v.to_string())])?;
-            let scene = crate::scene::load_text(path, t)
+            let set = (key.to_string(), v.to_string());
+            let t = crate::scene::apply_overrides(path, text, std::slice::from_ref(&set))?;
+            let all: Vec<(String, String)> = overrides.iter().cloned().chain([set]).collect();
+            let scene = crate::scene::load_edited(path, t, &all)
                 .with_context(|| format!("sweep --key {key} = {v}"))?;
             Ok(FramePlan {
                 value: v.to_string(),

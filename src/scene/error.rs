@@ -10,6 +10,10 @@ pub struct Location {
     pub file: PathBuf,
     pub line: usize,
     pub col: usize,
+    /// What put the item there when it is not the file's own text: the
+    /// command-line override (`--set key=value`) that set it (then `line`
+    /// is 0: the item is on no line of the file).
+    pub via: Option<Box<str>>,
 }
 
 impl Location {
@@ -19,6 +23,7 @@ impl Location {
             file: file.to_path_buf(),
             line: 0,
             col: 0,
+            via: None,
         }
     }
     /// A line of a file (column unknown).
@@ -27,6 +32,7 @@ impl Location {
             file: file.to_path_buf(),
             line,
             col: 0,
+            via: None,
         }
     }
     /// The location of byte offset `offset` in `text` (lines and columns
@@ -46,6 +52,7 @@ impl Location {
             file: file.to_path_buf(),
             line,
             col,
+            via: None,
         }
     }
 }
@@ -53,6 +60,9 @@ impl Location {
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.file.display())?;
+        if let Some(via) = &self.via {
+            write!(f, " ({via})")?;
+        }
         if self.line > 0 {
             write!(f, ":{}", self.line)?;
             if self.col > 0 {
@@ -95,7 +105,7 @@ pub enum SceneError {
     UndefinedMaterial {
         loc: Location,
         name: String,
-        libraries: Vec<PathBuf>,
+        libraries: Box<[PathBuf]>,
         suggestion: Option<String>,
     },
     /// A data file referenced by a scene or material (response curve,

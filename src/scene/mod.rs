@@ -188,8 +188,9 @@ pub fn load_with_overrides(
         path: path.to_path_buf(),
         error: e,
     })?;
-    let text = apply_overrides(path, &text, overrides)?;
-    let mut scene = load_source(path, TomlSource::from_text(path, text))?;
+    let edited = apply_overrides(path, &text, overrides)?;
+    let src = TomlSource::from_edited(path, text, edited, overrides);
+    let mut scene = load_source(path, src)?;
     scene.overrides = overrides.to_vec();
     Ok(scene)
 }
@@ -274,6 +275,24 @@ pub fn load_text(path: &Path, text: String) -> Result<LoadedScene, SceneError> {
     load_source(path, TomlSource::from_text(path, text))
 }
 
+/// Loads a scene from `edited`, the text of the file `path` after
+/// [`remove_keys`] and [`apply_overrides`] with `overrides`: errors are
+/// reported at the item's line in the file as it is on disk, or as the
+/// `--set key=value` override that set the item (line numbers of the
+/// edited text would point at the wrong line, or past the file's end). If
+/// the file cannot be read again, errors are located in `edited` itself.
+pub fn load_edited(
+    path: &Path,
+    edited: String,
+    overrides: &[(String, String)],
+) -> Result<LoadedScene, SceneError> {
+    let src = match std::fs::read_to_string(path) {
+        Ok(original) => TomlSource::from_edited(path, original, edited, overrides),
+        Err(_) => TomlSource::from_text(path, edited),
+    };
+    load_source(path, src)
+}
+
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let mut scene: Scene = src.parse()?;
     site_from_weather(path, &src, &mut scene)?;
@@ -322,7 +341,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     let undefined = |loc: Location, name: &str| SceneError::UndefinedMaterial {
         loc,
         name: name.to_string(),
-        libraries: libs.clone(),
+        libraries: libs.clone().into(),
         suggestion: error::closest(name, materials.iter().map(|m| m.name.as_str())),
     };
 

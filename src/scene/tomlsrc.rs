@@ -19,6 +19,17 @@ pub enum Seg {
 pub struct TomlSource {
     pub path: PathBuf,
     pub text: String,
+    /// Set when `text` is the file's text edited on the command line
+    /// (`--set`, `--unset`): errors are then reported where the item is in
+    /// the file, or as the override that put it there.
+    pub edits: Option<Edits>,
+}
+
+/// The file's own text and the overrides applied to it.
+pub struct Edits {
+    pub original: String,
+    /// (dotted key, value) as given on the command line.
+    pub overrides: Vec<(String, String)>,
 }
 
 impl TomlSource {
@@ -43,6 +54,56 @@ impl TomlSource {
         Self {
             path: path.to_path_buf(),
             text,
+            edits: None,
+        }
+    }
+
+    /// `edited`: the text of the file `path` (`original`) after `--unset`
+    /// and the `overrides` (`--set key=value`) were applied to it.
+    pub fn from_edited(
+        path: &Path,
+        original: String,
+        edited: String,
+        overrides: &[(String, String)],
+    ) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            text: edited,
+            edits: Some(Edits {
+                original,
+                overrides: overrides.to_vec(),
+            }),
+        }
+    }
+
+    /// The location of byte `offset` of the text: in the file's own text,
+    /// or the override that set the item there.
+    fn location(&self, offset: usize) -> Location {
+        if self.edits.is_none() {
+            return Location::at_offset(&self.path, &self.text, offset);
+        }
+        let Some(path) = path_at(&self.text, offset) else {
+            return Location::file(&self.path);
+        };
+        let loc = self.loc_of(&path);
+        // The same column as in the edited text where the error's line is
+        // unchanged at the item's place in the file (e.g. a key before
+        // its value).
+        let (Some(se), Some(ed)) = (find_span(&self.text, &path), &self.edits) else {
+            return loc;
+        };
+        let at = |text: &str, o: usize| Location::at_offset(&self.path, text, o);
+        let (err, item) = (at(&self.text, offset), at(&self.text, se.start));
+        let line = (loc.line + err.line).checked_sub(item.line);
+        match line {
+            Some(l)
+                if loc.via.is_none()
+                    && loc.line > 0
+                    && self.text.lines().nth(err.line - 1) == ed.original.lines().nth(l - 1) =>
+            {
+                Location { line: l, ..err }
+            }
+            _ => loc,
         }
     }
 
@@ -54,7 +115,7 @@ impl TomlSource {
 
     fn toml_error(&self, e: &toml::de::Error) -> SceneError {
         let loc = match e.span() {
-            Some(s) => Location::at_offset(&self.path, &self.text, s.start),
+            Some(s) => self.location(s.start),
             None => Location::file(&self.path),
         };
         let mut msg = e.message().trim().replace('\n', " ");
@@ -67,9 +128,32 @@ impl TomlSource {
     /// The location of the value at `path` (or of its key, or of the
     /// nearest enclosing table that exists).
     pub fn loc_of(&self, path: &[Seg]) -> Location {
-        match find_span(&self.text, path) {
-            Some(s) => Location::at_offset(&self.path, &self.text, s.start),
-            None => Location::file(&self.path),
+        let Some(ed) = &self.edits else {
+            return match find_span(&self.text, path) {
+                Some(s) => Location::at_offset(&self.path, &self.text, s.start),
+                None => Location::file(&self.path),
+            };
+        };
+        let keys = |k: &str| -> Vec<Seg> { k.split('.').map(|p| key(p.trim())).collect() };
+        let via = |(k, v): &(String, String)| Location {
+            via: Some(format!("--set {k}={v}").into()),
+            ..Location::file(&self.path)
+        };
+        // An item an override set (or one inside it).
+        if let Some(o) = ed
+            .overrides
+            .iter()
+            .find(|(k, _)| path.starts_with(&keys(k)))
+        {
+            return via(o);
+        }
+        match find_span(&ed.original, path) {
+            Some(s) => Location::at_offset(&self.path, &ed.original, s.start),
+            // A table only an override created.
+            None => match ed.overrides.iter().find(|(k, _)| keys(k).starts_with(path)) {
+                Some(o) => via(o),
+                None => Location::file(&self.path),
+            },
         }
     }
 
@@ -160,6 +244,81 @@ fn find_span(text: &str, path: &[Seg]) -> Option<Range<usize>> {
         node = next;
     }
     best
+}
+
+fn key(k: &str) -> Seg {
+    Seg::Key(k.to_string())
+}
+
+/// The key path of the deepest key, value or table header of `text` that
+/// holds byte `offset`.
+fn path_at(text: &str, offset: usize) -> Option<Vec<Seg>> {
+    let doc = toml_edit::ImDocument::parse(text).ok()?;
+    let mut path = Vec::new();
+    in_table(doc.as_table(), offset, &mut path).then_some(path)
+}
+
+fn holds(span: Option<Range<usize>>, offset: usize) -> bool {
+    span.is_some_and(|s| s.start <= offset && offset < s.end.max(s.start + 1))
+}
+
+/// [`path_at`] inside a table (`path` extended in place when found).
+fn in_table(t: &dyn toml_edit::TableLike, offset: usize, path: &mut Vec<Seg>) -> bool {
+    for (k, _) in t.iter() {
+        let Some((kk, item)) = t.get_key_value(k) else {
+            continue;
+        };
+        path.push(key(k));
+        if in_item(item, offset, path) || holds(kk.span(), offset) {
+            return true;
+        }
+        path.pop();
+    }
+    false
+}
+
+fn in_item(item: &toml_edit::Item, offset: usize, path: &mut Vec<Seg>) -> bool {
+    match item {
+        toml_edit::Item::Value(v) => in_value(v, offset, path),
+        // (a table's span may cover its body: its keys first)
+        toml_edit::Item::Table(t) => in_table(t, offset, path) || holds(t.span(), offset),
+        toml_edit::Item::ArrayOfTables(a) => {
+            for (i, t) in a.iter().enumerate() {
+                path.push(Seg::Index(i));
+                if in_table(t, offset, path) || holds(t.span(), offset) {
+                    return true;
+                }
+                path.pop();
+            }
+            false
+        }
+        toml_edit::Item::None => false,
+    }
+}
+
+fn in_value(v: &toml_edit::Value, offset: usize, path: &mut Vec<Seg>) -> bool {
+    if !holds(v.span(), offset) {
+        return false;
+    }
+    match v {
+        toml_edit::Value::Array(a) => {
+            for (i, e) in a.iter().enumerate() {
+                path.push(Seg::Index(i));
+                if in_value(e, offset, path) {
+                    return true;
+                }
+                path.pop();
+            }
+        }
+        toml_edit::Value::InlineTable(t) => {
+            let mut inner = Vec::new();
+            if in_table(t, offset, &mut inner) {
+                path.extend(inner);
+            }
+        }
+        _ => {}
+    }
+    true
 }
 
 #[derive(Clone, Copy)]

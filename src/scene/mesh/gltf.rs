@@ -237,6 +237,7 @@ fn crate_error(path: &Path, glb: bool, e: gl::Error) -> SceneError {
                 file: path.to_path_buf(),
                 line: j.line(),
                 col: j.column(),
+                via: None,
             },
             format!("invalid glTF JSON: {j}"),
         ),
