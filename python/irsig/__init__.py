@@ -143,7 +143,8 @@ class Scene:
         as the CLI's ``--set key=value`` (``{"sensor.band": "lwir",
         "sensor.width_px": 128}``); ``unset`` removes keys or tables first, as
         ``--unset``. Errors raise :class:`SceneError` with ``file``, ``line``
-        and ``column``."""
+        and ``column`` (an error in an item an override set: ``line`` 0 and
+        ``override``, e.g. ``"--set sensor.band=lwirr"``)."""
         ov = [(str(k), _value_text(v)) for k, v in (overrides or {}).items()]
         return cls(_irsig.Scene.load(_os.fspath(path), ov, [str(k) for k in unset]))
 

@@ -57,26 +57,28 @@ fn to_py(e: anyhow::Error) -> PyErr {
     Python::with_gil(|py| {
         let located = e.chain().find_map(|c| {
             if let Some(s) = c.downcast_ref::<LibSceneError>() {
-                let (file, line, col) = match s {
-                    LibSceneError::Io { path, .. } => (path.display().to_string(), 0, 0),
-                    _ => s.location().map_or((String::new(), 0, 0), |l| {
-                        (l.file.display().to_string(), l.line, l.col)
+                let (file, line, col, via) = match s {
+                    LibSceneError::Io { path, .. } => (path.display().to_string(), 0, 0, None),
+                    _ => s.location().map_or((String::new(), 0, 0, None), |l| {
+                        let via = l.via.as_deref().map(str::to_string);
+                        (l.file.display().to_string(), l.line, l.col, via)
                     }),
                 };
-                Some((SceneError::new_err(msg.clone()), file, line, col))
+                Some((SceneError::new_err(msg.clone()), file, line, col, via))
             } else if let Some(w) = c.downcast_ref::<irsig::therm::weather::WeatherError>() {
                 let (file, line) = weather_location(w);
-                Some((WeatherError::new_err(msg.clone()), file, line, 0))
+                Some((WeatherError::new_err(msg.clone()), file, line, 0, None))
             } else {
                 None
             }
         });
         match located {
-            Some((err, file, line, col)) => {
+            Some((err, file, line, col, via)) => {
                 let v = err.value(py);
                 let _ = v.setattr("file", (!file.is_empty()).then_some(file));
                 let _ = v.setattr("line", line);
                 let _ = v.setattr("column", col);
+                let _ = v.setattr("override", via);
                 err
             }
             None => IrsigError::new_err(msg),

@@ -20,7 +20,9 @@ def test_unknown_key_names_file_line_and_key(tmp_path):
         irsig.Scene.load(AIRFIELD, overrides={"sensor.widht_px": 64})
     err = e.value
     assert isinstance(err, irsig.IrsigError)
-    assert err.file == str(AIRFIELD) and err.line > 0
+    # The key is on no line of the file: the override is named instead.
+    assert err.file == str(AIRFIELD) and err.line == 0
+    assert err.override == "--set sensor.widht_px=64"
     assert "widht_px" in str(err) and "did you mean `width_px`" in str(err)
     assert str(err) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", "--set", "sensor.widht_px=64")
 
@@ -94,3 +96,17 @@ def test_weather_that_does_not_cover_the_history(tmp_path):
     assert e.value.file is None and e.value.line == 0
     over = {**SMALL, "time.local": "2001-09-01T12:00:00"}
     assert str(e.value) == cli_error("render", AIRFIELD, "-o", tmp_path / "x.exr", *set_args(over))
+
+
+def test_file_error_keeps_its_line_under_overrides(tmp_path):
+    # An override that inserts a key above the faulty line does not move it.
+    bad = tmp_path / "bad.toml"
+    bad.write_text(AIRFIELD.read_text().replace('band = "mwir"', 'band = "mwirr"', 1))
+    with pytest.raises(irsig.SceneError) as plain:
+        irsig.Scene.load(bad)
+    with pytest.raises(irsig.SceneError) as edited:
+        irsig.Scene.load(bad, overrides={"site.crs": "enu"})
+    want = 1 + AIRFIELD.read_text().split("\n").index(
+        next(l for l in AIRFIELD.read_text().split("\n") if l.startswith('band = "mwir"')))
+    assert (plain.value.line, edited.value.line) == (want, want)
+    assert edited.value.override is None and str(edited.value) == str(plain.value)
