@@ -79,12 +79,14 @@ fn airfield_matches_the_paper_scene() {
         path,
         format,
         typical_year,
+        stand_in,
     } = &s.scene.weather
     else {
         panic!("weather file expected")
     };
     assert_eq!(*format, scene::WeatherFormat::Tmy3);
     assert!(!typical_year, "the excerpt is one real year");
+    assert!(*stand_in, "Greensboro's record stands in for Rochester");
     let text = std::fs::read_to_string(s.resolve(path)).unwrap();
     assert!(text.starts_with("723170,\"GREENSBORO PIEDMONT TRIAD INT\""));
     assert_eq!(text.lines().count(), 2 + 144);

@@ -547,22 +547,26 @@ fn site_coordinates_from_the_weather_file() {
 }
 
 /// The sample scene's weather (Greensboro, 36.1 N) stands in for
-/// Rochester (43.2 N): `irsig check` warns, `--strict` refuses; with the
-/// site at the station there is no warning. `irsig therm` does the same
-/// with --lat/--lon (Greensboro's TMY3 run with Sydney's coordinates).
+/// Rochester (43.2 N): without `weather.file.stand_in`, `irsig check` warns
+/// (naming the key) and `--strict` refuses; with the site at the station,
+/// or with the scene's own `stand_in = true`, there is no warning. `irsig
+/// therm` does the same with --lat/--lon (Greensboro's TMY3 run with
+/// Sydney's coordinates).
 #[test]
 fn station_far_from_the_site_warns_or_is_refused_with_strict() {
     let scene = common::airfield();
     let sc = scene.to_str().unwrap();
-    let (code, _, err) = common::irsig_out(&["check", sc]);
+    let not_stand_in = "weather.file.stand_in=false";
+    let (code, _, err) = common::irsig_out(&["check", sc, "--set", not_stand_in]);
     assert_eq!(code, 0, "{err}");
     assert!(
         err.contains("warning: the weather file")
             && err.contains("36.100, -79.950")
-            && err.contains("43.157, -77.609"),
+            && err.contains("43.157, -77.609")
+            && err.contains("weather.file.stand_in = true"),
         "{err}"
     );
-    let (code, _, err) = common::irsig_out(&["check", sc, "--strict"]);
+    let (code, _, err) = common::irsig_out(&["check", sc, "--strict", "--set", not_stand_in]);
     assert_ne!(code, 0);
     assert!(err.contains("refused with --strict"), "{err}");
     let (code, _, err) = common::irsig_out(&[
@@ -570,12 +574,18 @@ fn station_far_from_the_site_warns_or_is_refused_with_strict() {
         sc,
         "--strict",
         "--set",
+        not_stand_in,
+        "--set",
         "site.latitude_deg=36.3",
         "--set",
         "site.longitude_deg=-80.2",
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("warning"), "{err}");
+    let (code, out, err) = common::irsig_out(&["check", sc, "--strict"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    assert!(out.contains("(a stand-in for the site)"), "{out}");
     let weather = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/tmy3_723170_greensboro_jun18-22.csv");
     let therm = |lat: &str, lon: &str| {

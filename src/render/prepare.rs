@@ -382,11 +382,15 @@ pub fn scene_weather(
 
 /// Warnings about the scene's weather: its file's station more than
 /// [`crate::therm::weather::MAX_STATION_OFFSET_DEG`] from the site
-/// ([`crate::therm::weather::station_mismatch`]).
+/// ([`crate::therm::weather::station_mismatch`]), unless the scene says the
+/// file stands in for the site (`weather.file.stand_in`).
 pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
     let sc = &scene.scene;
     let WeatherSpec::File {
-        path, typical_year, ..
+        path,
+        typical_year,
+        stand_in: false,
+        ..
     } = &sc.weather
     else {
         return Ok(Vec::new());
@@ -401,6 +405,12 @@ pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
                 &p.display().to_string(),
                 sc.site.latitude_deg,
                 sc.site.longitude_deg,
+            )
+        })
+        .map(|w| {
+            format!(
+                "{w} (or set weather.file.stand_in = true if the file stands in for the site \
+                 on purpose)"
             )
         })
         .into_iter()

@@ -392,6 +392,11 @@ pub enum WeatherSpec {
         /// 31 December to the file's own 1 January.
         #[serde(default, skip_serializing_if = "std::ops::Not::not")]
         typical_year: bool,
+        /// The file's station stands in for the site on purpose (a
+        /// surrogate record): its distance from the site is not warned
+        /// about (nor refused by `--strict`).
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        stand_in: bool,
     },
     /// Constant conditions repeated every day of the history.
     Constant(ConstantWeather),

@@ -148,10 +148,16 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
                 path,
                 format,
                 typical_year,
+                stand_in,
             } => format!(
-                "{format:?} file {}{}",
+                "{format:?} file {}{}{}",
                 s.resolve(path).display(),
-                if *typical_year { " (typical year)" } else { "" }
+                if *typical_year { " (typical year)" } else { "" },
+                if *stand_in {
+                    " (a stand-in for the site)"
+                } else {
+                    ""
+                }
             ),
             WeatherSpec::Constant(w) => format!(
                 "constant: wind {} m/s, air {}..{} °C, dew point {} °C, cloud {}",
