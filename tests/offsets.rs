@@ -243,8 +243,15 @@ fn far_geometry_is_warned_about_then_refused() {
     let w = s.frame.warning().expect("a warning beyond 16,384 m");
     assert!(w.contains("exact to 1.0 mm only"), "{w}");
     let err = with_far_object(2e6).unwrap_err().to_string();
+    // The error names the grass field's [[object]] line (the first).
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/airfield/scene.toml");
+    let text = std::fs::read_to_string(scene).unwrap();
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("[[object]]"))
+        .unwrap();
     assert!(
-        err.contains("scene.toml:91")
+        err.contains(&format!("scene.toml:{line}:"))
             && err.contains("grass.obj:")
             && err.contains(
                 "more than 1048576 m from the tracer's origin at the camera target (0, 20) m"
