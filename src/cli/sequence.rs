@@ -83,22 +83,18 @@ pub struct SweepArgs {
     pub values: String,
 }
 
-/// Reads the scene text with `--unset` and `--set` applied.
-fn edited_text(c: &Common) -> anyhow::Result<String> {
-    scene_text(&c.scene, &c.unset, &parse_overrides(&c.set)?)
-}
-
-/// The scene as edited by `--unset` and `--set` (errors name the file's
-/// lines or the override).
-fn edited_scene(c: &Common) -> anyhow::Result<crate::scene::LoadedScene> {
+/// The scene text with `--unset` and `--set` applied, and the `--set`
+/// overrides (which errors name).
+fn edited_text(c: &Common) -> anyhow::Result<(String, Vec<(String, String)>)> {
     let set = parse_overrides(&c.set)?;
-    Ok(crate::scene::load_edited(&c.scene, edited_text(c)?, &set)?)
+    Ok((scene_text(&c.scene, &c.unset, &set)?, set))
 }
 
 pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let c = &a.common;
     let step_s = parse_step_s(&a.step)?;
-    let scene = edited_scene(c)?;
+    let (text, set) = edited_text(c)?;
+    let scene = crate::scene::load_edited(&c.scene, text, &set)?;
     super::warn_about_frame(&scene);
     let date = scene.scene.time.local.date();
     let from = parse_local_time("--from", &a.from, date)?;
@@ -109,9 +105,9 @@ pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
 
 pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
     let c = &a.common;
-    let text = edited_text(c)?;
+    let (text, set) = edited_text(c)?;
     let values: Vec<&str> = a.values.split(',').collect();
-    let plans = plan_sweep(&c.scene, &text, &parse_overrides(&c.set)?, &a.key, &values)?;
+    let plans = plan_sweep(&c.scene, &text, &set, &a.key, &values)?;
     if let Some(s) = plans.iter().find_map(|p| p.scene.as_ref()) {
         super::warn_about_frame(s);
     }

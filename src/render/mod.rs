@@ -272,15 +272,15 @@ fn trace_block(
         .map(|t| offset_origin(t.point, t.normal))
         .collect();
     let normals: Vec<Vec3> = targets.iter().map(|t| t.normal).collect();
-    let up: Vec<(usize, Vec3)> = (cond.suns.iter().enumerate())
+    // The samples whose sun is up, and its directions.
+    let (up, dirs): (Vec<usize>, Vec<Vec3>) = (cond.suns.iter().enumerate())
         .filter(|(_, sun)| sun.up)
         .map(|(k, sun)| (k, sun.dir))
-        .collect();
+        .unzip();
     let nw = nsun.div_ceil(64);
     let mut words = vec![0u64; targets.len() * nw];
     let (mut away, mut solar) = (0, 0);
     let down = targets.len() * (nsun - up.len());
-    let dirs: Vec<Vec3> = up.iter().map(|&(_, dir)| dir).collect();
     let mut active = vec![0u16; up.len()];
     let mut blocked = vec![0u16; up.len()];
     for start in (0..targets.len()).step_by(16) {
@@ -295,7 +295,7 @@ fn trace_block(
             away += chunk.len() - facing;
         }
         tracer.occluded_fan(&origins[chunk.clone()], &dirs, &active, &mut blocked);
-        for ((&(k, _), &act), &b) in up.iter().zip(&active).zip(&blocked) {
+        for ((&k, &act), &b) in up.iter().zip(&active).zip(&blocked) {
             let (word, bit) = (k / 64, 1u64 << (k % 64));
             let mut open = act & !b;
             while open != 0 {

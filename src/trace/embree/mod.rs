@@ -249,28 +249,12 @@ impl EmbreeTracer {
     }
 
     fn occluded_packet(&self, rays: &[Ray], blocked: &mut [bool]) {
-        self.occluded16(blocked, |r, lane| {
-            let ray = &rays[lane];
-            ray.is_valid() && {
-                fill_lane(r, lane, ray);
-                true
-            }
-        });
-    }
-
-    /// One 16-wide occlusion query of `blocked.len()` lanes: `fill` writes
-    /// a lane of the packet and says whether it is valid (an invalid lane
-    /// is masked off and never blocked).
-    fn occluded16(
-        &self,
-        blocked: &mut [bool],
-        mut fill: impl FnMut(&mut ffi::RTCRay16, usize) -> bool,
-    ) {
         let mut r = ffi::RTCRay16::default();
         let mut valid = Valid16([0; 16]);
-        for lane in 0..blocked.len() {
-            if fill(&mut r, lane) {
+        for (lane, ray) in rays.iter().enumerate() {
+            if ray.is_valid() {
                 valid.0[lane] = -1;
+                fill_lane(&mut r, lane, ray);
             }
         }
         // SAFETY: as in intersect_packet.
