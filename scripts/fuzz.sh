@@ -13,6 +13,12 @@
 #              weather_epw forcing_csv atmosphere_table scene_toml
 #              scene_overrides material_library obj_mesh response_csv
 #              emissivity_table psf_kernel dem_geotiff gltf_mesh
+#              arguments_therm arguments_time path_policy (issue 33)
+#              slurm_scripts python_arguments (issue 33; outside
+#              tests/fuzz: the generated-script fuzz of
+#              tests/reliability_args.rs with cases/100 folder names, and
+#              the Python-API argument fuzz of python/tests/test_reliability.py
+#              with cases/100 calls, when .venv holds the irsig package)
 #
 # Each target prints "fuzz <target>: <cases> cases, <accepted> accepted,
 # <refused> refused, <seconds> s"; a failing input is shrunk and printed with
@@ -31,9 +37,26 @@ while [ $# -gt 0 ]; do
     --seed) seed="$2"; shift 2 ;;
     --renders) renders="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,32p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
-IRSIG_FUZZ_CASES="$cases" IRSIG_FUZZ_SEED="$seed" IRSIG_FUZZ_RENDERS="$renders" \
-  cargo test --release --locked --test fuzz -- --nocapture --test-threads "$threads" "${targets[@]}"
+want() { [ ${#targets[@]} -eq 0 ] || printf '%s\n' "${targets[@]}" | grep -qx "$1"; }
+parsers=()
+for t in "${targets[@]}"; do
+  case "$t" in slurm_scripts|python_arguments) ;; *) parsers+=("$t") ;; esac
+done
+export IRSIG_FUZZ_CASES="$cases" IRSIG_FUZZ_SEED="$seed" IRSIG_FUZZ_RENDERS="$renders"
+if [ ${#targets[@]} -eq 0 ] || [ ${#parsers[@]} -gt 0 ]; then
+  cargo test --release --locked --test fuzz -- --nocapture --test-threads "$threads" "${parsers[@]}"
+fi
+if want slurm_scripts; then
+  cargo test --release --locked --test reliability_args -- --nocapture generated_scripts_keep_every_name_quoted
+fi
+if want python_arguments; then
+  if [ -x .venv/bin/python ] && .venv/bin/python -c 'import irsig' 2>/dev/null; then
+    .venv/bin/python -m pytest -q -s python/tests/test_reliability.py -k fuzz
+  else
+    echo "fuzz python_arguments: skipped (no .venv with irsig: scripts/setup.sh)" >&2
+  fi
+fi

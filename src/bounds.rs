@@ -234,6 +234,37 @@ pub mod atmos_table {
     /// Decoded size of a table (header + payload, after gunzip); the shipped
     /// tables are ~30 MiB.
     pub const MAX_BYTES: u64 = 2 << 30;
+    /// Transmittances (`tau_path`, `tau_sun`): 0 to 1 (the f32 values of a
+    /// table, rounded to its `mantissa_bits`, may exceed 1 by 10⁻⁴).
+    pub const TRANSMITTANCE: Bound = Bound::new("transmittance", 0.0, 1.0001, "");
+    /// Radiances (`l_ue`, `l_us`, `l_de`, `l_ds`), in W/(m²·sr·µm) as the
+    /// tables store them: non-negative and at most 10⁶ — 40 times the
+    /// spectral radiance of a 1500 K blackbody at its peak, above any
+    /// atmospheric path, sky or scattered-sun radiance (the shipped
+    /// tables' largest is ~100).
+    pub const RADIANCE: Bound = Bound::new("radiance", 0.0, 1e6, "W/(m²·sr·µm)");
+    /// Exo-atmospheric solar irradiance `e_sun_exo`, W/(m²·µm): at most
+    /// 10⁵ (the sun's peak is ~2 100).
+    pub const SOLAR_IRRADIANCE: Bound = Bound::new("e_sun_exo", 0.0, 1e5, "W/(m²·µm)");
+
+    /// The physical range of quantity `name` (None: a quantity irsig does
+    /// not use, not checked).
+    pub fn range_of(name: &str) -> Option<Bound> {
+        match name {
+            "tau_path" | "tau_sun" => Some(TRANSMITTANCE),
+            "l_ue" | "l_us" | "l_de" | "l_ds" => Some(RADIANCE),
+            "e_sun_exo" => Some(SOLAR_IRRADIANCE),
+            _ => None,
+        }
+    }
+
+    pub const ALL: &[Bound] = &[
+        WAVENUMBER,
+        WAVENUMBER_COUNT,
+        TRANSMITTANCE,
+        RADIANCE,
+        SOLAR_IRRADIANCE,
+    ];
 }
 
 /// `[render]` keys of the scene (docs/scene-format.md).
@@ -255,7 +286,113 @@ pub mod terrain {
     /// `extent_m` as the side of a square centred on the site.
     pub const EXTENT_SIDE: Bound = Bound::new("extent_m", 0.01, 2e6, "m");
 
+    /// DEM heights, m (the ocean's deepest point is −10 935 m, the
+    /// highest summit 8 849 m). A height outside (an `inf` or `1e300` in
+    /// the raster) is refused naming its pixel; NaN and the no-data value
+    /// are no data.
+    pub const HEIGHT: Bound = Bound::new("height", -12_000.0, 10_000.0, "m");
+
     pub const ALL: &[Bound] = &[RESOLUTION, EXTENT, EXTENT_SIDE];
+}
+
+/// Numeric arguments of the commands and of the Python functions that
+/// mirror them (docs/reliability.md lists them; `tests/bounds_docs.rs`
+/// compares). One [`Arg`] per quantity: the CLI checks it under its flag,
+/// the library and Python under the argument's own name, so that an error
+/// names what the caller wrote.
+pub mod args {
+    use super::Bound;
+
+    /// A numeric argument: its CLI flag, its name in the library's plain
+    /// data and the Python API (the same), and its range.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Arg {
+        /// The flag, e.g. `--step`.
+        pub flag: &'static str,
+        /// The range, keyed by the library/Python name (`step_min`).
+        pub bound: Bound,
+    }
+
+    impl Arg {
+        pub const fn new(flag: &'static str, bound: Bound) -> Self {
+            Self { flag, bound }
+        }
+        /// Checks `v` under the library/Python name.
+        pub fn check(&self, v: f64) -> Result<f64, String> {
+            self.bound.check(v)
+        }
+        /// Checks `v` under the CLI flag: "--step 1e-9: out of range:
+        /// expected …".
+        pub fn check_flag(&self, v: f64) -> Result<f64, String> {
+            if self.bound.contains(v) {
+                Ok(v)
+            } else {
+                Err(format!(
+                    "{} {}: out of range: expected {}",
+                    self.flag,
+                    super::num(v),
+                    self.bound.expected()
+                ))
+            }
+        }
+    }
+
+    /// `irsig therm --step` / `therm(step_min=)`: 1 s to 1 day.
+    pub const THERM_STEP_MIN: Arg =
+        Arg::new("--step", Bound::new("step_min", 1.0 / 60.0, 1440.0, "min"));
+    /// `--spin-up-h` / `spin_up_h`: up to a year.
+    pub const THERM_SPIN_UP_H: Arg =
+        Arg::new("--spin-up-h", Bound::new("spin_up_h", 0.0, 8760.0, "h"));
+    /// `--facet-height-m` / `facet_height_m`.
+    pub const THERM_FACET_HEIGHT: Arg = Arg::new(
+        "--facet-height-m",
+        Bound::new("facet_height_m", 0.0, 1e4, "m"),
+    );
+    /// `--lat` / `lat`.
+    pub const LAT: Arg = Arg::new("--lat", Bound::new("lat", -90.0, 90.0, "degrees"));
+    /// `--lon` / `lon` (0-360 east accepted).
+    pub const LON: Arg = Arg::new("--lon", Bound::new("lon", -180.0, 360.0, "degrees"));
+    /// `--elevation` / `elevation`.
+    pub const ELEVATION: Arg =
+        Arg::new("--elevation", Bound::new("elevation", -1000.0, 9000.0, "m"));
+    /// `--slope` / `slope`.
+    pub const SLOPE: Arg = Arg::new("--slope", Bound::new("slope", 0.0, 180.0, "degrees"));
+    /// `--aspect` / `aspect`.
+    pub const ASPECT: Arg = Arg::new("--aspect", Bound::new("aspect", -360.0, 360.0, "degrees"));
+    /// `irsig sun --pressure-hpa` / `sun(pressure_hpa=)`: refraction.
+    pub const SUN_PRESSURE: Arg = Arg::new(
+        "--pressure-hpa",
+        Bound::new("pressure_hpa", 1.0, 2000.0, "hPa"),
+    );
+    /// `irsig sun --temp-c` / `sun(temp_c=)`: refraction.
+    pub const SUN_TEMP: Arg = Arg::new("--temp-c", Bound::new("temp_c", -100.0, 100.0, "°C"));
+    /// `irsig sun --delta-t` / `sun(delta_t_s=)`: TT − UT (about −3 to
+    /// 500 s over 1900-2200; 1e308 gave NaN angles with exit 0).
+    pub const SUN_DELTA_T: Arg =
+        Arg::new("--delta-t", Bound::new("delta_t_s", -8000.0, 8000.0, "s"));
+    /// `--threads` / `threads` (render, sequence, sweep, probe).
+    pub const THREADS: Arg = Arg::new("--threads", Bound::new("threads", 1.0, 1024.0, ""));
+    /// Time steps a facet march may take (spin-up and output, at the
+    /// step): 2·10⁶ (15-min steps for 57 years; 1-min steps for 3.8
+    /// years), about 0.5 GB of forcing and records. Checked before the
+    /// forcing is allocated.
+    pub const THERM_MAX_STEPS: f64 = 2e6;
+
+    /// Every argument, in the order docs/reliability.md lists them.
+    pub const ALL: &[Arg] = &[
+        THERM_STEP_MIN,
+        THERM_SPIN_UP_H,
+        THERM_FACET_HEIGHT,
+        LAT,
+        LON,
+        ELEVATION,
+        SLOPE,
+        ASPECT,
+        SUN_PRESSURE,
+        SUN_TEMP,
+        SUN_DELTA_T,
+        THREADS,
+    ];
 }
 
 /// Sizes derived from the inputs, bounded before allocation.
@@ -268,6 +405,17 @@ pub mod sizes {
     pub const MAX_RASTER_PIXELS: usize = 1 << 27;
     /// Vertices of one terrain mesh (4,000 × 4,000).
     pub const MAX_TERRAIN_VERTICES: usize = 16_000_000;
+    /// Size of a text input (scene, material library, response, kernel and
+    /// emissivity CSVs) on disk, bytes (the shipped ones are under 100 kB).
+    pub const MAX_TEXT_FILE_BYTES: u64 = 64 << 20;
+    /// Size of a mesh file (OBJ, glTF/GLB) or of one external glTF buffer.
+    pub const MAX_MESH_FILE_BYTES: u64 = 4 << 30;
+    /// Size of a DEM or land-cover GeoTIFF on disk (a 1°×1° 1/3″ tile is
+    /// ~470 MB uncompressed).
+    pub const MAX_RASTER_FILE_BYTES: u64 = 2 << 30;
+    /// Size of a weather or forcing file (a 30-year hourly record is
+    /// ~60 MB as EPW).
+    pub const MAX_WEATHER_FILE_BYTES: u64 = 512 << 20;
 }
 
 /// Every bound the docs must list, with the doc file that lists it.
@@ -279,6 +427,9 @@ pub fn documented() -> Vec<(&'static str, Bound)> {
     v.push(("docs/scene-format.md", render::MAX_MEMORY));
     v.extend(terrain::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.extend(weather::ALL.iter().map(|b| ("docs/weather-format.md", *b)));
+    v.extend(args::ALL.iter().map(|a| ("docs/reliability.md", a.bound)));
+    v.extend(atmos_table::ALL.iter().map(|b| ("docs/reliability.md", *b)));
+    v.push(("docs/reliability.md", terrain::HEIGHT));
     v
 }
 

@@ -10,6 +10,7 @@ pub mod batch;
 pub mod bench;
 pub mod bounds;
 pub mod cli;
+pub mod files;
 pub mod output;
 pub mod radiometry;
 pub mod render;

@@ -251,9 +251,9 @@ fn run_blocking<T: Send>(
         cancel::set_thread_flag(f2.clone());
     });
     if let Some(n) = threads {
-        if n == 0 {
-            return Err(IrsigError::new_err("threads must be at least 1"));
-        }
+        irsig::bounds::args::THREADS
+            .check(n.into())
+            .map_err(IrsigError::new_err)?;
         b = b.num_threads(n as usize);
     }
     let pool = b
@@ -344,6 +344,9 @@ fn image_time(
         Some(s) => {
             if let Ok(t) = DateTime::parse_from_rfc3339(s) {
                 let utc = t.with_timezone(&Utc);
+                irsig::bounds::time::YEAR
+                    .check(chrono::Datelike::year(&utc).into())
+                    .map_err(|m| anyhow::anyhow!("time={s:?}: {m}"))?;
                 let off = chrono::Duration::seconds((sc.site.utc_offset_h * 3600.0).round() as i64);
                 return Ok((utc.naive_utc() + off, utc));
             }
@@ -365,13 +368,15 @@ fn local_time(s: &str, date: NaiveDate) -> anyhow::Result<NaiveDateTime> {
 /// ...), as `irsig sequence --from --to --step`, as ISO text.
 #[pyfunction]
 fn sequence_times(scene: &Scene, start: &str, stop: &str, step: &str) -> PyResult<Vec<String>> {
-    use irsig::render::sequence::{parse_local_time, parse_step_s};
+    use irsig::render::sequence::{
+        TimeNames, parse_local_time, parse_step_s_named, time_steps_named,
+    };
     let date = scene.scene.scene.time.local.date();
     let r = || -> anyhow::Result<Vec<String>> {
-        let step_s = parse_step_s(step)?;
+        let step_s = parse_step_s_named("step", step)?;
         let from = parse_local_time("start", start, date)?;
         let to = parse_local_time("stop", stop, date)?;
-        Ok(irsig::render::sequence::time_steps(from, to, step_s)?
+        Ok(time_steps_named(TimeNames::PYTHON, from, to, step_s)?
             .iter()
             .map(|t| t.format("%Y-%m-%dT%H:%M:%S").to_string())
             .collect())
@@ -621,6 +626,15 @@ fn probe(
     tracer: Option<String>,
 ) -> PyResult<String> {
     let be = backend(tracer.as_deref())?;
+    let cam = &scene.scene.scene.sensor;
+    let (w, h) = (cam.width_px, cam.height_px);
+    if x >= w || y >= h {
+        return Err(IrsigError::new_err(format!(
+            "x={x}, y={y}: outside the {w}x{h} image (x 0..{}, y 0..{})",
+            w.saturating_sub(1),
+            h.saturating_sub(1)
+        )));
+    }
     let mut loaded = scene.scene.clone();
     if let Some(t) = time.as_deref() {
         // The image time is the scene's `[time] local`.

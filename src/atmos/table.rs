@@ -87,10 +87,13 @@ pub struct AtmosTable {
 impl AtmosTable {
     /// Loads a table file (gzip-compressed or plain).
     pub fn load(path: &Path) -> Result<Self, AtmosError> {
-        let bytes = std::fs::read(path).map_err(|e| AtmosError::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let bytes =
+            crate::files::read(path, crate::bounds::atmos_table::MAX_BYTES).map_err(|e| {
+                AtmosError::Io {
+                    path: path.display().to_string(),
+                    source: e,
+                }
+            })?;
         let mut t = Self::from_bytes(&bytes, &path.display().to_string())?;
         t.source = path.to_path_buf();
         Ok(t)
@@ -285,6 +288,27 @@ impl AtmosTable {
                 });
             }
         }
+        for (ln, q) in &quantities {
+            let Some(b) = bounds::atmos_table::range_of(&q.name) else {
+                continue;
+            };
+            if let Some(i) = q.data.iter().position(|&v| !b.contains(v)) {
+                return Err(fmt(
+                    *ln,
+                    format!(
+                        "quantity '{}' at {} and {} cm⁻¹ (value {} of its data): {} = {} is out \
+                         of range: expected {}",
+                        q.name,
+                        node_text(q, i / nwn),
+                        bounds::num(wn[i % nwn]),
+                        i,
+                        q.name,
+                        bounds::num(q.data[i]),
+                        b.expected().replacen(b.key, &q.name, 1)
+                    ),
+                ));
+            }
+        }
         Ok(Self {
             name,
             description,
@@ -302,6 +326,22 @@ impl AtmosTable {
     }
 }
 
+/// The axis values of spectrum `k` of `q` (`altitude_km=1, view_zenith_deg=60`).
+fn node_text(q: &Quantity, mut k: usize) -> String {
+    let mut parts = Vec::new();
+    for a in q.axes.iter().rev() {
+        let n = a.values.len().max(1);
+        parts.push(format!("{}={}", a.name, bounds::num(a.values[k % n])));
+        k /= n;
+    }
+    parts.reverse();
+    if parts.is_empty() {
+        "its single spectrum".into()
+    } else {
+        parts.join(", ")
+    }
+}
+
 fn truncate(s: &str) -> String {
     s.chars().take(40).collect()
 }
@@ -309,7 +349,27 @@ fn truncate(s: &str) -> String {
 fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
     if bytes.len() >= 2 && bytes[0] == 0x1f && bytes[1] == 0x8b {
         let mut out = Vec::new();
+        // The declared size (the gzip trailer's ISIZE, the size mod 2³²:
+        // exact below 4 GiB) is checked before inflating, and the inflating
+        // stops one byte past it (a bomb cannot inflate past what it says).
+        let declared = bytes
+            .len()
+            .checked_sub(4)
+            .map(|k| u32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]))
+            .map_or(0, u64::from);
         let max = bounds::atmos_table::MAX_BYTES;
+        if declared > max {
+            return Err(AtmosError::Format {
+                file: file.into(),
+                line: 0,
+                msg: format!(
+                    "the gzip stream declares {declared} bytes, more than the {} GiB a table \
+                     may hold",
+                    max >> 30
+                ),
+            });
+        }
+        let max = declared.max(1);
         flate2::read::GzDecoder::new(bytes)
             .take(max + 1)
             .read_to_end(&mut out)
@@ -323,8 +383,8 @@ fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
                 file: file.into(),
                 line: 0,
                 msg: format!(
-                    "decompresses to more than the {} GiB a table may hold",
-                    max >> 30
+                    "decompresses to more than the {max} bytes its gzip trailer declares \
+                     (a gzip bomb, or a multi-member stream: recompress it as one)"
                 ),
             });
         }
@@ -336,10 +396,12 @@ fn maybe_gunzip(bytes: &[u8], file: &str) -> Result<Vec<u8>, AtmosError> {
 
 /// Reads only the header lines of a table file (for listings).
 pub fn read_header(path: &Path) -> Result<Vec<(String, String)>, AtmosError> {
-    let f = std::fs::File::open(path).map_err(|e| AtmosError::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
+    let f = crate::files::check_regular(path, crate::bounds::atmos_table::MAX_BYTES)
+        .and_then(|_| std::fs::File::open(path))
+        .map_err(|e| AtmosError::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
     read_header_from(std::io::BufReader::new(f), &path.display().to_string())
 }
 

@@ -12,7 +12,7 @@ use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
 
 use super::spec::{SpecFile, at, number, override_text};
-use crate::render::sequence::{parse_local_time, parse_step_s, sanitise, time_steps};
+use crate::render::sequence::{parse_local_time, sanitise};
 
 /// Format of local times in the manifest.
 pub const LOCAL_FORMAT: &str = "%Y-%m-%dT%H:%M:%S";
@@ -216,12 +216,18 @@ pub fn plan(spec_path: &Path) -> anyhow::Result<Plan> {
                             .with_context(|| format!("{}", loc("from")))?;
                         let to = parse_local_time("to", to, date)
                             .with_context(|| format!("{}", loc("to")))?;
-                        let step = parse_step_s(st).with_context(|| format!("{}", loc("step")))?;
-                        time_steps(from, to, step)
-                            .with_context(|| format!("{}", loc("from")))?
-                            .into_iter()
-                            .map(Some)
-                            .collect()
+                        let step = crate::render::sequence::parse_step_s_named("step", st)
+                            .with_context(|| format!("{}", loc("step")))?;
+                        crate::render::sequence::time_steps_named(
+                            crate::render::sequence::TimeNames::SPEC,
+                            from,
+                            to,
+                            step,
+                        )
+                        .with_context(|| format!("{}", loc("from")))?
+                        .into_iter()
+                        .map(Some)
+                        .collect()
                     }
                 }
             }

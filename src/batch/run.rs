@@ -2,6 +2,14 @@
 //! them, or one shard (a Slurm array task). Finished frames are skipped, so
 //! a re-run after a crash or pre-emption resumes where it stopped; a frame
 //! that fails is recorded under `failed/` and the others go on.
+//!
+//! Each frame is claimed with an exclusive advisory lock (`flock`, std's
+//! [`std::fs::File::try_lock`]) on `locks/<frame id>.lock` before it is
+//! rendered, and held until its files are written; a runner that finds a
+//! frame locked goes on to the next. So any number of runners on one
+//! folder (several `batch run`s without `--shard`, or overlapping shards)
+//! share the frames without rendering one twice: dynamic load balancing.
+//! A runner killed mid-frame releases its lock with its process.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -34,6 +42,8 @@ pub enum RunEvent {
     Done { id: String, seconds: f64 },
     /// Failed with this error (recorded under `failed/`).
     Failed { id: String, error: String },
+    /// Being rendered by another runner (its lock is held): skipped.
+    Busy { id: String },
 }
 
 /// [`run`]'s counts.
@@ -42,6 +52,8 @@ pub struct RunReport {
     pub frames: usize,
     pub rendered: usize,
     pub skipped: usize,
+    /// Frames another runner held the lock of (rendering them).
+    pub busy: usize,
     /// (frame id, error)
     pub failed: Vec<(String, String)>,
 }
@@ -66,6 +78,17 @@ pub fn run(o: &RunOptions, event: &mut dyn FnMut(&RunEvent)) -> anyhow::Result<R
     let mut st: Option<Static> = None;
     let mut st_key: Option<(PathBuf, Vec<(String, String)>)> = None;
     for f in &batch.frames[range] {
+        if batch.is_done(f) {
+            rep.skipped += 1;
+            event(&RunEvent::Skipped { id: f.id.clone() });
+            continue;
+        }
+        let Some(_claim) = claim(&batch.dir, f)? else {
+            rep.busy += 1;
+            event(&RunEvent::Busy { id: f.id.clone() });
+            continue;
+        };
+        // Another runner may have finished it between the check and the lock.
         if batch.is_done(f) {
             rep.skipped += 1;
             event(&RunEvent::Skipped { id: f.id.clone() });
@@ -103,6 +126,31 @@ pub fn run(o: &RunOptions, event: &mut dyn FnMut(&RunEvent)) -> anyhow::Result<R
         }
     }
     Ok(rep)
+}
+
+/// Claims frame `f`: its lock file `locks/<id>.lock`, locked exclusively
+/// without waiting. `None` when another runner holds it. The lock goes
+/// with the returned file (dropped after the frame is written). The lock
+/// files stay (empty); removing one could let two runners lock two
+/// different files of the same name.
+fn claim(dir: &Path, f: &FrameJob) -> anyhow::Result<Option<std::fs::File>> {
+    let locks = dir.join("locks");
+    std::fs::create_dir_all(&locks)
+        .with_context(|| format!("cannot create {}", locks.display()))?;
+    let p = locks.join(format!("{}.lock", f.id));
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&p)
+        .with_context(|| format!("cannot open the frame lock {}", p.display()))?;
+    match file.try_lock() {
+        Ok(()) => Ok(Some(file)),
+        Err(std::fs::TryLockError::WouldBlock) => Ok(None),
+        Err(std::fs::TryLockError::Error(e)) => {
+            Err(e).with_context(|| format!("cannot lock {}", p.display()))
+        }
+    }
 }
 
 /// Renders one frame and writes its files (EXR, PNG, then the JSON that

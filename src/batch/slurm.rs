@@ -54,6 +54,43 @@ fn check_value(flag: &str, v: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A path that goes into a generated script: no control characters (a
+/// newline would end a line of the script and start a command; a folder
+/// named `r7\ntouch /tmp/x #` did). `what` names it in the error.
+fn check_path(what: &str, p: &Path) -> anyhow::Result<()> {
+    let s = p.as_os_str().to_string_lossy();
+    if s.chars().any(char::is_control) {
+        bail!(
+            "{what} {:?} holds a control character (newline, tab, escape…): the Slurm scripts \
+             cannot name it safely; rename it",
+            p.as_os_str()
+        );
+    }
+    if std::str::from_utf8(p.as_os_str().as_encoded_bytes()).is_err() {
+        bail!(
+            "{what} {:?} is not valid UTF-8: the Slurm scripts cannot name it safely; rename it",
+            p.as_os_str()
+        );
+    }
+    Ok(())
+}
+
+/// A path for an `#SBATCH` line, which Slurm splits at white space and
+/// does not unquote: white space and quotes are refused (with what to do),
+/// `%` (Slurm's filename patterns) doubled.
+fn sbatch_path(what: &str, p: &Path) -> anyhow::Result<String> {
+    let s = p.display().to_string();
+    if s.chars()
+        .any(|c| c.is_whitespace() || matches!(c, '"' | '\'' | '\\' | '#'))
+    {
+        bail!(
+            "{what} {s:?} holds white space, a quote, `\\` or `#`, which an `#SBATCH --output` \
+             line cannot hold; give the batch a folder whose path has none"
+        );
+    }
+    Ok(s.replace('%', "%%"))
+}
+
 /// Quotes a path for a POSIX shell.
 fn sh_quote(p: &Path) -> String {
     format!("'{}'", p.display().to_string().replace('\'', r"'\''"))
@@ -88,7 +125,10 @@ pub fn slurm(dir: &Path, o: &SlurmOptions, submit: bool) -> anyhow::Result<Slurm
         Some(p) => std::path::absolute(p)?,
         None => std::env::current_exe().context("cannot find the irsig binary")?,
     };
+    check_path("the batch folder", &dir)?;
+    check_path("the irsig binary", &irsig)?;
     let sdir = dir.join("slurm");
+    let logs = sbatch_path("the batch folder", &sdir.join("logs"))?;
     std::fs::create_dir_all(sdir.join("logs"))
         .with_context(|| format!("cannot create {}", sdir.display()))?;
     let name: String = batch
@@ -132,7 +172,6 @@ pub fn slurm(dir: &Path, o: &SlurmOptions, submit: bool) -> anyhow::Result<Slurm
             .time
             .as_ref()
             .map_or(String::new(), |t| format!("#SBATCH --time={t}\n")),
-        logs = sdir.join("logs").display(),
         irsig = sh_quote(&irsig),
         dir = sh_quote(&dir),
     );
@@ -145,7 +184,6 @@ pub fn slurm(dir: &Path, o: &SlurmOptions, submit: bool) -> anyhow::Result<Slurm
          #SBATCH --output={logs}/merge.out\n\
          set -euo pipefail\n\
          exec {irsig} batch merge {dir}\n",
-        logs = sdir.join("logs").display(),
         irsig = sh_quote(&irsig),
         dir = sh_quote(&dir),
     );

@@ -122,13 +122,21 @@ pub fn run(cmd: BatchCommand) -> anyhow::Result<i32> {
                     eprintln!("batch run: {id}: rendered in {seconds:.2} s")
                 }
                 RunEvent::Failed { id, error } => eprintln!("batch run: {id}: FAILED: {error}"),
+                RunEvent::Busy { id } => {
+                    eprintln!("batch run: {id}: being rendered by another runner")
+                }
             })?;
             println!(
-                "batch run: {} frames: {} rendered, {} done already, {} failed",
+                "batch run: {} frames: {} rendered, {} done already, {} failed{}",
                 rep.frames,
                 rep.rendered,
                 rep.skipped,
-                rep.failed.len()
+                rep.failed.len(),
+                if rep.busy > 0 {
+                    format!(", {} taken by other runners", rep.busy)
+                } else {
+                    String::new()
+                }
             );
             Ok(if rep.failed.is_empty() { 0 } else { 1 })
         }

@@ -111,6 +111,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         if let Some(b) = &bar {
             b.finish();
         }
+        let implausible = crate::render::plausible::surface_temperature_warnings(
+            &st,
+            &cond,
+            &image.frame.planes,
+        )?;
+        super::warn_or_refuse(&implausible, a.strict)?;
         // On the same pool: the EXR blocks are compressed in parallel.
         write_rendered(&a.output, &image, formats, None)?;
         Ok(image)

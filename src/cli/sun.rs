@@ -80,6 +80,15 @@ pub fn format_text(time: DateTime<Utc>, p: &SolarPosition) -> String {
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    use crate::bounds::args;
+    for (arg, v) in [
+        (args::ELEVATION, a.elevation),
+        (args::SUN_PRESSURE, a.pressure_hpa),
+        (args::SUN_TEMP, a.temp_c),
+        (args::SUN_DELTA_T, a.delta_t.unwrap_or(0.0)),
+    ] {
+        arg.check_flag(v).map_err(anyhow::Error::msg)?;
+    }
     let opts = SpaOptions {
         pressure_hpa: a.pressure_hpa,
         temp_c: a.temp_c,

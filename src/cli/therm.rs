@@ -141,6 +141,19 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    use crate::bounds::args;
+    for (arg, v) in [
+        (args::THERM_STEP_MIN, a.step),
+        (args::THERM_SPIN_UP_H, a.spin_up_h),
+        (args::THERM_FACET_HEIGHT, a.facet_height_m),
+        (args::LAT, a.lat),
+        (args::LON, a.lon),
+        (args::ELEVATION, a.elevation),
+        (args::SLOPE, a.slope),
+        (args::ASPECT, a.aspect),
+    ] {
+        arg.check_flag(v).map_err(anyhow::Error::msg)?;
+    }
     let mat = load_material(&a.materials, &a.material)?;
     let from = parse_time(&a.from).context("--from")?;
     let to = parse_time(&a.to).context("--to")?;

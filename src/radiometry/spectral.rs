@@ -130,10 +130,11 @@ impl SpectralResponse {
     /// a header. Wavelengths must be strictly ascending and positive, responses
     /// finite and ≥ 0, and at least one response > 0.
     pub fn from_csv(path: &Path) -> Result<Self, RadiometryError> {
-        let text = std::fs::read_to_string(path).map_err(|e| RadiometryError::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text = crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES)
+            .map_err(|e| RadiometryError::Io {
+                path: path.display().to_string(),
+                source: e,
+            })?;
         Self::from_csv_str(&text, &path.display().to_string())
     }
 

@@ -22,6 +22,7 @@ pub mod image;
 pub mod memory;
 pub mod pixel;
 pub mod planes;
+pub mod plausible;
 pub mod prepare;
 pub mod probe;
 pub mod sequence;
@@ -168,6 +169,9 @@ pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new()
         .start_handler(|_| crate::trace::embree::set_thread_ftz_daz());
     if let Some(n) = threads {
+        crate::bounds::args::THREADS
+            .check(n.into())
+            .map_err(anyhow::Error::msg)?;
         b = b.num_threads(n as usize);
     }
     Ok(b.build()?)

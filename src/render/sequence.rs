@@ -36,18 +36,61 @@ pub fn time_steps(
     to: NaiveDateTime,
     step_s: i64,
 ) -> anyhow::Result<Vec<NaiveDateTime>> {
+    time_steps_named(TimeNames::CLI, from, to, step_s)
+}
+
+/// What the caller calls the start, end and step of a time range, for
+/// its errors: the CLI's flags, the Python arguments, a batch spec's keys.
+#[derive(Clone, Copy, Debug)]
+pub struct TimeNames {
+    pub from: &'static str,
+    pub to: &'static str,
+    pub step: &'static str,
+}
+
+impl TimeNames {
+    /// `irsig sequence --from --to --step`.
+    pub const CLI: TimeNames = TimeNames {
+        from: "--from",
+        to: "--to",
+        step: "--step",
+    };
+    /// `irsig.sequence_times(start=, stop=, step=)`.
+    pub const PYTHON: TimeNames = TimeNames {
+        from: "start",
+        to: "stop",
+        step: "step",
+    };
+    /// A batch spec's `[times]` keys.
+    pub const SPEC: TimeNames = TimeNames {
+        from: "from",
+        to: "to",
+        step: "step",
+    };
+}
+
+/// As [`time_steps`], errors naming the range's parts as `names` do.
+pub fn time_steps_named(
+    names: TimeNames,
+    from: NaiveDateTime,
+    to: NaiveDateTime,
+    step_s: i64,
+) -> anyhow::Result<Vec<NaiveDateTime>> {
+    let TimeNames {
+        from: f,
+        to: t,
+        step: st,
+    } = names;
     if step_s < 1 {
-        bail!("step {step_s} s: expected a positive step");
+        bail!("{st} {step_s} s: expected a positive step");
     }
     if to < from {
-        bail!("--to {to} is before --from {from}");
+        bail!("{t} {to} is before {f} {from}");
     }
     let span = (to - from).num_seconds();
     let n = span / step_s + 1;
     if n as usize > MAX_FRAMES {
-        bail!(
-            "--from {from} --to {to} --step {step_s} s would give {n} frames; at most {MAX_FRAMES}"
-        );
+        bail!("{f} {from} {t} {to} {st} {step_s} s would give {n} frames; at most {MAX_FRAMES}");
     }
     Ok((0..n)
         .map(|k| from + chrono::Duration::seconds(k * step_s))
@@ -57,9 +100,16 @@ pub fn time_steps(
 /// Parses a duration such as `1h`, `30min`, `1h30m`, `90s`, `0.5h` into
 /// whole seconds (> 0).
 pub fn parse_step_s(s: &str) -> anyhow::Result<i64> {
+    parse_step_s_named("--step", s)
+}
+
+/// As [`parse_step_s`], errors naming the step `name` (`step` in Python
+/// and batch specs). Steps longer than a year are refused.
+pub fn parse_step_s_named(name: &str, s: &str) -> anyhow::Result<i64> {
     let err = || {
         anyhow::anyhow!(
-            "--step {s:?}: expected a positive duration such as 1h, 30min, 1h30m or 90s"
+            "{name} {s:?}: expected a positive duration of at most a year, such as 1h, 30min, \
+             1h30m or 90s"
         )
     };
     let t = s.trim();
@@ -87,7 +137,7 @@ pub fn parse_step_s(s: &str) -> anyhow::Result<i64> {
         rest = &rest[unit_end..];
     }
     let secs = total.round();
-    if !(secs >= 1.0 && secs.is_finite()) {
+    if !(secs >= 1.0 && secs <= 366.0 * 86400.0) {
         return Err(err());
     }
     Ok(secs as i64)
@@ -241,8 +291,8 @@ pub fn scene_text(
     unset: &[String],
     overrides: &[(String, String)],
 ) -> anyhow::Result<String> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     let text = if unset.is_empty() {
         text
     } else {

@@ -184,10 +184,13 @@ pub fn load_with_overrides(
     if overrides.is_empty() {
         return load(path);
     }
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
-        path: path.to_path_buf(),
-        error: e,
-    })?;
+    let text =
+        crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: path.to_path_buf(),
+                error: e,
+            }
+        })?;
     let edited = apply_overrides(path, &text, overrides)?;
     let src = TomlSource::from_edited(path, text, edited, overrides);
     let mut scene = load_source(path, src)?;
@@ -286,7 +289,7 @@ pub fn load_edited(
     edited: String,
     overrides: &[(String, String)],
 ) -> Result<LoadedScene, SceneError> {
-    let src = match std::fs::read_to_string(path) {
+    let src = match crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES) {
         Ok(original) => TomlSource::from_edited(path, original, edited, overrides),
         Err(_) => TomlSource::from_text(path, edited),
     };
@@ -308,6 +311,15 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         let r = resolve(path, p);
         if r.is_file() {
             Ok(r)
+        } else if let Some(kind) = crate::files::not_regular(&r) {
+            Err(src.invalid(
+                at,
+                format!(
+                    "{what} `{}` is {kind} ({}): expected a regular file",
+                    p.display(),
+                    r.display()
+                ),
+            ))
         } else {
             Err(src.invalid(
                 at,
@@ -734,10 +746,13 @@ fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
 /// Reads a response CSV: `#` comments; an optional header line
 /// (`wavelength_um,response`); rows `λ_µm, R`.
 pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
-    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
-        path: file.to_path_buf(),
-        error: e,
-    })?;
+    let text =
+        crate::files::read_text(file, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: file.to_path_buf(),
+                error: e,
+            }
+        })?;
     parse_response(file, &text)
 }
 
@@ -805,10 +820,13 @@ pub fn parse_response(file: &Path, text: &str) -> Result<SpectralResponse, Scene
 
 /// Reads a PSF kernel CSV: `#` comments; n rows of n weights, n odd.
 pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
-    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
-        path: file.to_path_buf(),
-        error: e,
-    })?;
+    let text =
+        crate::files::read_text(file, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: file.to_path_buf(),
+                error: e,
+            }
+        })?;
     parse_kernel(file, &text)
 }
 

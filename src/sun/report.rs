@@ -58,17 +58,14 @@ pub fn sun_report(
     opts: &SpaOptions,
 ) -> anyhow::Result<SunReport> {
     validate_site(lat_deg, lon_deg, elevation_m).map_err(anyhow::Error::msg)?;
-    if !(opts.pressure_hpa > 0.0 && opts.pressure_hpa < 2000.0) {
-        anyhow::bail!(
-            "--pressure-hpa {} is out of range: expected hPa in (0, 2000)",
-            opts.pressure_hpa
-        );
-    }
-    if !(-100.0..=100.0).contains(&opts.temp_c) {
-        anyhow::bail!(
-            "--temp-c {} is out of range: expected °C in [-100, 100]",
-            opts.temp_c
-        );
+    use crate::bounds::args;
+    for (a, v) in [
+        (args::ELEVATION, elevation_m),
+        (args::SUN_PRESSURE, opts.pressure_hpa),
+        (args::SUN_TEMP, opts.temp_c),
+        (args::SUN_DELTA_T, opts.delta_t_s.unwrap_or(0.0)),
+    ] {
+        a.check(v).map_err(anyhow::Error::msg)?;
     }
     let p = solar_position_with(time, lat_deg, lon_deg, elevation_m, opts);
     Ok(SunReport {

@@ -12,7 +12,7 @@ use super::forcing::Forcing;
 /// Reads a forcing CSV (columns in the module docs). Errors name the file,
 /// the line and the column.
 pub fn read_forcing_csv(path: &Path) -> anyhow::Result<Vec<Forcing>> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::files::read_text(path, crate::bounds::sizes::MAX_WEATHER_FILE_BYTES)
         .with_context(|| format!("{}: cannot read", path.display()))?;
     parse_forcing_csv(path, &text)
 }

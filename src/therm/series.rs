@@ -188,24 +188,37 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
     let (from, to) = (run.from, run.to);
     if to < from {
         bail!(
-            "--to {} is before --from {}",
+            "the end {} is before the start {}",
             to.to_rfc3339(),
             from.to_rfc3339()
         );
     }
-    if !(run.step_min.is_finite() && run.step_min > 0.0) {
+    use crate::bounds::args;
+    let check = |a: &args::Arg, v: f64| a.check(v).map_err(anyhow::Error::msg);
+    check(&args::THERM_STEP_MIN, run.step_min)?;
+    check(&args::THERM_SPIN_UP_H, run.spin_up_h)?;
+    check(&args::THERM_FACET_HEIGHT, run.facet_height_m)?;
+    check(&args::LAT, run.site.lat_deg)?;
+    check(&args::LON, run.site.lon_deg)?;
+    check(&args::ELEVATION, run.site.elevation_m)?;
+    check(&args::SLOPE, run.orientation.slope_deg)?;
+    check(&args::ASPECT, run.orientation.aspect_deg)?;
+    // Every time below is from, to or start plus at most their span: with
+    // the years bounded (1900-2200) and the spin-up a year at most, none
+    // overflows; the step count is bounded before the forcing is built.
+    let steps = ((to - from).num_seconds() as f64 + run.spin_up_h * 3600.0) / (run.step_min * 60.0);
+    if let ForcingSource::Weather { .. } = run.forcing
+        && steps > args::THERM_MAX_STEPS
+    {
         bail!(
-            "--step {}: expected a positive number of minutes",
-            run.step_min
-        );
-    }
-    if !(run.spin_up_h.is_finite() && run.spin_up_h >= 0.0) {
-        bail!("--spin-up-h {}: expected hours >= 0", run.spin_up_h);
-    }
-    let (lat, lon) = (run.site.lat_deg, run.site.lon_deg);
-    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=360.0).contains(&lon) {
-        bail!(
-            "--lat {lat} --lon {lon}: expected latitude in [-90, 90] and longitude in [-180, 360]"
+            "{} steps of {} min from {} h before {} to {}: more than the {} a run may take \
+             (about 0.5 GB of forcing); take a longer step or a shorter span",
+            crate::bounds::num(steps.ceil()),
+            crate::bounds::num(run.step_min),
+            crate::bounds::num(run.spin_up_h),
+            from.to_rfc3339(),
+            to.to_rfc3339(),
+            crate::bounds::num(args::THERM_MAX_STEPS)
         );
     }
     let start = from - Duration::milliseconds((run.spin_up_h * 3.6e6).round() as i64);
@@ -216,7 +229,7 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
             let f: Vec<Forcing> = f.into_iter().filter(|x| x.t_s <= end_s + 1e-6).collect();
             if f.is_empty() || f[0].t_s > 0.0 || f[f.len() - 1].t_s < end_s - 1e-6 {
                 bail!(
-                    "{}: the forcing must cover t_s = 0 (= --from − --spin-up-h) to {end_s} s (= --to)",
+                    "{}: the forcing must cover t_s = 0 (the start less the spin-up) to {end_s} s (the end)",
                     p.display()
                 );
             }
@@ -242,27 +255,31 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
             60.0
         };
         let last = forcing.last().map_or(0.0, |f| f.t_s);
-        let n = (last / dt).ceil() as usize + 1;
-        SunHistory {
+        let n = (last / dt).ceil() + 1.0;
+        if n > 10.0 * args::THERM_MAX_STEPS {
+            bail!(
+                "the shadow history would need {} samples of {dt} s (the forcing's smallest \
+                 interval): more than {}; give the forcing a longer step",
+                crate::bounds::num(n),
+                crate::bounds::num(10.0 * args::THERM_MAX_STEPS)
+            );
+        }
+        let n = n as usize;
+        Ok(SunHistory {
             start_s: 0,
             interval_s: dt as i64,
             sunlit: (0..n)
                 .map(|i| !run.shadow.iter().any(|r| r.contains(at(i as f64 * dt))))
                 .collect(),
-        }
+        })
     });
+    let shadow = shadow.transpose()?;
     let settings = ThermSettings {
         spin_up_h: run.spin_up_h,
         spin_up_start: run.spin_up_start,
         convection: run.convection,
         ..ThermSettings::default()
     };
-    if !(run.facet_height_m.is_finite() && (0.0..=1e4).contains(&run.facet_height_m)) {
-        bail!(
-            "--facet-height-m {}: expected a height above the ground from 0 to 10000 m",
-            run.facet_height_m
-        );
-    }
     let model = SlabModel::new(&run.material, run.orientation, &settings)
         .with_context(|| format!("material '{}'", run.material_name))?
         .with_height(run.facet_height_m);

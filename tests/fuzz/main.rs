@@ -14,5 +14,6 @@
 //! `cargo fuzz` (libFuzzer) needs nightly Rust, which a fresh Debian CI does
 //! not have; these proptest suites cover the same entry points there.
 
+mod args;
 mod mutate;
 mod targets;

@@ -276,6 +276,15 @@ fn atmosphere_table() {
                         q.data.iter().all(|v| v.is_finite()),
                         "non-finite table data"
                     );
+                    // Issue 33: every accepted value is physical.
+                    if let Some(b) = bounds::atmos_table::range_of(&q.name) {
+                        require!(
+                            q.data.iter().all(|v| b.contains(*v)),
+                            "{}: a value outside {}",
+                            q.name,
+                            b.expected()
+                        );
+                    }
                     require!(
                         q.data.len() == q.n_spectra() * t.wavenumber_cm1.len(),
                         "table size mismatch"

@@ -57,10 +57,13 @@ const MAX_ZERO_FILLED: usize = 1 << 24;
 
 /// Reads a `.gltf` or `.glb` file and its buffers.
 pub fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
-        path: path.to_path_buf(),
-        error: e,
-    })?;
+    let bytes =
+        crate::files::read(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: path.to_path_buf(),
+                error: e,
+            }
+        })?;
     parse_gltf(path, &bytes)
 }
 
@@ -74,6 +77,11 @@ pub fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
     let glb = bytes.starts_with(b"glTF");
     if glb {
         check_glb_header(bytes).map_err(fail)?;
+    } else if let Some(what) = not_gltf(bytes) {
+        return Err(fail(format!(
+            "not a glTF file: it {what}; expected a binary glTF (GLB, starting with `glTF`) or \
+             glTF JSON (starting with `{{`)"
+        )));
     }
     let gltf =
         gl::Gltf::from_slice_without_validation(bytes).map_err(|e| crate_error(path, glb, e))?;
@@ -170,6 +178,59 @@ pub fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, SceneError> {
         )));
     }
     Ok(m)
+}
+
+/// What a file that is neither GLB nor JSON looks like, from its first
+/// bytes (a TIFF or PNG renamed `.glb`, an OBJ, a gzip or zip archive…);
+/// `None` when it may be glTF JSON (its first character, after a
+/// byte-order mark and white space, is `{`) and the JSON parser is to say
+/// what is wrong with it.
+fn not_gltf(b: &[u8]) -> Option<String> {
+    let t = b.strip_prefix(&[0xEF, 0xBB, 0xBF]).unwrap_or(b);
+    let first = t.iter().find(|c| !c.is_ascii_whitespace());
+    if first == Some(&b'{') {
+        return None;
+    }
+    let kinds: [(&[u8], &str); 10] = [
+        (b"II*\0", "is a TIFF image (little-endian)"),
+        (b"MM\0*", "is a TIFF image (big-endian)"),
+        (b"II+\0", "is a BigTIFF image"),
+        (b"\x89PNG", "is a PNG image"),
+        (b"\xff\xd8\xff", "is a JPEG image"),
+        (b"\x1f\x8b", "is gzip-compressed"),
+        (b"PK\x03\x04", "is a zip archive"),
+        (b"%PDF", "is a PDF document"),
+        (b"\x76\x2f\x31\x01", "is an OpenEXR image"),
+        (b"ply", "is a PLY mesh"),
+    ];
+    if let Some((_, what)) = kinds.iter().find(|(m, _)| t.starts_with(m)) {
+        return Some(what.to_string());
+    }
+    if t.is_empty() {
+        return Some("is empty".into());
+    }
+    let text = std::str::from_utf8(&t[..t.len().min(4096)]).is_ok_and(|s| {
+        s.chars()
+            .all(|c| !c.is_control() || c.is_ascii_whitespace())
+    });
+    if text {
+        let obj = t
+            .split(|&c| c == b'\n')
+            .any(|l| l.starts_with(b"v ") || l.starts_with(b"f "));
+        return Some(if obj {
+            "is text with OBJ vertex or face lines (an OBJ mesh: name it `.obj`)".into()
+        } else {
+            "is text that is not JSON".into()
+        });
+    }
+    Some(format!(
+        "is binary data starting with the bytes {}",
+        t.iter()
+            .take(4)
+            .map(|c| format!("{c:02x}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    ))
 }
 
 /// The GLB header (magic, version, length: 12 bytes) and the first chunk
@@ -674,7 +735,10 @@ impl Reader<'_> {
 }
 
 /// A buffer URI's bytes: `data:…;base64,…`, or a relative (or `file:`)
-/// path; no network scheme.
+/// path inside the glTF file's folder tree ([`crate::files::inside_folder`]:
+/// no absolute path, no `..` above it, no symbolic link out of it); no
+/// network scheme. Nothing of a refused file is read, so no error can show
+/// its bytes.
 fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     use base64::Engine;
     if let Some(rest) = uri.strip_prefix("data:") {
@@ -716,8 +780,14 @@ fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     let rel = percent_encoding::percent_decode_str(rel)
         .decode_utf8()
         .map_err(|e| format!("URI `{uri}` decodes to invalid UTF-8: {e}"))?;
-    let file = dir.join(&*rel);
-    std::fs::read(&file).map_err(|e| format!("cannot read `{}`: {e}", file.display()))
+    let file = crate::files::inside_folder(dir, Path::new(&*rel)).map_err(|why| {
+        format!(
+            "URI `{uri}` {why}: a model may only refer to files in its own folder or below \
+             (docs/reliability.md, path policy)"
+        )
+    })?;
+    crate::files::read(&file, crate::bounds::sizes::MAX_MESH_FILE_BYTES)
+        .map_err(|e| format!("cannot read `{}`: {e}", file.display()))
 }
 
 /// Triangles (values of `idx`) of a triangle list, strip or fan (glTF 2.0

@@ -179,7 +179,8 @@ pub fn load(path: &Path) -> Result<Mesh, SceneError> {
 fn is_glb(path: &Path) -> bool {
     use std::io::Read;
     let mut magic = [0u8; 4];
-    std::fs::File::open(path)
+    crate::files::check_regular(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES)
+        .and_then(|_| std::fs::File::open(path))
         .and_then(|mut f| f.read_exact(&mut magic))
         .is_ok_and(|()| &magic == b"glTF")
 }

@@ -55,10 +55,13 @@ const IGNORED: &[&str] = &[
 
 /// Reads and parses an OBJ file (faces not yet triangulated).
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
-        path: path.to_path_buf(),
-        error: e,
-    })?;
+    let bytes =
+        crate::files::read(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: path.to_path_buf(),
+                error: e,
+            }
+        })?;
     parse_obj(path, &super::decode_text(&bytes))
 }
 

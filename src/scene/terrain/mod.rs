@@ -393,6 +393,15 @@ pub(crate) fn load(
         let r = super::resolve(&src.path, p);
         if r.is_file() {
             Ok(r)
+        } else if let Some(kind) = crate::files::not_regular(&r) {
+            Err(src.invalid(
+                &at(key),
+                format!(
+                    "{what} `{}` is {kind} ({}): expected a regular file",
+                    p.display(),
+                    r.display()
+                ),
+            ))
         } else {
             Err(src.invalid(
                 &at(key),
@@ -406,6 +415,28 @@ pub(crate) fn load(
     };
     let dem_file = must_exist(&t.file, &["file"], "DEM file")?;
     let dem = raster::read_raster(&dem_file)?;
+    let hb = crate::bounds::terrain::HEIGHT;
+    if let Some(i) = dem
+        .data
+        .iter()
+        .position(|&h| !h.is_nan() && !hb.contains(h.into()))
+    {
+        let w = dem.width.max(1) as usize;
+        return Err(SceneError::Data {
+            loc: crate::scene::error::Location::file(&dem_file),
+            msg: format!(
+                "DEM pixel (column {}, row {}) holds the height {} m (read as f32): expected {} \
+                 or the no-data value",
+                i % w,
+                i / w,
+                match dem.data[i] {
+                    v if v.is_finite() && v.abs() >= 1e6 => format!("{v:e}"),
+                    v => format!("{v}"),
+                },
+                hb.expected()
+            ),
+        });
+    }
     let surface =
         Surface::new(&dem, site).map_err(|e| src.invalid(&at(&["file"]), e.to_string()))?;
     let extent = t.extent_m.bbox();

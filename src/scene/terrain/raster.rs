@@ -175,10 +175,13 @@ fn invert(g: &[f64; 6]) -> Option<[f64; 6]> {
 
 /// Reads a single-band GeoTIFF (a DEM or a land-cover raster).
 pub fn read_raster(path: &Path) -> Result<Raster, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::Io {
-        path: path.to_path_buf(),
-        error: e,
-    })?;
+    let bytes =
+        crate::files::read(path, crate::bounds::sizes::MAX_RASTER_FILE_BYTES).map_err(|e| {
+            SceneError::Io {
+                path: path.to_path_buf(),
+                error: e,
+            }
+        })?;
     parse_raster(path, &bytes)
 }
 

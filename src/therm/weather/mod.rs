@@ -540,10 +540,13 @@ pub fn read_weather_file_with(
 /// station names) are replaced.
 pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|err| WeatherError::Io {
-        file: file.clone(),
-        err,
-    })?;
+    let bytes =
+        crate::files::read(path, crate::bounds::sizes::MAX_WEATHER_FILE_BYTES).map_err(|err| {
+            WeatherError::Io {
+                file: file.clone(),
+                err,
+            }
+        })?;
     let text = String::from_utf8_lossy(&bytes);
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_epw = path
