@@ -255,3 +255,57 @@ fn render_is_identical_for_one_and_two_threads() {
         }
     }
 }
+
+/// Issue #30: the sky view factor varies within a triangle (per point),
+/// so one grass facet shows no step at 03:00 LWIR where one of its two
+/// triangles has its centroid under a decal. Pixels 45-55 of row 92 of the
+/// full-size airfield (the issue's example: 49 and 50 lie on triangles 495
+/// and 494 of grass facet 247; F_sky was 0.00 against 1.00, 2.5 K apart):
+/// adjacent pixels on one level facet of one material with one sun history
+/// differ by at most 0.5 K in surface and apparent temperature.
+#[test]
+fn adjacent_pixels_of_one_surface_have_no_sky_view_step() {
+    let probe_full = |x: u32| -> Value {
+        let args: Vec<String> = [
+            "probe",
+            &airfield().display().to_string(),
+            "--pixel",
+            &format!("{x},92"),
+            "--json",
+            "--set",
+            "sensor.band=lwir",
+            "--set",
+            "time.local=2001-08-08T03:00:00",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        serde_json::from_str(&run(&args)).expect("probe JSON")
+    };
+    let probes: Vec<Value> = (45..=55).map(probe_full).collect();
+    let mut pairs = 0;
+    for w in probes.windows(2) {
+        let (a, b) = (&w[0]["samples"][0]["hit"], &w[1]["samples"][0]["hit"]);
+        let same = a["material"] == b["material"]
+            && a["slope_deg"] == b["slope_deg"]
+            && a["history"] == b["history"]
+            && f(&a["slope_deg"]) == 0.0;
+        if !same {
+            continue;
+        }
+        pairs += 1;
+        let key = |p: &Value, k: &str| f(&p["pixel_result"][k]);
+        for k in ["surface_temperature_k", "apparent_temperature_k"] {
+            let d = (key(&w[0], k) - key(&w[1], k)).abs();
+            assert!(
+                d <= 0.5,
+                "{k}: {} vs {} ({} and {})",
+                key(&w[0], k),
+                key(&w[1], k),
+                a["triangle"],
+                b["triangle"]
+            );
+        }
+    }
+    assert!(pairs >= 5, "only {pairs} comparable pairs");
+}

@@ -279,3 +279,41 @@ fn wind_takes_more_contrast_than_with_mcadams() {
     assert!(new[0] - new[1] > 2.0 * (old[0] - old[1]));
     assert!(new[0] > new[1] && old[0] > old[1]);
 }
+
+/// The `snow` material set of scenes/materials.toml: its conductivity is
+/// Sturm et al. (1997)'s fit at its density (within 0.001 W/(m K)), the
+/// fit's published range ends (0.023 + 0.234·0.156 = 0.0595 and the
+/// quadratic 0.0591 at 0.156 g/cm³: continuous within 0.001), its albedo and
+/// emissivity within Warren (1982)'s ranges; and under the same August sun
+/// the snow surface stays more than 5 K colder at midday than bare soil
+/// (it absorbs a quarter of the sunlight the soil does; measured 9.1 K:
+/// 309.6 K against 318.8 K — above 0 °C, since the material set has no
+/// melt cap, see docs/energy-balance.md, "Snow").
+#[test]
+fn snow_material_follows_sturm_and_warren() {
+    use irsig::therm::surface::snow_conductivity_w_mk;
+    let slab = material("snow");
+    let rho = slab.density_kg_m3;
+    assert!(
+        (100.0..=400.0).contains(&rho),
+        "seasonal snow density {rho}"
+    );
+    assert!((slab.conductivity_w_mk - snow_conductivity_w_mk(rho)).abs() < 1e-3);
+    assert!((snow_conductivity_w_mk(155.999) - 0.0595).abs() < 1e-3);
+    assert!((snow_conductivity_w_mk(156.0) - 0.0591).abs() < 1e-3);
+    assert!((snow_conductivity_w_mk(300.0) - 0.126).abs() < 1e-3);
+    assert!((0.05..=0.25).contains(&slab.solar_absorptivity));
+    assert!((0.98..=0.99).contains(&slab.thermal_emissivity));
+    let step = 300.0;
+    let f = airfield_forcing("2001-08-06T06:00:00Z", 54.0, step);
+    let run = |name: &str| {
+        let m = material(name);
+        let model = SlabModel::new(&m, Orientation::HORIZONTAL, &ThermSettings::default()).unwrap();
+        model.solve(&f, None, true).unwrap()
+    };
+    let (snow, soil) = (run("snow"), run("soil_bare"));
+    // 2001-08-07 17:00Z (13:00 EDT) is 35 h after the start.
+    let k = (35.0 * 3600.0 / step) as usize;
+    let (ts, tg) = (snow.series[k].surface_temp_k, soil.series[k].surface_temp_k);
+    assert!(tg - ts > 5.0, "midday: snow {ts} K, soil {tg} K");
+}

@@ -333,12 +333,12 @@ pub fn thermal_solution(
 }
 
 /// The key parts of the last facet side and height a worker saw: pure
-/// functions of [`Surface::side`] and of z that neighbouring samples mostly
-/// share (a repeat skips the orientation's acos/atan2, the blocked-sky
-/// lookup and the height's log; the key is the same).
+/// functions of [`Surface::side`] with its blocked sky, and of z, that
+/// neighbouring samples mostly share (a repeat skips the orientation's
+/// acos/atan2 and the height's log; the key is the same).
 #[derive(Default)]
 struct KeyMemo {
-    facet: LastKey<(u32, [u32; 3]), FacetParts>,
+    facet: LastKey<((u32, [u32; 3]), u64), FacetParts>,
     height: LastKey<u32, i32>,
 }
 
@@ -349,10 +349,11 @@ fn therm_query<'a>(
     s: &'a Surface,
     memo: &mut KeyMemo,
 ) -> ThermQuery<'a> {
-    let facet = memo.facet.get_or(s.side(), || {
+    let blocked = st.blocked_sky(s.prim, s.normal, s.point);
+    let facet = memo.facet.get_or((s.side(), blocked.to_bits()), || {
         cond.cache.facet_parts(
             Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
-            st.blocked_sky(s.prim, s.normal),
+            blocked,
         )
     });
     let height_q = memo.height.get_or(s.point.z.to_bits(), || {

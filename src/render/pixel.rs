@@ -370,7 +370,7 @@ impl<'a> RadiometryContext<'a> {
     fn sky_view(&self, surf: &Surface) -> f64 {
         crate::trace::sky_view::sky_view_factor(
             surf.normal.z as f64,
-            self.st.blocked_sky(surf.prim, surf.normal),
+            self.st.blocked_sky(surf.prim, surf.normal, surf.point),
         )
     }
 
@@ -443,8 +443,8 @@ impl<'a> RadiometryContext<'a> {
         };
         let sun = if surf.sun_now() { 1.0 } else { 0.0 }
             * (surf.normal.dot(self.sun_dir) as f64).max(0.0);
-        // F_sky is a function of the facet side alone.
-        let f_sky = memo.sky_view.get_or(surf.side(), || self.sky_view(surf));
+        // F_sky varies over a side where its sky is partly hidden.
+        let f_sky = self.sky_view(surf);
         let terms = c.terms(&self.planck, surf.temp_k, sun, f_sky);
         let view_angle = angle_deg(-s.dir, surf.normal);
         Ok(result(1, terms, view_angle, c.emissivity))
@@ -710,8 +710,6 @@ impl ApparentTempLut {
 #[derive(Default)]
 pub struct EvalMemo {
     diffuse: Option<((u32, PathKey), Arc<DiffuseCoeffs>)>,
-    /// The last facet side ([`Surface::side`]) and its F_sky.
-    sky_view: LastKey<(u32, [u32; 3]), f64>,
     /// The last pixel radiance (f32 bits) and its apparent temperature:
     /// neighbouring pixels of one facet, temperature and path key have the
     /// same radiance.

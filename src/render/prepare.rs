@@ -22,7 +22,7 @@ use crate::therm::cache::ThermCache;
 use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
 use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
 use crate::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather_file_with};
-use crate::trace::sky_view::blocked_sky_fraction;
+use crate::trace::sky_view::{SkyPatch, barycentric};
 use crate::trace::{self, Backend, Geometry, Tracer};
 
 /// The parts of a render that do not depend on time or weather.
@@ -46,9 +46,9 @@ pub struct Static {
     /// scene follows the weather with a standard profile).
     pub atmosphere_full: Option<Arc<SpectralAtmosphere>>,
     /// Per triangle and side (0: the side its winding's normal points to),
-    /// the fraction of its sky the scene hides, computed on first use
-    /// ([`Static::blocked_sky`]).
-    pub sky_blocked: Arc<Vec<[OnceLock<f32>; 2]>>,
+    /// the fraction of its sky the scene hides, one value or a grid over the
+    /// side, traced on first use ([`Static::blocked_sky`]).
+    pub sky_blocked: Arc<Vec<[OnceLock<SkyPatch>; 2]>>,
     /// Keep every traced sample in [`super::Frame::samples`] (callers that
     /// read the samples' points or histories; a render otherwise streams
     /// them band by band and keeps only the planes). Default false.
@@ -56,19 +56,25 @@ pub struct Static {
 }
 
 impl Static {
-    /// The fraction of the sky that the scene hides from triangle `prim`'s
-    /// side facing `normal` (`trace::sky_view`), traced once per triangle
-    /// side from its centroid. The thermal balance and the radiometry both
-    /// use it: F_sky = (1 + cos β)/2 − this.
-    pub fn blocked_sky(&self, prim: u32, normal: Vec3) -> f64 {
+    /// The fraction of the sky that the scene hides from the point `point`
+    /// of triangle `prim`'s side facing `normal` (`trace::sky_view`): the
+    /// side is traced once (centroid and corners; a grid where they
+    /// differ, [`SkyPatch`]) and the point takes its interpolated value.
+    /// The thermal balance and the radiometry both use it:
+    /// F_sky = (1 + cos β)/2 − this.
+    pub fn blocked_sky(&self, prim: u32, normal: Vec3, point: Vec3) -> f64 {
         let v = self.geometry.vertices(prim);
         let face = (v[1] - v[0]).cross(v[2] - v[0]);
         let side = usize::from(face.dot(normal) < 0.0);
-        let cell = &self.sky_blocked[prim as usize][side];
-        *cell.get_or_init(|| {
-            let c = (v[0] + v[1] + v[2]) / 3.0;
-            blocked_sky_fraction(self.tracer.as_ref(), c, normal) as f32
-        }) as f64
+        let patch = self.sky_blocked[prim as usize][side]
+            .get_or_init(|| SkyPatch::trace(self.tracer.as_ref(), v, normal));
+        match patch.uniform() {
+            Some(b) => b,
+            None => {
+                let (b1, b2) = barycentric(v, point);
+                patch.at(b1, b2)
+            }
+        }
     }
 }
 
@@ -383,8 +389,31 @@ pub fn scene_weather(
 /// Warnings about the scene's weather: its file's station more than
 /// [`crate::therm::weather::MAX_STATION_OFFSET_DEG`] from the site
 /// ([`crate::therm::weather::station_mismatch`]), unless the scene says the
-/// file stands in for the site (`weather.file.stand_in`).
+/// file stands in for the site (`weather.file.stand_in`); and, stand-in or
+/// not, the hours of the image's history whose measured sunlight disagrees
+/// with the site's sun ([`crate::therm::weather::sunlight_mismatch`]).
 pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
+    let mut out = station_warnings(scene)?;
+    let sc = &scene.scene;
+    if let WeatherSpec::File { .. } = &sc.weather {
+        let to = sc.time.utc(&sc.site);
+        let from = to - chrono::Duration::seconds((sc.render.history_hours * 3600.0) as i64);
+        // A window the file does not cover is the render's error to report.
+        if let Ok(h) = scene_weather(scene, from, to) {
+            out.extend(crate::therm::weather::sunlight_mismatch(
+                &h,
+                sc.site.latitude_deg,
+                sc.site.longitude_deg,
+                from,
+                to,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The station-distance part of [`weather_warnings`].
+fn station_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
     let sc = &scene.scene;
     let WeatherSpec::File {
         path,

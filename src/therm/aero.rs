@@ -131,20 +131,34 @@ pub const MIN_WIND_M_S: f64 = 0.2;
 /// neutral value.
 pub const MIN_RICHARDSON: f64 = -1.0;
 
+/// Most stable bulk Richardson number used: beyond it the exchange is held
+/// at its value there, `F(0.2) = 1/(1 + 3·√2) = 0.191` of neutral — a
+/// minimum exchange for calm clear nights. Without it the Louis function
+/// falls to 0.01 of neutral at Ri = 2 (1 m/s and 1.5 K of inversion at
+/// screen height), the modelled surface decouples from the air and runs
+/// 2.5-3.5 K below measured skins, which stay within about 1 K of the air
+/// (intermittent turbulence, meandering and gravity-wave mixing that the
+/// bulk formula does not represent). The operational scheme SURFEX caps the
+/// Richardson number the same way, `Ri = min(Ri, XRIMAX)` in its
+/// SURFACE_RI (Masson et al. 2013, Geosci. Model Dev. 6, 929); 0.2 is the
+/// critical Richardson number of the log-linear (Webb) profile, where
+/// classical similarity has no turbulence left.
+pub const MAX_RICHARDSON: f64 = 0.2;
+
 /// Stability factor `F(Ri) = h/h_neutral` of the bulk transfer coefficient
 /// for heat. Unstable `Ri < 0`: `(1 − 16·Ri)^0.75` (Monteith & Unsworth
 /// 2013, §16.2, after Businger-Dyer), Ri capped at [`MIN_RICHARDSON`].
 /// Stable `Ri > 0`: Louis (1979), Boundary-Layer Meteorol. 17, 187, eq. 21
-/// with b = d = 5: `1/(1 + 3b·Ri·√(1 + d·Ri))` — smooth and long-tailed
-/// (very stable nights keep a little exchange, as observed; the Webb form
-/// `(1 − 5Ri)²` would shut it off at Ri = 0.2).
+/// with b = d = 5: `1/(1 + 3b·Ri·√(1 + d·Ri))` — smooth and long-tailed —
+/// with Ri capped at [`MAX_RICHARDSON`] (a minimum exchange).
 pub fn stability_factor(richardson: f64) -> f64 {
     stability_factor_and_slope(richardson).0
 }
 
 /// [`stability_factor`] `F(Ri)` and its derivative `dF/dRi`:
 /// unstable `−12·F/(1 − 16·Ri)` (0 below the cap [`MIN_RICHARDSON`]);
-/// stable `−F²·15·(w + 2.5·Ri/w)`, `w = √(1 + 5·Ri)`.
+/// stable `−F²·15·(w + 2.5·Ri/w)`, `w = √(1 + 5·Ri)` (0 above the cap
+/// [`MAX_RICHARDSON`]).
 pub fn stability_factor_and_slope(richardson: f64) -> (f64, f64) {
     if richardson < 0.0 {
         let base = 1.0 - 16.0 * richardson.max(MIN_RICHARDSON);
@@ -156,9 +170,15 @@ pub fn stability_factor_and_slope(richardson: f64) -> (f64, f64) {
         };
         (f, slope)
     } else {
-        let w = (1.0 + 5.0 * richardson).sqrt();
-        let f = 1.0 / (1.0 + 15.0 * richardson * w);
-        (f, -f * f * 15.0 * (w + 2.5 * richardson / w))
+        let ri = richardson.min(MAX_RICHARDSON);
+        let w = (1.0 + 5.0 * ri).sqrt();
+        let f = 1.0 / (1.0 + 15.0 * ri * w);
+        let slope = if richardson > MAX_RICHARDSON {
+            0.0
+        } else {
+            -f * f * 15.0 * (w + 2.5 * ri / w)
+        };
+        (f, slope)
     }
 }
 
@@ -250,6 +270,11 @@ impl SurfaceLayer {
     }
 }
 
+/// Ratio of the roughness length for heat and vapour to that for momentum,
+/// `z_oh/z_om`, of every surface (solids, water, canopies): 0.1, FAO-56 eq.
+/// 4 box (Allen et al. 1998; kB⁻¹ = ln 10 ≈ 2.3).
+pub const HEAT_ROUGHNESS_RATIO: f64 = 0.1;
+
 /// Aerodynamic roughness of one surface.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Roughness {
@@ -272,13 +297,14 @@ impl Roughness {
         }
     }
 
-    /// A bare surface of momentum roughness `z0m` with `z_oh = z_om/10`
-    /// (kB⁻¹ = ln 10 ≈ 2.3, the ratio FAO-56 uses).
+    /// A bare surface of momentum roughness `z0m` with
+    /// `z_oh = HEAT_ROUGHNESS_RATIO·z_om` = z_om/10 (kB⁻¹ = ln 10 ≈ 2.3, the
+    /// ratio FAO-56 uses).
     pub fn bare(z0m_m: f64) -> Roughness {
         Roughness {
             displacement_m: 0.0,
             momentum_m: z0m_m,
-            heat_m: 0.1 * z0m_m,
+            heat_m: HEAT_ROUGHNESS_RATIO * z0m_m,
         }
     }
 }
@@ -575,7 +601,7 @@ mod tests {
     /// stability slope against a central difference of `F(Ri)`.
     #[test]
     fn coefficient_slope_against_central_difference() {
-        for ri in [-0.9, -0.3, -1e-3, 1e-3, 0.05, 0.5, 3.0] {
+        for ri in [-0.9, -0.3, -1e-3, 1e-3, 0.05, 0.15] {
             let (_, df) = stability_factor_and_slope(ri);
             let num = (stability_factor(ri + 1e-7) - stability_factor(ri - 1e-7)) / 2e-7;
             assert!(
@@ -584,6 +610,7 @@ mod tests {
             );
         }
         assert_eq!(stability_factor_and_slope(-2.0).1, 0.0);
+        assert_eq!(stability_factor_and_slope(0.5).1, 0.0);
         let layer = SurfaceLayer::default();
         for (slope_deg, wind) in [
             (0.0, 0.3),
@@ -622,13 +649,18 @@ mod tests {
     }
 
     /// Stability: neutral 1; Businger-Dyer at Ri = −0.1: 2.6^0.75; Louis
-    /// (1979) stable at Ri = 0.1 and 1: 1/(1 + 1.5·√1.5), 1/(1 + 15·√6).
+    /// (1979) eq. 21 (b = d = 5) stable at Ri = 0.1 and at the cap 0.2:
+    /// 1/(1 + 1.5·√1.5) = 0.3524, 1/(1 + 3·√2) = 0.1907; beyond the cap
+    /// (Ri = 1, 10) the cap's value (the minimum exchange), not Louis's
+    /// 1/(1 + 15·√6) = 0.0266.
     #[test]
     fn stability_factor_values() {
         assert_eq!(stability_factor(0.0), 1.0);
         assert!((stability_factor(-0.1) - 2.6f64.powf(0.75)).abs() < 1e-12);
-        assert!((stability_factor(0.1) - 1.0 / (1.0 + 1.5 * 1.5f64.sqrt())).abs() < 1e-12);
-        assert!((stability_factor(1.0) - 1.0 / (1.0 + 15.0 * 6f64.sqrt())).abs() < 1e-12);
+        assert!((stability_factor(0.1) - 0.3524).abs() < 1e-4);
+        assert!((stability_factor(0.2) - 0.1907).abs() < 1e-4);
+        assert_eq!(stability_factor(1.0), stability_factor(0.2));
+        assert_eq!(stability_factor(10.0), stability_factor(0.2));
         assert!((stability_factor(-5.0) - 17f64.powf(0.75)).abs() < 1e-12);
     }
 
@@ -689,6 +721,49 @@ mod tests {
             latent_w_m2(h, rho_cp, 0.0, false, 0.0, ea, 101_325.0, 300.0, td - 2.0).0,
             0.0
         );
+    }
+
+    /// docs/energy-balance.md's table of exchange constants lists the
+    /// values the code uses (each row `| \`NAME\` | value | ... |` between
+    /// the table's markers is compared with the constant).
+    #[test]
+    fn doc_table_matches_the_constants() {
+        let doc = include_str!("../../docs/energy-balance.md");
+        let start = doc.find("<!-- constants:begin -->").expect("begin marker");
+        let end = doc.find("<!-- constants:end -->").expect("end marker");
+        let code: &[(&str, f64)] = &[
+            ("VON_KARMAN", VON_KARMAN),
+            ("GRAVITY_M_S2", GRAVITY_M_S2),
+            ("CP_AIR_J_KGK", CP_AIR_J_KGK),
+            ("R_DRY_AIR_J_KGK", R_DRY_AIR_J_KGK),
+            ("MIN_WIND_M_S", MIN_WIND_M_S),
+            ("MIN_RICHARDSON", MIN_RICHARDSON),
+            ("MAX_RICHARDSON", MAX_RICHARDSON),
+            ("FREE_CONVECTION_AIR_300K", FREE_CONVECTION_AIR_300K),
+            ("HEAT_ROUGHNESS_RATIO", HEAT_ROUGHNESS_RATIO),
+            (
+                "DEFAULT_SOLID_ROUGHNESS_M",
+                crate::therm::surface::DEFAULT_SOLID_ROUGHNESS_M,
+            ),
+        ];
+        let mut seen = 0;
+        for line in doc[start..end].lines() {
+            let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+            if cells.len() < 4 || !cells[1].starts_with('`') {
+                continue;
+            }
+            let name = cells[1].trim_matches('`');
+            let value: f64 = cells[2]
+                .parse()
+                .unwrap_or_else(|_| panic!("{name}: {}", cells[2]));
+            let (_, c) = code
+                .iter()
+                .find(|(n, _)| *n == name)
+                .unwrap_or_else(|| panic!("{name} is not a constant the test knows"));
+            assert_eq!(value, *c, "{name}");
+            seen += 1;
+        }
+        assert_eq!(seen, code.len(), "every constant has a row");
     }
 
     /// Jarvis canopy resistance: unstressed midday grass near FAO-56's

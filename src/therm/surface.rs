@@ -57,6 +57,22 @@ impl Default for SurfaceKind {
 /// surfaces"); 5 mm keeps the log law valid at screen height.
 pub const DEFAULT_SOLID_ROUGHNESS_M: f64 = 0.005;
 
+/// Effective thermal conductivity of seasonal snow, W/(m·K), from its
+/// density (Sturm, Holmgren, König & Morris 1997, J. Glaciol. 43(143),
+/// 26-41, eq. 4; ρ in g/cm³): `k = 0.023 + 0.234·ρ` for ρ < 0.156,
+/// `k = 0.138 − 1.01·ρ + 3.233·ρ²` for 0.156 ≤ ρ ≤ 0.6 (fitted to 488
+/// needle-probe measurements of seasonal snow). Densities outside 0.1-0.6
+/// g/cm³ are clamped to it. The `snow` material of scenes/materials.toml
+/// takes its conductivity from this fit at its density (a test checks it).
+pub fn snow_conductivity_w_mk(density_kg_m3: f64) -> f64 {
+    let rho = (density_kg_m3 / 1000.0).clamp(0.1, 0.6);
+    if rho < 0.156 {
+        0.023 + 0.234 * rho
+    } else {
+        0.138 - 1.01 * rho + 3.233 * rho * rho
+    }
+}
+
 /// A water body's optical and mixing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WaterBody {

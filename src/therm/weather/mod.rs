@@ -1099,3 +1099,78 @@ fn place(
 
 #[cfg(test)]
 mod tests;
+
+/// Measured sunlight above which a record taken while the site's sun is
+/// down is reported, W/m² (well above the twilight and sensor-offset
+/// level of a few W/m²).
+pub const SUNLIGHT_WHILE_DOWN_W_M2: f64 = 50.0;
+/// Sun elevation below which the site's sun is down for that check, deg.
+pub const SUN_DOWN_ELEVATION_DEG: f64 = -2.0;
+/// Sun elevation above which a record with no sunlight (GHI < 1 W/m²) is
+/// reported: the site's sun is well up while the record is dark, deg.
+pub const SUN_UP_ELEVATION_DEG: f64 = 10.0;
+
+/// The records of `history` between `from` and `to` whose measured
+/// sunlight disagrees with the sun of the site at (`lat_deg`, `lon_deg`):
+/// GHI above [`SUNLIGHT_WHILE_DOWN_W_M2`] while the site's sun is below
+/// [`SUN_DOWN_ELEVATION_DEG`], or GHI below 1 W/m² while it is above
+/// [`SUN_UP_ELEVATION_DEG`] — in both cases over the whole hour before the
+/// record's time and the half hour after (t − 60, − 30, 0, + 30 min), so
+/// that hour-ending averages and instantaneous stamps both pass near
+/// sunrise and sunset. This happens when a record measured at another
+/// longitude stands in for the site: its sunlight follows the station's
+/// solar time (15° of longitude = 1 h), which irsig does not shift (the
+/// forcing is applied at the same UTC instant; the direct beam is taken
+/// with the site's sun). Returns a warning naming the hours (UTC), or
+/// `None`. Records without GHI are skipped.
+pub fn sunlight_mismatch(
+    history: &WeatherHistory,
+    lat_deg: f64,
+    lon_deg: f64,
+    from: DateTime<Utc>,
+    to: DateTime<Utc>,
+) -> Option<String> {
+    let elev =
+        |t: DateTime<Utc>| crate::sun::solar_position(t, lat_deg, lon_deg, 0.0).true_elevation_deg;
+    let around = |t: DateTime<Utc>| [-60i64, -30, 0, 30].map(|m| elev(t + Duration::minutes(m)));
+    let (mut lit_down, mut dark_up) = (Vec::new(), Vec::new());
+    for (t, s) in history.times.iter().zip(&history.samples) {
+        if *t < from || *t > to {
+            continue;
+        }
+        let Some(ghi) = s.ghi_w_m2 else { continue };
+        if ghi > SUNLIGHT_WHILE_DOWN_W_M2 && around(*t).iter().all(|e| *e < SUN_DOWN_ELEVATION_DEG)
+        {
+            lit_down.push(*t);
+        } else if ghi < 1.0 && around(*t).iter().all(|e| *e > SUN_UP_ELEVATION_DEG) {
+            dark_up.push(*t);
+        }
+    }
+    if lit_down.is_empty() && dark_up.is_empty() {
+        return None;
+    }
+    let list = |v: &[DateTime<Utc>]| {
+        v.iter()
+            .map(|t| t.format("%Y-%m-%dT%H:%MZ").to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut parts = Vec::new();
+    if !lit_down.is_empty() {
+        parts.push(format!(
+            "measured sunlight (GHI > {SUNLIGHT_WHILE_DOWN_W_M2} W/m²) while the site's sun is down at {}",
+            list(&lit_down)
+        ));
+    }
+    if !dark_up.is_empty() {
+        parts.push(format!(
+            "no measured sunlight while the site's sun is above {SUN_UP_ELEVATION_DEG}° at {}",
+            list(&dark_up)
+        ));
+    }
+    Some(format!(
+        "weather {}: {} — the record follows another longitude's solar time (irsig applies it at the same UTC instant; pick a station nearer in longitude, or shift the record's times)",
+        history.source,
+        parts.join("; ")
+    ))
+}
