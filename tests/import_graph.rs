@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 
 /// Lowest first. A module may import from its own layer or any below it.
 const LAYERS: &[&[&str]] = &[
-    &["bounds", "version"],
+    &["bounds", "files", "version"],
     &["sun", "trace"],
     &["radiometry"],
     &["atmos"],
