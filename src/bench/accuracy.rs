@@ -1,6 +1,6 @@
 //! Run time against error, knob by knob (`irsig bench accuracy`).
 //! A converged reference is rendered (fine thermal step, 10-min shadow
-//! samples, fine spectral step, tight thermal tolerance, 4x4 supersampling,
+//! samples with transitions bisected to 1 min, fine spectral step, tight thermal tolerance, 4x4 supersampling,
 //! 72-h spin-up); then,
 //! for each knob alone (the others at their reference values), a ladder of
 //! cheaper settings, and irsig's default set (the code's defaults of
@@ -47,6 +47,11 @@ pub struct AccuracyOptions {
     /// A candidate set: the defaults with these render keys changed; adds
     /// a `candidate` row when not empty.
     pub candidate: Vec<(String, String)>,
+    /// Further candidate sets (the defaults with these keys changed), one
+    /// row each (`also1`, `also2`, …).
+    pub also: Vec<Vec<(String, String)>>,
+    /// Changes to the converged reference (e.g. 16×16 supersampling).
+    pub reference: Vec<(String, String)>,
 }
 
 impl AccuracyOptions {
@@ -62,6 +67,8 @@ impl AccuracyOptions {
             no_ladders: false,
             ladder: Vec::new(),
             candidate: Vec::new(),
+            also: Vec::new(),
+            reference: Vec::new(),
         }
     }
 }
@@ -79,6 +86,8 @@ pub const KNOBS: &[(&str, f64, &[f64])] = &[
         10.0,
         &[120.0, 60.0, 30.0, 20.0, 15.0],
     ),
+    ("render.shadow_resolution_min", 1.0, &[20.0, 10.0, 5.0, 2.0]),
+    ("render.shadow_key_recent_h", 240.0, &[1.0, 2.0, 4.0, 8.0]),
     ("render.spectral_step_cm1", 2.0, &[40.0, 20.0, 10.0, 5.0]),
     ("render.supersample", 4.0, &[1.0, 2.0, 3.0]),
     ("render.history_hours", 72.0, &[12.0, 24.0, 36.0, 48.0]),
@@ -204,9 +213,11 @@ pub fn shadow_edge_pixels(frame: &Frame, suns: &[SunSample]) -> Vec<bool> {
             continue;
         }
         let facing = |k: usize| suns[k].up && surf.normal.dot(suns[k].dir) >= EDGE_MIN_COS;
-        let h = &surf.history;
-        let crossed = (0..h.len().saturating_sub(1))
-            .any(|k| h.get(k) != h.get(k + 1) && k + 1 < suns.len() && facing(k) && facing(k + 1));
+        // The flag differs between samples k − 1 and k exactly at the
+        // history's transitions k.
+        let crossed = (surf.history.switches().iter())
+            .map(|&k| k as usize)
+            .any(|k| k < suns.len() && facing(k - 1) && facing(k));
         edge[py * w + px] = crossed;
     }
     edge
@@ -255,6 +266,14 @@ pub fn accuracy(
         ("render.thermal_step_min", d.thermal_step_min),
         ("render.thermal_tol_k", d.thermal_tol_k),
         ("render.shadow_interval_min", d.shadow_interval_min),
+        (
+            "render.shadow_resolution_min",
+            d.shadow_resolution_min.unwrap_or(d.shadow_interval_min),
+        ),
+        (
+            "render.shadow_key_recent_h",
+            d.shadow_key_recent_h.unwrap_or(240.0),
+        ),
         ("render.spectral_step_cm1", d.spectral_step_cm1),
         ("render.supersample", d.supersample as f64),
         ("render.history_hours", d.history_hours),
@@ -300,6 +319,8 @@ pub fn accuracy(
             Ok((f.planes, wall, rays, solves, edge))
         })
     };
+    let mut reference = reference;
+    reference.extend(a.reference.iter().cloned());
     progress("reference");
     let (rp, rt, rr, rs, edge) = run_one(with(&reference))?;
     let row = |knob: &str, value: f64, p: &Planes, wall: (f64, f64), rays: u64, solves: u64| {
@@ -380,6 +401,14 @@ pub fn accuracy(
         progress("candidate set");
         let (p, t, r, s, _) = run_one(with(&cand))?;
         rows.push(row("candidate", 0.0, &p, t, r, s));
+    }
+    for (k, set) in a.also.iter().enumerate() {
+        let mut cand = defaults.clone();
+        cand.extend(set.iter().cloned());
+        let name = format!("also{}", k + 1);
+        progress(&name);
+        let (p, t, r, s, _) = run_one(with(&cand))?;
+        rows.push(row(&name, 0.0, &p, t, r, s));
     }
 
     Ok(rows)

@@ -96,6 +96,15 @@ pub struct AccuracyArgs {
     /// `render.shadow_interval_min=60`, repeatable); adds a `candidate` row.
     #[arg(long, value_name = "KEY=VALUE")]
     pub candidate: Vec<String>,
+    /// A further candidate set, its render keys separated by commas (e.g.
+    /// `render.supersample=8,render.shadow_interval_min=60`); repeatable,
+    /// one row (`also1`, `also2`, …) each.
+    #[arg(long, value_name = "KEY=VALUE,...")]
+    pub also: Vec<String>,
+    /// Change the converged reference's render keys (e.g.
+    /// `render.supersample=16`, repeatable).
+    #[arg(long, value_name = "KEY=VALUE")]
+    pub reference: Vec<String>,
 }
 
 pub fn run(cmd: BenchCommand) -> anyhow::Result<i32> {
@@ -198,6 +207,13 @@ fn accuracy(a: AccuracyArgs) -> anyhow::Result<i32> {
         no_ladders: a.no_ladders,
         ladder: a.ladder,
         candidate: parse_overrides(&a.candidate)?,
+        also: (a.also.iter())
+            .map(|set| {
+                let pairs: Vec<String> = set.split(',').map(str::to_string).collect();
+                parse_overrides(&pairs)
+            })
+            .collect::<Result<_, _>>()?,
+        reference: parse_overrides(&a.reference)?,
     };
     let rows = bench::accuracy(&opts, &mut |what| eprintln!("bench accuracy: {what}"))?;
     crate::bench::report::write_accuracy(&a.output, &rows)?;

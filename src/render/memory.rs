@@ -5,7 +5,7 @@
 //! The render streams its samples band by band (`render::band_samples`,
 //! about 2^18 samples), so at its peak it holds, per sample of one band:
 //! the [`Sample`] (its sun/shadow history inline up to
-//! [`INLINE_SAMPLES`] shadow samples, on the heap beyond) and the output
+//! [`super::sunflags::INLINE_SWITCHES`] transitions, on the heap beyond) and the output
 //! pixel's plane values; per output pixel the output planes; per triangle
 //! the geometry and the BVH; per spectral bin the atmosphere spectra; plus
 //! the process itself (code, Embree, the atmosphere table: [`BASE_MIB`]).
@@ -17,7 +17,6 @@
 use serde::Serialize;
 
 use super::Sample;
-use super::sunflags::INLINE_SAMPLES;
 use crate::scene::LoadedScene;
 
 const MIB: f64 = 1024.0 * 1024.0;
@@ -91,15 +90,10 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let band = super::band_samples(sc.sensor.width_px * n as u32, n as u32) as f64;
     let samples = w * n * h * n;
     let held = samples.min(band);
-    let history = (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil() + 1.0;
-    // a history past the inline words is a heap block of its words (malloc
-    // rounds to 16 bytes plus an 8-byte header)
-    let history_bytes = if history as usize > INLINE_SAMPLES {
-        ((history / 64.0).ceil() * 8.0 / 16.0).ceil() * 16.0 + 16.0
-    } else {
-        0.0
-    };
-    let bytes_per_sample = std::mem::size_of::<Sample>() as f64 + history_bytes + 19.0 * 4.0;
+    // A history holds its transitions inline up to `INLINE_SWITCHES` (a
+    // point with more takes a heap block; few do: sunrise, sunset and a
+    // shadow or two a day), whatever its number of samples.
+    let bytes_per_sample = std::mem::size_of::<Sample>() as f64 + 19.0 * 4.0;
     let bins = band_grid(scene).2;
     let (limit_mib, limit_from) = match sc.render.max_memory_mib {
         Some(m) => (Some(m), "render.max_memory_mib".to_string()),

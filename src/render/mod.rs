@@ -48,7 +48,7 @@ pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions,
 use sunflags::SunFlags;
 
 /// A surface point seen by a ray: a compact record (no heap allocation for
-/// histories up to [`sunflags::INLINE_SAMPLES`] samples).
+/// histories up to [`sunflags::INLINE_SWITCHES`] transitions).
 #[derive(Clone, Debug, Default)]
 pub struct Surface {
     pub prim: u32,
@@ -126,6 +126,11 @@ pub struct Stats {
     pub solar_rays: u64,
     pub solar_skipped_sun_down: u64,
     pub solar_skipped_facing_away: u64,
+    /// Adaptive histories (`render.adaptive_histories`): output pixels
+    /// whose history came from their 4 corner samples alone, and pixels
+    /// refined to every one of their n×n samples.
+    pub history_pixels_corners: u64,
+    pub history_pixels_refined: u64,
     pub thermal_solves: u64,
     pub thermal_cache_hits: u64,
     /// Samples whose band integral was evaluated (uniform pixels evaluate
@@ -153,6 +158,8 @@ struct Counters {
     solar: AtomicU64,
     sun_down: AtomicU64,
     away: AtomicU64,
+    pixels_corners: AtomicU64,
+    pixels_refined: AtomicU64,
 }
 
 fn add(c: &AtomicU64, n: usize) {
@@ -256,35 +263,153 @@ fn trace_block(
         samples[i].bounce = Some((r.dir, h.as_ref().map(|h| surface_of(st, r, h))));
     }
 
+    // Solar histories: of every surface point, or (adaptive) of the
+    // corner samples of each pixel first, then of the other samples only
+    // in pixels whose corners differ.
+    let n = st.scene.scene.render.supersample.max(1);
+    if st.scene.scene.render.adaptive_histories && n >= 3 && BLOCK.is_multiple_of(n) {
+        adaptive_histories(st, cond, pixels, n, &mut samples, c);
+    } else {
+        let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+        for s in samples.iter_mut() {
+            if let Some(surf) = s.surface.as_mut() {
+                targets.push(surf);
+            }
+            if let Some((_, Some(bg))) = s.bounce.as_mut() {
+                targets.push(bg);
+            }
+        }
+        trace_histories(st, cond, &mut targets, c);
+    }
+    samples
+}
+
+/// Adaptive solar histories for one block of `n`×`n`-sampled pixels
+/// (`BLOCK` a multiple of `n`, so a block holds whole pixels): the four
+/// corner samples of each pixel (and every specular background) are traced
+/// first; a pixel whose samples all see one facet, none specular, and whose
+/// corners have one history gives that history to its other samples
+/// (an edge of a shadow that crossed the facet at any time of the history
+/// would, unless narrower than the corners' spacing, have changed some
+/// corner's history); every other pixel traces all its samples.
+fn adaptive_histories(
+    st: &Static,
+    cond: &Conditions,
+    pixels: &[(u32, u32)],
+    n: u32,
+    samples: &mut [Sample],
+    c: &Counters,
+) {
+    let bx = pixels.iter().map(|p| p.0).min().unwrap_or(0);
+    let by = pixels.iter().map(|p| p.1).min().unwrap_or(0);
+    let per_row = (BLOCK / n) as usize;
+    let pix_of = |i: usize| {
+        let (x, y) = pixels[i];
+        ((y - by) / n) as usize * per_row + ((x - bx) / n) as usize
+    };
+    let corner = |i: usize| {
+        let (x, y) = pixels[i];
+        (x % n == 0 || x % n == n - 1) && (y % n == 0 || y % n == n - 1)
+    };
+    {
+        let mut targets: Vec<&mut Surface> = Vec::new();
+        for (i, s) in samples.iter_mut().enumerate() {
+            if corner(i)
+                && let Some(surf) = s.surface.as_mut()
+            {
+                targets.push(surf);
+            }
+            if let Some((_, Some(bg))) = s.bounce.as_mut() {
+                targets.push(bg);
+            }
+        }
+        trace_histories(st, cond, &mut targets, c);
+    }
+    let npix = per_row * per_row;
+    // Each pixel's first corner sample with a surface.
+    let mut first: Vec<Option<usize>> = vec![None; npix];
+    for i in (0..samples.len()).filter(|&i| corner(i)) {
+        let p = pix_of(i);
+        if first[p].is_none() && samples[i].surface.is_some() {
+            first[p] = Some(i);
+        }
+    }
+    let mut uniform: Vec<bool> = first.iter().map(Option::is_some).collect();
+    let mut count = vec![0usize; npix];
+    for (i, s) in samples.iter().enumerate() {
+        let p = pix_of(i);
+        count[p] += 1;
+        let Some(f) = first[p] else { continue };
+        let r = samples[f]
+            .surface
+            .as_ref()
+            .expect("a first corner has a surface");
+        uniform[p] &= s.bounce.is_none()
+            && s.surface.as_ref().is_some_and(|surf| {
+                surf.prim == r.prim && (!corner(i) || surf.history == r.history)
+            });
+    }
+    let (mut refined, mut coarse) = (0, 0);
+    for (u, &k) in uniform.iter_mut().zip(&count) {
+        // A pixel cut by the block's edge (none when BLOCK % n == 0) is
+        // refined.
+        *u &= k == (n * n) as usize;
+        if *u {
+            coarse += 1;
+        } else if k > 0 {
+            refined += 1;
+        }
+    }
+    let shared: Vec<Option<SunFlags>> = (uniform.iter().zip(&first))
+        .map(|(&u, f)| {
+            f.filter(|_| u)
+                .and_then(|f| samples[f].surface.as_ref())
+                .map(|s| s.history.clone())
+        })
+        .collect();
+    let mut targets: Vec<&mut Surface> = Vec::new();
+    for (i, s) in samples.iter_mut().enumerate() {
+        if corner(i) {
+            continue;
+        }
+        let p = pix_of(i);
+        if let Some(surf) = s.surface.as_mut() {
+            match &shared[p] {
+                Some(h) => surf.history = h.clone(),
+                None => targets.push(surf),
+            }
+        }
+    }
+    trace_histories(st, cond, &mut targets, c);
+    add(&c.pixels_corners, coarse);
+    add(&c.pixels_refined, refined);
+}
+
+/// Step 3 for a set of surface points: their sun/shadow histories.
+fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface], c: &Counters) {
     // Solar-history rays from every surface point (primary and
     // background): groups of 16 points, one packet per group whose origins
     // are written once and traced toward each sun in turn (the points that
     // face it); each open answer sets a bit of the point's history (in a
     // flat word array, copied into each history at the end).
     let nsun = cond.suns.len();
-    let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
-    for s in samples.iter_mut() {
-        if let Some(surf) = s.surface.as_mut() {
-            targets.push(surf);
-        }
-        if let Some((_, Some(bg))) = s.bounce.as_mut() {
-            targets.push(bg);
-        }
-    }
+    let tracer = st.tracer.as_ref();
     let origins: Vec<Vec3> = targets
         .iter()
         .map(|t| offset_origin(t.point, t.normal))
         .collect();
     let normals: Vec<Vec3> = targets.iter().map(|t| t.normal).collect();
-    // The samples whose sun is up, and its directions.
+    // The traced samples (every `coarse_every`-th) whose sun is up, and
+    // its directions.
+    let every = cond.coarse_every.max(1);
     let (up, dirs): (Vec<usize>, Vec<Vec3>) = (cond.suns.iter().enumerate())
-        .filter(|(_, sun)| sun.up)
+        .filter(|(k, sun)| sun.up && k % every == 0)
         .map(|(k, sun)| (k, sun.dir))
         .unzip();
     let nw = nsun.div_ceil(64);
     let mut words = vec![0u64; targets.len() * nw];
     let (mut away, mut solar) = (0, 0);
-    let down = targets.len() * (nsun - up.len());
+    let down = targets.len() * (nsun.div_ceil(every) - up.len());
     let mut active = vec![0u16; up.len()];
     let mut blocked = vec![0u16; up.len()];
     for start in (0..targets.len()).step_by(16) {
@@ -309,13 +434,78 @@ fn trace_block(
             }
         }
     }
-    for (p, t) in targets.iter_mut().enumerate() {
-        t.history = SunFlags::from_words(&words[p * nw..(p + 1) * nw], nsun);
+    if every == 1 {
+        for (p, t) in targets.iter_mut().enumerate() {
+            t.history = SunFlags::from_words(&words[p * nw..(p + 1) * nw], nsun);
+        }
+    } else {
+        let bit = |p: usize, k: usize| words[p * nw + k / 64] >> (k % 64) & 1 == 1;
+        // Between two traced samples whose flags differ, the transition is
+        // found by bisection on the fine grid: all pending intervals of the
+        // block are halved together, one batch of shadow rays per round.
+        // (lo, hi, flag at lo, target): flag(lo) != flag(hi), the switch is
+        // at some index in (lo, hi].
+        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
+        let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
+        for p in 0..targets.len() {
+            let mut k = 0;
+            while k + every < nsun {
+                let (a, b) = (bit(p, k), bit(p, k + every));
+                if a != b {
+                    pending.push((k, k + every, a, p));
+                }
+                k += every;
+            }
+        }
+        let mut rays = Vec::new();
+        let mut ray_of = Vec::new();
+        let mut blocked = Vec::new();
+        while pending.iter().any(|&(lo, hi, _, _)| hi - lo > 1) {
+            rays.clear();
+            ray_of.clear();
+            for (j, &(lo, hi, _, p)) in pending.iter().enumerate() {
+                if hi - lo <= 1 {
+                    continue;
+                }
+                let sun = &cond.suns[(lo + hi) / 2];
+                if sun.up && normals[p].dot(sun.dir) > 0.0 {
+                    rays.push(Ray::new(origins[p], sun.dir));
+                    ray_of.push(j);
+                } else if sun.up {
+                    away += 1;
+                }
+            }
+            blocked.clear();
+            blocked.resize(rays.len(), false);
+            tracer.occluded(&rays, &mut blocked);
+            solar += rays.len();
+            let mut lit = vec![false; pending.len()];
+            for (&j, &b) in ray_of.iter().zip(&blocked) {
+                lit[j] = !b;
+            }
+            for (j, e) in pending.iter_mut().enumerate() {
+                let (lo, hi, a, _) = *e;
+                if hi - lo > 1 {
+                    let mid = (lo + hi) / 2;
+                    if lit[j] == a {
+                        e.0 = mid;
+                    } else {
+                        e.1 = mid;
+                    }
+                }
+            }
+        }
+        // Pending intervals were pushed in sample order per target.
+        for &(_, hi, _, p) in &pending {
+            switches[p].push(hi as u32);
+        }
+        for (p, t) in targets.iter_mut().enumerate() {
+            t.history = SunFlags::from_switches(bit(p, 0), &switches[p], nsun);
+        }
     }
     add(&c.sun_down, down);
     add(&c.away, away);
     add(&c.solar, solar);
-    samples
 }
 
 /// Step 4: the memoised thermal solution of a surface (with the whole
@@ -326,7 +516,14 @@ pub fn thermal_solution(
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
     let m = s.material as usize;
-    let q = therm_query(st, cond, s, &mut KeyMemo::default());
+    let keyed = key_history(&s.history, cond.key_recent);
+    let q = therm_query(
+        st,
+        cond,
+        s,
+        keyed.as_ref().unwrap_or(&s.history),
+        &mut KeyMemo::default(),
+    );
     cond.cache
         .solve_query(&q, &cond.slabs[m], &cond.forcing)
         .map_err(|e| therm_error(st, m, e))
@@ -342,11 +539,67 @@ struct KeyMemo {
     height: LastKey<u32, i32>,
 }
 
-/// The thermal cache's key of a surface (borrows its history).
+/// The history a thermal key stands for: `h` with each transition older
+/// than `recent` samples moved to the nearest multiple (in samples before
+/// the image time) of a quantum that doubles with each doubling of its
+/// age: `q = 2^j` samples for ages in `[recent·2^(j−1), recent·2^j)`. Two
+/// transitions moved onto one sample cancel (a blip shorter than the
+/// quantum is dropped); one moved before the first sample flips the first
+/// flag. `recent` is a power of two ≥ 2 (so the band edges are multiples
+/// of both quanta and the order is kept); 0 leaves `h` as it is (`None`).
+///
+/// Why: a shift δ of a transition of flux ΔF at age A changes the surface
+/// temperature by about ΔF·δ/(e·√(πA)) (semi-infinite solid of thermal
+/// effusivity e; Carslaw & Jaeger §2.9) while A is short against the
+/// surface's coupling time, and faster than 1/√A beyond it; so the
+/// tolerable δ grows with age, and the quantum can grow with it. Histories
+/// that differ only in when an old shadow came or went then share one key
+/// and one solve; the solve uses the keyed history, so the result is a
+/// function of the key alone (deterministic).
+pub fn key_history(h: &SunFlags, recent: usize) -> Option<SunFlags> {
+    let sw = h.switches();
+    let len = h.len();
+    if recent < 2 || len < 2 || sw.is_empty() {
+        return None;
+    }
+    let last = len - 1;
+    if sw.iter().all(|&s| last - (s as usize) < recent) {
+        return None;
+    }
+    let mut first = h.get(0);
+    let mut out: smallvec::SmallVec<[u32; sunflags::INLINE_SWITCHES]> = smallvec::SmallVec::new();
+    for &s in sw {
+        let age = last - s as usize;
+        let moved = if age < recent {
+            age
+        } else {
+            // quantum 2^j with recent·2^(j−1) ≤ age < recent·2^j
+            let j = (age / recent).ilog2() + 1;
+            let q = 1usize << j;
+            (age + q / 2) / q * q
+        };
+        if moved >= last {
+            // Before the first sample: the first flag flips.
+            first = !first;
+            continue;
+        }
+        let s2 = (last - moved) as u32;
+        if out.last() == Some(&s2) {
+            out.pop();
+        } else {
+            out.push(s2);
+        }
+    }
+    Some(SunFlags::from_switches(first, &out, len))
+}
+
+/// The thermal cache's key of a surface (borrows its history, or the keyed
+/// history [`key_history`] made of it, which the caller keeps).
 fn therm_query<'a>(
     st: &Static,
     cond: &Conditions,
-    s: &'a Surface,
+    s: &Surface,
+    history: &'a SunFlags,
     memo: &mut KeyMemo,
 ) -> ThermQuery<'a> {
     let blocked = st.blocked_sky(s.prim, s.normal, s.point);
@@ -365,7 +618,7 @@ fn therm_query<'a>(
         Some(HistoryRef {
             start_s: 0,
             interval_s: cond.interval_s,
-            sunlit: s.history.flags(),
+            sunlit: history.flags(),
         }),
         0,
         height_q,
@@ -396,7 +649,14 @@ fn temperature(
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
     let m = s.material as usize;
-    let q = therm_query(st, cond, s, &mut memo.keys);
+    let keyed = key_history(&s.history, cond.key_recent);
+    let q = therm_query(
+        st,
+        cond,
+        s,
+        keyed.as_ref().unwrap_or(&s.history),
+        &mut memo.keys,
+    );
     cond.cache
         .surface_temp_k_memo(&q, &cond.slabs[m], &cond.forcing, &mut memo.therm)
         .map_err(|e| therm_error(st, m, e))
@@ -490,6 +750,8 @@ impl Counters {
         stats.solar_rays += get(&self.solar);
         stats.solar_skipped_sun_down += get(&self.sun_down);
         stats.solar_skipped_facing_away += get(&self.away);
+        stats.history_pixels_corners += get(&self.pixels_corners);
+        stats.history_pixels_refined += get(&self.pixels_refined);
     }
 }
 
@@ -822,4 +1084,48 @@ pub fn zenith_deg(d: Vec3) -> f64 {
 /// Azimuth of a direction, clockwise from north, degrees in [0, 360).
 pub fn azimuth_deg(d: DVec3) -> f64 {
     d.x.atan2(d.y).to_degrees().rem_euclid(360.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The keyed history: recent transitions kept, old ones moved to the
+    /// quantum of their age band, blips shorter than the quantum dropped,
+    /// and two histories that differ only in an old transition's sample
+    /// share one key.
+    #[test]
+    fn key_history_coarsens_old_transitions_only() {
+        let len = 1001; // last = 1000
+        // recent = 8: ages < 8 kept; [8, 16) quantum 2; [16, 32) 4; [32, 64) 8 …
+        let h = SunFlags::from_switches(false, &[100, 103, 950, 995], len);
+        let k = key_history(&h, 8).expect("old transitions move");
+        // ages 900 and 897 (band [512, 1024), quantum 128): both → 896, cancel;
+        // age 50 (quantum 8) → 48; age 5 kept.
+        assert_eq!(k.switches(), &[952, 995]);
+        assert!(!k.get(0));
+        // One sample earlier or later, same key.
+        let h2 = SunFlags::from_switches(false, &[101, 103, 951, 995], len);
+        assert_eq!(key_history(&h2, 8), Some(k.clone()));
+        // All recent: unchanged; off: unchanged.
+        let r = SunFlags::from_switches(true, &[996, 998], len);
+        assert_eq!(key_history(&r, 8), None);
+        assert_eq!(key_history(&h, 0), None);
+        // A transition moved before the first sample flips the first flag.
+        let e = SunFlags::from_switches(true, &[2, 500], len);
+        let ke = key_history(&e, 8).unwrap();
+        assert!(!ke.get(0));
+        assert_eq!(ke.switches(), &[488]); // age 500, quantum 64 → 512
+        // Order is kept and every result is a valid history, for every
+        // single transition position.
+        for s in 1..997u32 {
+            for recent in [2usize, 4, 16, 64] {
+                let h = SunFlags::from_switches(false, &[s, s + 3], len);
+                if let Some(k) = key_history(&h, recent) {
+                    assert!(k.switches().windows(2).all(|w| w[0] < w[1]));
+                    assert_eq!(k.last(), h.last(), "the image-time flag is kept");
+                }
+            }
+        }
+    }
 }

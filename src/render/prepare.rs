@@ -96,9 +96,16 @@ pub struct Conditions {
     pub start: DateTime<Utc>,
     pub forcing: Vec<Forcing>,
     pub estimators: EstimatorReport,
-    /// Shadow-history samples; the last one is at the image time.
+    /// Shadow-history samples on the fine grid (`interval_s` apart); the
+    /// last one is at the image time.
     pub suns: Vec<SunSample>,
     pub interval_s: i64,
+    /// Fine samples per traced sample (see [`FrameWeather::coarse_every`]).
+    pub coarse_every: usize,
+    /// Fine samples within which the thermal key keeps a transition at
+    /// full resolution (a power of two ≥ 2; 0: all of them), see
+    /// `render::key_history`.
+    pub key_recent: usize,
     pub sun_now: SolarPosition,
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
@@ -451,15 +458,47 @@ fn station_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
 /// history and the deep-ground temperature.
 pub struct FrameWeather {
     pub site: Site,
-    /// Start of the history (UTC) and its shadow-sampling interval and count.
+    /// Start of the history (UTC), its time resolution (the interval of
+    /// the fine sample grid the transitions are found on) and the number
+    /// of fine intervals.
     pub start: DateTime<Utc>,
     pub interval_s: i64,
     pub n_sun: i64,
+    /// Fine intervals per traced (coarse) sample: the sun is traced every
+    /// `coarse_every` fine samples, and between two traced samples that
+    /// differ the transition is found by bisection (1: every sample is
+    /// traced).
+    pub coarse_every: i64,
     /// Thermal step, s.
     pub step_s: f64,
     pub forcing: Vec<crate::therm::forcing::Forcing>,
     pub estimators: crate::therm::forcing::EstimatorReport,
     pub deep_ground_k: f64,
+}
+
+/// The shadow-history grid of a traced interval `coarse_s` and an optional
+/// transition resolution, minutes: (traced interval, fine interval, fine
+/// intervals per traced one), s. The fine interval is a whole number of
+/// seconds that divides the traced interval (which is rounded down to a
+/// multiple of it when the two do not divide); without a resolution, or
+/// one at least the traced interval, the fine grid is the traced one.
+pub fn shadow_grid_s(coarse_s: i64, resolution_min: Option<f64>) -> (i64, i64, i64) {
+    let coarse_s = coarse_s.max(1);
+    let every = match resolution_min {
+        Some(r) if r.is_finite() && r > 0.0 => {
+            ((coarse_s as f64 / (r * 60.0)).round() as i64).clamp(1, coarse_s)
+        }
+        _ => 1,
+    };
+    let fine_s = coarse_s / every;
+    (fine_s * every, fine_s, every)
+}
+
+/// The fine samples within `recent_h` hours of the image time, rounded up
+/// to a power of two (at least 2).
+pub fn key_recent_samples(recent_h: f64, interval_s: i64) -> usize {
+    let n = (recent_h * 3600.0 / interval_s.max(1) as f64).ceil();
+    (n.clamp(2.0, 1e9) as usize).next_power_of_two()
 }
 
 /// Reads the scene's weather and builds the forcing of a frame at
@@ -476,10 +515,12 @@ pub fn frame_weather(
         lon_deg: sc.site.longitude_deg,
         elevation_m: sc.site.elevation_m,
     };
-    let interval_s = (opts.shadow_interval_min * 60.0).round() as i64;
-    let n_sun = (opts.history_hours * 3600.0 / interval_s as f64)
+    let coarse_s = (opts.shadow_interval_min * 60.0).round() as i64;
+    let (coarse_s, interval_s, coarse_every) = shadow_grid_s(coarse_s, opts.shadow_resolution_min);
+    let n_coarse = (opts.history_hours * 3600.0 / coarse_s as f64)
         .round()
         .max(1.0) as i64;
+    let n_sun = n_coarse * coarse_every;
     let history_s = n_sun * interval_s;
     let start = image_time - chrono::Duration::seconds(history_s);
     let step_s = opts.thermal_step_min * 60.0;
@@ -500,6 +541,7 @@ pub fn frame_weather(
         start,
         interval_s,
         n_sun,
+        coarse_every,
         step_s,
         forcing,
         estimators,
@@ -517,6 +559,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         start,
         interval_s,
         n_sun,
+        coarse_every,
         step_s,
         mut forcing,
         estimators,
@@ -597,6 +640,10 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         estimators,
         suns,
         interval_s,
+        coarse_every: coarse_every as usize,
+        key_recent: opts
+            .shadow_key_recent_h
+            .map_or(0, |h| key_recent_samples(h, interval_s)),
         sun_now,
         cache: ThermCache::new(settings, 0.0, false),
         ground_z_m: st.scene.bounds_m().0[2],

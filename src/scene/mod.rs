@@ -1283,6 +1283,26 @@ fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         120.0,
         " minutes",
     )?;
+    if let Some(res) = r.shadow_resolution_min {
+        c.range(
+            &q("shadow_resolution_min"),
+            "shadow_resolution_min",
+            res,
+            0.5,
+            120.0,
+            " minutes",
+        )?;
+    }
+    if let Some(h) = r.shadow_key_recent_h {
+        c.range(
+            &q("shadow_key_recent_h"),
+            "shadow_key_recent_h",
+            h,
+            0.1,
+            240.0,
+            " hours",
+        )?;
+    }
     c.range(
         &q("history_hours"),
         "history_hours",

@@ -754,6 +754,26 @@ pub struct RenderOptions {
     /// Sun/shadow history sampling interval, minutes (0 < interval <= 120).
     #[serde(default = "d_shadow_interval")]
     pub shadow_interval_min: f64,
+    /// Time resolution of the sun/shadow transitions, minutes [0.5, 120]:
+    /// between two history samples (`shadow_interval_min` apart) whose
+    /// flags differ, the transition is found by bisection to this
+    /// resolution. Absent (or ≥ the interval): no bisection.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow_resolution_min: Option<f64>,
+    /// Hours before the image time within which the thermal cache keys a
+    /// history's transitions at full resolution, (0, 240]; an older
+    /// transition is keyed (and solved) on a grid that doubles with each
+    /// doubling of its age beyond this. Absent: every transition at full
+    /// resolution.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow_key_recent_h: Option<f64>,
+    /// Trace the sun/shadow history of each pixel's 4 corner samples
+    /// first, and of its other samples only where the corners differ (in
+    /// facet or history) or a sample misses the facet or is specular;
+    /// otherwise they take the corners' history. Needs supersample ≥ 3
+    /// dividing 16 (4, 8, 16); otherwise every sample is traced.
+    #[serde(default)]
+    pub adaptive_histories: bool,
     /// Hours of history before the image time (spin-up), (0, 240].
     #[serde(default = "d_history_hours")]
     pub history_hours: f64,
@@ -803,6 +823,9 @@ impl Default for RenderOptions {
             thermal_step_min: d_thermal_step(),
             thermal_tol_k: d_thermal_tol(),
             shadow_interval_min: d_shadow_interval(),
+            shadow_resolution_min: None,
+            shadow_key_recent_h: None,
+            adaptive_histories: false,
             history_hours: d_history_hours(),
             tracer: TracerKind::default(),
             max_memory_mib: None,

@@ -74,14 +74,64 @@ pub struct HistoryRef<'a> {
 #[derive(Clone, Copy, Debug)]
 pub enum Flags<'a> {
     Bools(&'a [bool]),
-    Packed { words: &'a [u64], len: usize },
+    Packed {
+        words: &'a [u64],
+        len: usize,
+    },
+    /// Sample 0 is `first`; the flag flips at each index of `switches`
+    /// (ascending, in 1..len).
+    Switches {
+        first: bool,
+        switches: &'a [u32],
+        len: usize,
+    },
+}
+
+/// Bits `a..b` (0 ≤ a ≤ b ≤ 64) of a word set.
+fn bit_range(a: usize, b: usize) -> u64 {
+    if b <= a {
+        0
+    } else if b - a == 64 {
+        u64::MAX
+    } else {
+        ((1u64 << (b - a)) - 1) << a
+    }
+}
+
+/// The packed words of a [`Flags::Switches`], one word at a time.
+fn switch_words<'a>(
+    first: bool,
+    switches: &'a [u32],
+    len: usize,
+) -> impl Iterator<Item = u64> + 'a {
+    let mut j = 0usize;
+    let mut cur = first;
+    (0..len.div_ceil(64)).map(move |w| {
+        let start = 64 * w;
+        let end = (start + 64).min(len);
+        let mut word = 0u64;
+        let mut pos = start;
+        while j < switches.len() && (switches[j] as usize) < end {
+            let s = switches[j] as usize;
+            if cur {
+                word |= bit_range(pos - start, s - start);
+            }
+            cur = !cur;
+            pos = s;
+            j += 1;
+        }
+        if cur {
+            word |= bit_range(pos - start, end - start);
+        }
+        word
+    })
 }
 
 impl Flags<'_> {
     pub fn len(&self) -> usize {
         match self {
             Flags::Bools(b) => b.len(),
-            Flags::Packed { len, .. } => *len,
+            Flags::Packed { len, .. } | Flags::Switches { len, .. } => *len,
         }
     }
 
@@ -91,14 +141,20 @@ impl Flags<'_> {
 
     /// The flags packed 64 to a word.
     pub fn words(&self) -> impl Iterator<Item = u64> + '_ {
-        let (bools, words) = match self {
-            Flags::Bools(b) => (Some(*b), None),
-            Flags::Packed { words, .. } => (None, Some(*words)),
+        let (bools, words, sw) = match self {
+            Flags::Bools(b) => (Some(*b), None, None),
+            Flags::Packed { words, .. } => (None, Some(*words), None),
+            Flags::Switches {
+                first,
+                switches,
+                len,
+            } => (None, None, Some(switch_words(*first, switches, *len))),
         };
         bools
             .into_iter()
             .flat_map(packed_words)
             .chain(words.into_iter().flatten().copied())
+            .chain(sw.into_iter().flatten())
     }
 
     /// True when some sample is shaded.
@@ -110,6 +166,11 @@ impl Flags<'_> {
                 let full = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
                 w & full != full
             }),
+            Flags::Switches {
+                first,
+                switches,
+                len,
+            } => *len > 0 && (!switches.is_empty() || !first),
         }
     }
 
@@ -119,6 +180,18 @@ impl Flags<'_> {
             Flags::Packed { words, len } => (0..*len)
                 .map(|i| words[i / 64] >> (i % 64) & 1 == 1)
                 .collect(),
+            Flags::Switches {
+                first,
+                switches,
+                len,
+            } => {
+                let mut v = vec![*first; *len];
+                for (k, &s) in switches.iter().enumerate() {
+                    let end = switches.get(k + 1).map_or(*len, |&e| e as usize);
+                    v[s as usize..end].fill(*first ^ (k % 2 == 0));
+                }
+                v
+            }
         }
     }
 }
