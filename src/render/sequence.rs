@@ -137,7 +137,7 @@ pub fn parse_step_s_named(name: &str, s: &str) -> anyhow::Result<i64> {
         rest = &rest[unit_end..];
     }
     let secs = total.round();
-    if !(secs >= 1.0 && secs <= 366.0 * 86400.0) {
+    if !(1.0..=366.0 * 86400.0).contains(&secs) {
         return Err(err());
     }
     Ok(secs as i64)

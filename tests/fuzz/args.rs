@@ -12,7 +12,6 @@ use proptest::prelude::*;
 use crate::mutate::{INTERESTING, campaign};
 use crate::require;
 
-
 /// A hostile number: one of the interesting spellings, or a random f64 of
 /// any magnitude and sign (bit pattern), or a value near a bound's edge.
 fn hostile() -> impl Strategy<Value = f64> {

@@ -252,9 +252,24 @@ fn tiny_table(byteplanes: bool) -> Vec<u8> {
         "data f32le\n"
     };
     let mut b = h.into_bytes();
-    for i in 0..n_values {
-        b.extend_from_slice(&(0.5f32 + i as f32 * 1e-3).to_le_bytes());
+    // Per quantity (in header order), its values 0.5 + i·1e-3 (physical
+    // for every quantity), as f32le or split into byte planes.
+    let mut i = 0;
+    for (_, axes) in irsig::atmos::table::REQUIRED {
+        let n = 4 << axes.len();
+        let vals: Vec<[u8; 4]> = (i..i + n)
+            .map(|k| (0.5f32 + k as f32 * 1e-3).to_le_bytes())
+            .collect();
+        i += n;
+        if byteplanes {
+            for plane in 0..4 {
+                b.extend(vals.iter().map(|v| v[plane]));
+            }
+        } else {
+            b.extend(vals.iter().flatten());
+        }
     }
+    assert_eq!(i, n_values);
     b
 }
 
