@@ -81,7 +81,9 @@ import numpy as np
 import xarray as xr
 a = xr.open_dataset(sys.argv[1])
 b = xr.open_dataset(sys.argv[2])
-assert a.sizes == b.sizes == {"frame": 6, "y": 32, "x": 32}, dict(a.sizes)
+# The product (1 scene x 3 times x 2 winds) is the stack's dimensions.
+want = {"scene": 1, "time": 3, "weather.constant.wind_m_s": 2, "y": 32, "x": 32}
+assert a.sizes == b.sizes == want, dict(a.sizes)
 for name in list(a.data_vars) + list(a.coords):
     x, y = a[name].values, b[name].values
     if x.dtype.kind == "f":
@@ -89,10 +91,11 @@ for name in list(a.data_vars) + list(a.coords):
     else:
         assert (x == y).all(), name
 assert a["apparent_temperature"].attrs["units"] == "K"
-for c in ["time", "id", "scene", "local_time", "sun_zenith", "weather.constant.wind_m_s"]:
+for c in ["time", "image_time", "id", "scene", "local_time", "sun_zenith", "weather.constant.wind_m_s"]:
     assert c in a.coords, (c, list(a.coords))
 assert a["time"].dtype.kind == "M", a["time"].dtype   # decoded as datetime64
-assert list(a["weather.constant.wind_m_s"].values) == [0, 0, 0, 6, 6, 6]
+assert list(a["weather.constant.wind_m_s"].values) == [0, 6]
+assert a["case"].attrs["flag_meanings"].split()[0] == "outside_scene"
 assert np.isfinite(a["apparent_temperature"].values).all()
 print(f"slurm-test: merged stacks equal bit for bit ({len(a.data_vars)} variables)")
 PY

@@ -276,6 +276,21 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
         v.attribute_value("units").unwrap().unwrap(),
         netcdf::AttributeValue::Str("K".into())
     );
+    // The product (1 scene × 3 times × 2 winds) is the stack's dimensions.
+    let dims: Vec<(String, usize)> = v.dimensions().iter().map(|d| (d.name(), d.len())).collect();
+    let want_dims = [
+        ("scene", 1),
+        ("time", 3),
+        ("weather.constant.wind_m_s", 2),
+        ("y", 24),
+        ("x", 24),
+    ];
+    assert_eq!(
+        dims,
+        want_dims.map(|(n, l)| (n.to_string(), l)).to_vec(),
+        "{dims:?}"
+    );
+    let frame_of: Vec<i32> = nc.variable("frame").unwrap().get_values(..).unwrap();
     for (k, f) in batch.frames.iter().enumerate() {
         let (_, _, chans) = read_exr(&b.join(&f.outputs.exr)).unwrap();
         let want = &chans
@@ -283,7 +298,12 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
             .find(|c| c.0 == "apparent_temperature")
             .unwrap()
             .1;
-        let got: Vec<f32> = v.get_values([k..k + 1, 0..24, 0..24]).unwrap();
+        // The manifest runs the times innermost; the stack has (time, wind).
+        let (t, w) = (k % 3, k / 3);
+        assert_eq!(frame_of[t * 2 + w], k as i32);
+        let got: Vec<f32> = v
+            .get_values([0..1, t..t + 1, w..w + 1, 0..24, 0..24])
+            .unwrap();
         assert!(
             got.iter()
                 .zip(want)
@@ -295,7 +315,8 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
     assert_eq!(irsig(&["batch", "merge", s(&a)]).0, 0);
     let nc_a = netcdf::open(a.join("merged/stack.nc")).unwrap();
     for var in nc_a.variables() {
-        if var.dimensions().len() == 3 {
+        // The planes: (scene, time, wind, y, x).
+        if var.dimensions().len() == 5 {
             let x: Vec<f32> = var.get_values(..).unwrap();
             let y: Vec<f32> = nc.variable(&var.name()).unwrap().get_values(..).unwrap();
             let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
@@ -307,11 +328,58 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
         .unwrap()
         .get_values(..)
         .unwrap();
-    assert_eq!(wind, [0.0, 0.0, 0.0, 6.0, 6.0, 6.0]);
+    assert_eq!(wind, [0.0, 6.0]);
+    let local: Vec<f64> = nc.variable("time").unwrap().get_values(..).unwrap();
+    // 2001-08-08 09:00, 12:00, 15:00 local, as seconds since 1970.
+    assert_eq!(local, [997261200.0, 997272000.0, 997282800.0]);
+    // The class planes carry CF flags; index.json the material table.
+    let attr = |var: &str, a: &str| {
+        nc.variable(var)
+            .unwrap()
+            .attribute_value(a)
+            .unwrap_or_else(|| panic!("{var} has no {a}"))
+            .unwrap()
+    };
+    assert_eq!(
+        attr("case", "flag_meanings"),
+        netcdf::AttributeValue::Str(
+            "outside_scene diffuse specular_sky specular_background sky".into()
+        )
+    );
+    assert_eq!(
+        attr("case", "flag_values"),
+        netcdf::AttributeValue::Floats(vec![0.0, 1.0, 2.0, 3.0, 4.0])
+    );
     let index: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(b.join("merged/index.json")).unwrap())
             .unwrap();
     assert_eq!(index["frames"].as_array().unwrap().len(), 6);
+    assert_eq!(
+        index["stack_dimensions"],
+        serde_json::json!(["scene", "time", "weather.constant.wind_m_s"])
+    );
+    let table = index["materials"].as_array().expect("one material table");
+    assert!(table.len() >= 2, "{table:?}");
+    let fj: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(b.join(&batch.frames[0].outputs.json)).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(index["materials"], fj["materials"]);
+    assert_eq!(index["materials_by_scene"]["af"], fj["materials"]);
+    let mut want_values = vec![-1.0f32];
+    let mut want_words = vec!["none".to_string()];
+    for m in table {
+        want_values.push(m["index"].as_i64().unwrap() as f32);
+        want_words.push(m["name"].as_str().unwrap().replace(' ', "_"));
+    }
+    assert_eq!(
+        attr("material", "flag_values"),
+        netcdf::AttributeValue::Floats(want_values)
+    );
+    assert_eq!(
+        attr("material", "flag_meanings"),
+        netcdf::AttributeValue::Str(want_words.join(" "))
+    );
     // Wind cools the sunlit surfaces: the 12:00 frame's mean apparent
     // temperature is lower at 6 m/s than at calm.
     let mean = |i: usize| {
@@ -416,4 +484,89 @@ fn the_docs_specs_plan_as_written() {
     }
     // Figs. 12-13: 8 times x 4 winds; Fig. 14: 6 zeniths; training: 2 x 2500.
     assert_eq!(counts, [32, 6, 5000]);
+}
+
+// The stack's product layout and CF flags (batch::merge).
+use irsig::batch::merge::{MaterialEntry, flag_word, material_flags, product_layout};
+
+fn job(index: usize, labels: &[(&str, &str)], draw: Option<usize>) -> irsig::batch::FrameJob {
+    irsig::batch::FrameJob {
+        id: format!("f{index}"),
+        index,
+        scene: PathBuf::from("s.toml"),
+        overrides: Vec::new(),
+        local_time: None,
+        labels: labels
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+        draw,
+        outputs: irsig::batch::Outputs {
+            exr: "a".into(),
+            png: "b".into(),
+            json: "c".into(),
+        },
+    }
+}
+
+/// A full product (in any frame order) is regular: its axes' values in
+/// order of first appearance and each frame's row-major place; a missing
+/// or repeated combination makes it irregular (flat `frame` stack).
+#[test]
+fn product_layout_finds_regular_products_only() {
+    let axes = [
+        "scene".to_string(),
+        "time".into(),
+        "k".into(),
+        "draw".into(),
+    ];
+    let mut frames = Vec::new();
+    for k in ["1", "2"] {
+        for d in 0..2 {
+            for t in ["09", "12", "15"] {
+                let i = frames.len();
+                frames.push(job(i, &[("scene", "a"), ("time", t), ("k", k)], Some(d)));
+            }
+        }
+    }
+    let p = product_layout(&axes, &frames).expect("regular");
+    assert_eq!(p.axes[1].1, ["09", "12", "15"]);
+    assert_eq!(p.axes[2].1, ["1", "2"]);
+    assert_eq!(p.size(), 12);
+    // Frame 4: k=1, draw 1, time 12 -> (0, 1, 0, 1) -> 1*4 + 0*2 + 1.
+    assert_eq!(p.positions[4], [0, 1, 0, 1]);
+    assert_eq!(p.offset(&p.positions[4]), 5);
+    let mut offsets: Vec<usize> = p.positions.iter().map(|q| p.offset(q)).collect();
+    offsets.sort_unstable();
+    assert_eq!(offsets, (0..12).collect::<Vec<_>>());
+    // One frame fewer, or one repeated: not a product.
+    assert!(product_layout(&axes, &frames[..11]).is_none());
+    let mut dup = frames.clone();
+    dup[11] = dup[10].clone();
+    assert!(product_layout(&axes, &dup).is_none());
+    // A frame without the draw an axis asks for: not a product.
+    let mut nodraw = frames;
+    nodraw[0].draw = None;
+    assert!(product_layout(&axes, &nodraw).is_none());
+    assert!(product_layout(&[], &nodraw).is_none());
+}
+
+#[test]
+fn flag_words_and_material_flags() {
+    assert_eq!(flag_word("dry asphalt (old)"), "dry_asphalt__old_");
+    let t = vec![
+        MaterialEntry {
+            index: 0,
+            name: "grass".into(),
+            class: 1,
+        },
+        MaterialEntry {
+            index: 1,
+            name: "dry concrete".into(),
+            class: 2,
+        },
+    ];
+    let (v, m) = material_flags(&t);
+    assert_eq!(v, [-1.0, 0.0, 1.0]);
+    assert_eq!(m, "none grass dry_concrete");
 }

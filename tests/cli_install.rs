@@ -363,3 +363,80 @@ fn cited_documents_are_in_the_repository() {
         "documents cited but not in the repository: {missing:#?}"
     );
 }
+
+// Progress lines off a terminal (cli::log).
+use irsig::cli::log::ProgressLines;
+use irsig::render::{Progress, Stage};
+
+/// What `render_with` reports for a frame of `bands` bands: per band,
+/// the trace blocks, then the thermal and radiometry samples in chunks.
+fn frame_reports(bands: u64) -> Vec<Progress> {
+    let (blocks, samples, chunk) = (16 * bands, 262_144 * bands, 1024);
+    let mut v = Vec::new();
+    let mut d = [0u64; 3];
+    for _ in 0..bands {
+        for (i, stage, total, step) in [
+            (0, Stage::Trace, blocks, 1),
+            (1, Stage::Thermal, samples, chunk),
+            (2, Stage::Radiometry, samples, chunk),
+        ] {
+            for _ in 0..(total / bands / step) {
+                d[i] += step;
+                v.push(Progress {
+                    stage,
+                    done: d[i],
+                    total,
+                });
+            }
+        }
+    }
+    v
+}
+
+/// A 2048² frame (16 bands): three start lines and ten tenth lines per
+/// stage, nothing else (the issue counted 826 lines before).
+#[test]
+fn one_line_per_stage_start_and_tenth() {
+    let mut p = ProgressLines::new(false);
+    let lines: Vec<String> = frame_reports(16)
+        .into_iter()
+        .flat_map(|r| p.lines(r))
+        .collect();
+    assert_eq!(lines.len(), 3 + 30, "{lines:#?}");
+    assert_eq!(lines.iter().filter(|l| l.contains("started")).count(), 3);
+    for stage in [Stage::Trace, Stage::Thermal, Stage::Radiometry] {
+        let name = irsig::cli::log::stage_name(stage);
+        let pct: Vec<&str> = lines
+            .iter()
+            .filter(|l| l.starts_with(name) && l.ends_with("%)"))
+            .map(|l| l.rsplit('(').next().unwrap())
+            .collect();
+        let want: Vec<String> = (1..=10).map(|t| format!("{} %)", t * 10)).collect();
+        assert_eq!(pct, want, "{name}: {lines:#?}");
+    }
+}
+
+/// Out-of-order reports never move a stage back or repeat a tenth;
+/// `-v` adds a line per return to a stage (16 bands: 15 returns each).
+#[test]
+fn out_of_order_and_verbose() {
+    let mut p = ProgressLines::new(false);
+    let at = |done| Progress {
+        stage: Stage::Thermal,
+        done,
+        total: 100,
+    };
+    assert_eq!(p.lines(at(25)).len(), 2); // started + 20 %
+    assert!(p.lines(at(21)).is_empty());
+    assert!(p.lines(at(29)).is_empty());
+    assert_eq!(
+        p.lines(at(30)),
+        vec!["temperatures (samples) 30/100 (30 %)"]
+    );
+    let mut v = ProgressLines::new(true);
+    let n = frame_reports(16)
+        .into_iter()
+        .flat_map(|r| v.lines(r))
+        .count();
+    assert_eq!(n, 3 + 30 + 3 * 15);
+}

@@ -83,6 +83,35 @@ fn render_writes_exr_png_json_and_envi_in_both_bands() {
             !hdr.contains("surface_temperature"),
             "truth is in x_truth.img: {hdr}"
         );
+        // Radiances only: every band name carries the radiance unit.
+        let names = hdr
+            .lines()
+            .find_map(|l| l.strip_prefix("band names = {"))
+            .unwrap();
+        assert_eq!(
+            names.matches("[W m-2 sr-1 um-1]").count() as u64,
+            bands,
+            "{hdr}"
+        );
+        // Temperatures go to the truth cube (with units); DN to its own.
+        let truth =
+            std::fs::read_to_string(dir.path().join(format!("a-{band}_truth.hdr"))).unwrap();
+        assert!(truth.contains("apparent_temperature [K]"), "{truth}");
+        assert!(truth.contains("band units = {index"), "{truth}");
+        let dn_hdr = std::fs::read_to_string(dir.path().join(format!("a-{band}_dn.hdr"))).unwrap();
+        assert!(dn_hdr.contains("band names = {dn [counts]}"), "{dn_hdr}");
+        assert!(dn_hdr.contains("data units = counts"), "{dn_hdr}");
+        let dn_img = std::fs::read(dir.path().join(format!("a-{band}_dn.img"))).unwrap();
+        let dn = &chans.iter().find(|c| c.0 == "dn").unwrap().1;
+        if dn_hdr.contains("data type = 12") {
+            let got: Vec<f32> = dn_img
+                .chunks(2)
+                .map(|b| u16::from_le_bytes([b[0], b[1]]) as f32)
+                .collect();
+            assert_eq!(&got, dn);
+        } else {
+            assert_eq!(dn_img.len(), 48 * 48 * 4);
+        }
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(exr.with_extension("json")).unwrap())
                 .unwrap();

@@ -145,6 +145,7 @@ fn nadir_geotiff_and_envi_are_georeferenced_in_utm() {
             "{a:?} {b:?}"
         );
     }
+    assert_eq!(ei["bands"][0]["noDataValue"], -9999.0, "{ei}");
     let hdr = std::fs::read_to_string(dir.path().join("n.hdr")).unwrap();
     for want in [
         "wavelength units = Micrometers",
@@ -153,7 +154,8 @@ fn nadir_geotiff_and_envi_are_georeferenced_in_utm() {
         "acquisition time = 2001-08-08T17:00:00Z",
         "sun azimuth = ",
         "sun elevation = ",
-        "data ignore value = nan",
+        "data ignore value = -9999",
+        "data units = W m-2 sr-1 um-1",
         "default stretch = ",
         "band names = {band_radiance [W m-2 sr-1 um-1]",
     ] {

@@ -449,3 +449,79 @@ fn stale_partials_are_removed_and_live_ones_kept() {
     assert_eq!(remove_stale_partials(dir.path()).unwrap(), 1);
     assert_eq!(names(dir.path()), ["other.txt", "x.json"]);
 }
+
+// North-up map grid (output::geotiff).
+use irsig::output::geotiff::{north_up_grid, resample_affine};
+
+/// A rotated grid (30°, 0.5 m pixels): the map grid covers the
+/// corners at the pixel size; a plane linear in map x, y comes back
+/// exactly (bilinear reproduces a linear field) at every cell whose
+/// four neighbours are on the image, and by nearest neighbour it is
+/// the value of the pixel the cell centre falls in.
+#[test]
+fn north_up_grid_resamples_a_linear_field() {
+    let (a, s) = (30f64.to_radians(), 0.5);
+    let gt = [
+        500_000.0,
+        s * a.cos(),
+        s * a.sin(),
+        4_000_000.0,
+        s * a.sin(),
+        -s * a.cos(),
+    ];
+    let (w, h) = (40u32, 24u32);
+    let (ogt, ow, oh) = north_up_grid(gt, w, h).expect("rotated");
+    assert_eq!((ogt[1], ogt[5], ogt[2], ogt[4]), (s, -s, 0.0, 0.0));
+    // The extent: the rotated rectangle's bounding box.
+    let bw = (w as f64 * a.cos() + h as f64 * a.sin()) * s;
+    let bh = (w as f64 * a.sin() + h as f64 * a.cos()) * s;
+    assert_eq!(ow, (bw / s).ceil() as u32);
+    assert_eq!(oh, (bh / s).ceil() as u32);
+    assert!(north_up_grid([0.0, 1.0, 0.0, 0.0, 0.0, -1.0], 4, 4).is_none());
+    let centre = |c: f64, r: f64| (gt[0] + c * gt[1] + r * gt[2], gt[3] + c * gt[4] + r * gt[5]);
+    let field = |x: f64, y: f64| ((x - 500_000.0) * 0.7 - (y - 4_000_000.0) * 0.3 + 300.0) as f32;
+    let data: Vec<f32> = (0..h)
+        .flat_map(|r| (0..w).map(move |c| (c, r)))
+        .map(|(c, r)| {
+            let (x, y) = centre(c as f64 + 0.5, r as f64 + 0.5);
+            field(x, y)
+        })
+        .collect();
+    let lin = resample_affine(&data, (w, h), gt, ogt, (ow, oh), false);
+    let near = resample_affine(&data, (w, h), gt, ogt, (ow, oh), true);
+    let (mut inside, mut exact) = (0, 0);
+    for j in 0..oh {
+        for i in 0..ow {
+            let k = (j * ow + i) as usize;
+            let x = ogt[0] + (i as f64 + 0.5) * s;
+            let y = ogt[3] - (j as f64 + 0.5) * s;
+            let det = gt[1] * gt[5] - gt[2] * gt[4];
+            let (dx, dy) = (x - gt[0], y - gt[3]);
+            let col = (gt[5] * dx - gt[2] * dy) / det;
+            let row = (-gt[4] * dx + gt[1] * dy) / det;
+            let on = col >= 0.0 && row >= 0.0 && col < w as f64 && row < h as f64;
+            assert_eq!(lin[k].is_nan(), !on, "cell {i},{j}");
+            if !on {
+                continue;
+            }
+            inside += 1;
+            let (c, r) = (col.floor(), row.floor());
+            assert_eq!(near[k], data[(r as u32 * w + c as u32) as usize]);
+            if col > 0.5 && row > 0.5 && col < w as f64 - 0.5 && row < h as f64 - 0.5 {
+                exact += 1;
+                assert!(
+                    (lin[k] - field(x, y)).abs() < 1e-3,
+                    "{} {}",
+                    lin[k],
+                    field(x, y)
+                );
+            }
+        }
+    }
+    // The image covers its own area of the grid (w·h pixels).
+    assert!(
+        (inside as f64 - (w * h) as f64).abs() < 0.05 * (w * h) as f64,
+        "{inside}"
+    );
+    assert!(exact > inside / 2);
+}

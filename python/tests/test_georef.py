@@ -168,3 +168,94 @@ def test_exr_layers_uint_planes_and_header(nadir):
         assert rasterio.crs.CRS.from_wkt(h["irsig.crs_wkt"]).to_epsg() == 32618
         g = [float(v) for v in h["irsig.geotransform"].split()]
         assert g == pytest.approx(list(src.transform.to_gdal()), abs=1e-6)
+
+
+def test_map_grid_geotiff_has_crs_and_xy_equal_to_gdaltransform(nadir):
+    """The rotated nadir view's north-up map grid (``n_map.tif``): rasterio
+    reads a CRS and a north-up transform at the GSD; rioxarray builds x/y
+    coordinates that equal gdaltransform's pixel centres to 1 cm; class
+    planes take the image pixel under each cell (nearest); the bilinear
+    ground planes put each ground-level cell where PROJ puts it, within the
+    image's own scatter of sample points about pixel centres."""
+    import shutil
+    import subprocess
+
+    rasterio = pytest.importorskip("rasterio")
+    rioxarray = pytest.importorskip("rioxarray")
+    from pyproj import Transformer
+
+    d, check = nadir
+    with rasterio.open(d / "n.tif") as src:
+        t0 = src.transform
+        assert t0.b != 0 and t0.d != 0, "the fixture's view is rotated"
+    with rasterio.open(d / "n_map.tif") as m:
+        assert m.crs.to_epsg() == 32618
+        t = m.transform
+        assert t.b == 0 and t.d == 0 and t.a > 0 and t.e == -t.a
+        assert abs(t.a - min(np.hypot(t0.a, t0.d), np.hypot(t0.b, t0.e))) < 1e-9
+        names = list(m.descriptions)
+        assert names == list(rasterio.open(d / "n.tif").descriptions)
+        gx = m.read(names.index("ground_x") + 1).astype(np.float64)
+        gy = m.read(names.index("ground_y") + 1).astype(np.float64)
+        gz = m.read(names.index("ground_z") + 1).astype(np.float64)
+        mat = m.read(names.index("material") + 1)
+    da = rioxarray.open_rasterio(d / "n_map.tif")
+    assert da.rio.crs.to_epsg() == 32618
+    xs, ys = da.x.values, da.y.values
+    assert len(xs) == gx.shape[1] and len(ys) == gx.shape[0]
+    # gdaltransform: pixel (col + 0.5, row + 0.5) -> map x, y.
+    gdaltransform = shutil.which("gdaltransform")
+    if gdaltransform is None:
+        pytest.skip("gdaltransform (gdal-bin) is not installed")
+    pts = [(c + 0.5, r + 0.5) for r in (0, len(ys) // 2, len(ys) - 1) for c in (0, len(xs) // 2, len(xs) - 1)]
+    out = subprocess.run(
+        [gdaltransform, str(d / "n_map.tif")],
+        input="".join(f"{c} {r}\n" for c, r in pts),
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split("\n")
+    for (c, r), line in zip(pts, out):
+        x, y = map(float, line.split()[:2])
+        assert abs(xs[int(c)] - x) < 0.01 and abs(ys[int(r)] - y) < 0.01, (c, r, x, y)
+    # Each cell's centre through the inverse of the image's transform
+    # (rasterio's affine algebra, independent of irsig's): the class plane
+    # is the value of the image pixel it falls in (nearest), NaN off the
+    # image.
+    with rasterio.open(d / "n.tif") as src:
+        onames = list(src.descriptions)
+        omat = src.read(onames.index("material") + 1)
+        ogx, ogy, ogz = (src.read(onames.index(n) + 1).astype(np.float64) for n in ("ground_x", "ground_y", "ground_z"))
+    oh, ow = omat.shape
+    X, Y = np.meshgrid(xs, ys)
+    col, row = ~t0 * (X, Y)
+    on = (col >= 0) & (row >= 0) & (col < ow) & (row < oh)
+    assert (np.isnan(mat) == ~on).all()
+    assert (mat[on] == omat[row[on].astype(int), col[on].astype(int)]).all()
+    # The ground planes, bilinear: at a cell whose four neighbouring pixel
+    # centres are on the image and at ground level, the resampled ground
+    # point is a convex combination of theirs, so its distance from the
+    # cell centre (the field is linear in map x, y on the flat ground) is at
+    # most the largest distance of a ground pixel's point from its pixel
+    # centre (the samples' positions within their pixels).
+    site = check["site"]
+    pipe = Transformer.from_pipeline(
+        "+proj=pipeline +step +inv +proj=topocentric +ellps=WGS84 "
+        f"+lat_0={site['latitude_deg']} +lon_0={site['longitude_deg']} +h_0={site['elevation_m']} "
+        "+step +inv +proj=cart +ellps=WGS84 +step +proj=utm +zone=18 +ellps=WGS84"
+    )
+    og = np.abs(ogz) < 1e-3
+    oc, orr = np.meshgrid(np.arange(ow) + 0.5, np.arange(oh) + 0.5)
+    ox, oy = t0 * (oc, orr)
+    px, py, _ = pipe.transform(ogx[og], ogy[og], ogz[og])
+    jitter = np.hypot(px - ox[og], py - oy[og]).max()
+    u, v = col - 0.5, row - 0.5
+    c0, r0 = np.floor(u).astype(int), np.floor(v).astype(int)
+    inner = (u >= 0) & (v >= 0) & (c0 + 1 < ow) & (r0 + 1 < oh)
+    for dc in (0, 1):
+        for dr in (0, 1):
+            inner &= og[np.clip(r0 + dr, 0, oh - 1), np.clip(c0 + dc, 0, ow - 1)]
+    assert inner.sum() > 100
+    ux, uy, _ = pipe.transform(gx[inner], gy[inner], gz[inner])
+    err = np.hypot(ux - X[inner], uy - Y[inner])
+    assert err.max() <= jitter + 1e-3, (err.max(), jitter)

@@ -1,13 +1,21 @@
 //! Merging a finished batch (`irsig batch merge`) into one result set in
 //! `merged/`:
-//! - `stack.nc`: a NetCDF-4 file (CF-1.8 conventions) with dimensions
-//!   `frame`, `y`, `x`; every plane a float32 variable (frame, y, x) with
-//!   `units` and `long_name`; coordinates along `frame`: `id`, `time` (UTC,
-//!   seconds since 1970-01-01), `local_time`, the sun's zenith and azimuth,
-//!   `scene` and one per varied dimension (numbers as float64, otherwise
-//!   text); `y`/`x` are pixel rows and columns (row 0 at the top);
-//! - `index.json`: per frame its labels, times, sun and the statistics of
-//!   band radiance and apparent temperature;
+//! - `stack.nc`: a NetCDF-4 file (CF-1.8 conventions). Where the frames
+//!   form the batch's product (every combination of scene, time, each sweep
+//!   key and random draw once: [`product_layout`]), those are its
+//!   dimensions, each with its coordinate (`scene` text, `time` the local
+//!   image time, sweep keys float64 or text, `draw` the draw number), then
+//!   `y`, `x`; otherwise one flat `frame` dimension. Every plane is a float32
+//!   variable over them with `units` and `long_name`; per frame: `frame`
+//!   (manifest index), `id`, the UTC image time (`time` in the flat layout,
+//!   `image_time` in the product one; seconds since 1970-01-01),
+//!   `local_time`, the sun's zenith and azimuth and the random keys; `y`/`x`
+//!   are pixel rows and columns (row 0 at the top). `material` and `case`
+//!   carry CF `flag_values`/`flag_meanings` (material: when every frame has
+//!   the same material table);
+//! - `index.json`: the layout, the material table (per scene), and per
+//!   frame its labels, times, sun and the statistics of band radiance and
+//!   apparent temperature;
 //! - `contact_sheet.png`: `sensor_radiance` of up to [`SHEET_MAX`] frames
 //!   (evenly spaced through the manifest) under one common stretch.
 //!
@@ -61,6 +69,14 @@ pub struct MergedIndex {
     pub name: String,
     pub spec: PathBuf,
     pub dimensions: Vec<String>,
+    /// The stack's dimensions before `y`, `x`: the product's axes, or
+    /// `["frame"]` where the frames are not a regular product.
+    pub stack_dimensions: Vec<String>,
+    /// The material table (the `material` plane's values) when every frame
+    /// has the same one, else `None` (see `materials_by_scene`).
+    pub materials: Option<Vec<MaterialEntry>>,
+    /// Each scene's material table (by its `scene` label).
+    pub materials_by_scene: std::collections::BTreeMap<String, Vec<MaterialEntry>>,
     pub band: String,
     pub stack: String,
     pub contact_sheet: String,
@@ -77,6 +93,127 @@ struct FrameMeta {
     sun_azimuth_deg: f64,
     band: String,
     planes: Vec<(String, String)>,
+    materials: Vec<MaterialEntry>,
+}
+
+/// One entry of a frame's material table (as its JSON summary has it).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct MaterialEntry {
+    /// The `material` plane's value (-1: no surface).
+    pub index: i64,
+    pub name: String,
+    /// The classification's class (0: no surface).
+    pub class: u32,
+}
+
+/// CF `flag_values`/`flag_meanings` of the `case` plane (docs/render.md).
+pub const CASE_FLAGS: [(f32, &str); 5] = [
+    (0.0, "outside_scene"),
+    (1.0, "diffuse"),
+    (2.0, "specular_sky"),
+    (3.0, "specular_background"),
+    (4.0, "sky"),
+];
+
+/// A CF flag meaning: the name with every run of characters other than
+/// letters, digits, `_`, `-`, `.` replaced by `_` (meanings are
+/// blank-separated words).
+pub fn flag_word(name: &str) -> String {
+    let w: String = name
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || matches!(c, '_' | '-' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if w.is_empty() { "_".into() } else { w }
+}
+
+/// The `material` plane's CF flags: -1 `none`, then each material.
+pub fn material_flags(table: &[MaterialEntry]) -> (Vec<f32>, String) {
+    let mut values = vec![-1.0f32];
+    let mut words = vec!["none".to_string()];
+    for m in table {
+        values.push(m.index as f32);
+        words.push(flag_word(&m.name));
+    }
+    (values, words.join(" "))
+}
+
+/// The stack's product layout: the axes (name, values as labels) and each
+/// frame's position on them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Product {
+    pub axes: Vec<(String, Vec<String>)>,
+    /// Per frame (manifest order), its index on each axis.
+    pub positions: Vec<Vec<usize>>,
+}
+
+impl Product {
+    /// The frame's row-major offset in the axes' array.
+    pub fn offset(&self, pos: &[usize]) -> usize {
+        pos.iter()
+            .zip(&self.axes)
+            .fold(0, |acc, (&p, (_, v))| acc * v.len() + p)
+    }
+
+    /// The number of cells (frames) of the product.
+    pub fn size(&self) -> usize {
+        self.axes.iter().map(|a| a.1.len()).product()
+    }
+}
+
+/// The frames' product layout over `axes` (the batch's product axes:
+/// `scene`, `time`, each sweep key, `draw`), values in order of first
+/// appearance, or `None` where the frames are not exactly every
+/// combination once (e.g. scenes on different dates, so the local times
+/// differ), or there are no axes.
+pub fn product_layout(axes: &[String], frames: &[FrameJob]) -> Option<Product> {
+    if axes.is_empty() || frames.is_empty() {
+        return None;
+    }
+    let label = |f: &FrameJob, a: &str| -> Option<String> {
+        if a == "draw" {
+            f.draw.map(|d| d.to_string())
+        } else {
+            f.labels.get(a).cloned()
+        }
+    };
+    let mut values: Vec<Vec<String>> = vec![Vec::new(); axes.len()];
+    let mut positions = Vec::with_capacity(frames.len());
+    for f in frames {
+        let mut pos = Vec::with_capacity(axes.len());
+        for (a, vals) in axes.iter().zip(values.iter_mut()) {
+            let l = label(f, a)?;
+            let i = match vals.iter().position(|v| *v == l) {
+                Some(i) => i,
+                None => {
+                    vals.push(l);
+                    vals.len() - 1
+                }
+            };
+            pos.push(i);
+        }
+        positions.push(pos);
+    }
+    let p = Product {
+        axes: axes.iter().cloned().zip(values).collect(),
+        positions,
+    };
+    if p.size() != frames.len() {
+        return None;
+    }
+    let mut seen = vec![false; p.size()];
+    for pos in &p.positions {
+        let o = p.offset(pos);
+        if std::mem::replace(&mut seen[o], true) {
+            return None;
+        }
+    }
+    Some(p)
 }
 
 fn read_meta(dir: &Path, f: &FrameJob) -> anyhow::Result<FrameMeta> {
@@ -115,6 +252,11 @@ fn read_meta(dir: &Path, f: &FrameJob) -> anyhow::Result<FrameMeta> {
             .ok_or_else(|| bad("sun_azimuth_deg"))?,
         band: v["band"].as_str().unwrap_or("").to_string(),
         planes,
+        materials: match v.get("materials") {
+            None => Vec::new(),
+            Some(m) => serde_json::from_value(m.clone())
+                .with_context(|| format!("{}: materials: not a material table", p.display()))?,
+        },
     })
 }
 
@@ -215,6 +357,18 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             .collect()
     };
     let mut sheet_data: Vec<(u32, u32, Vec<f32>)> = Vec::new();
+    let layout = product_layout(&batch.info.axes, &batch.frames);
+    let mut materials_by_scene = std::collections::BTreeMap::new();
+    for (f, m) in batch.frames.iter().zip(&metas) {
+        let sid = f.labels.get("scene").cloned().unwrap_or_default();
+        materials_by_scene
+            .entry(sid)
+            .or_insert_with(|| m.materials.clone());
+    }
+    let shared_materials: Option<Vec<MaterialEntry>> = metas
+        .iter()
+        .all(|m| m.materials == first.materials)
+        .then(|| first.materials.clone());
     let (width, height) = {
         let tp = tmp.path();
         let mut file = nc(netcdf::create(tp), "create", tp)?;
@@ -224,7 +378,21 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             crate::output::exr::read_exr(&dir.join(&batch.frames[0].outputs.exr))
                 .map_err(anyhow::Error::msg)?;
         let mut first_chans = Some(chans0);
-        nc(file.add_dimension("frame", n), "frame", tp)?;
+        // The frame dimensions: the product's axes, or `frame`.
+        let frame_dims: Vec<String> = match &layout {
+            Some(p) => p.axes.iter().map(|a| a.0.clone()).collect(),
+            None => vec!["frame".into()],
+        };
+        match &layout {
+            Some(p) => {
+                for (a, vals) in &p.axes {
+                    nc(file.add_dimension(a, vals.len()), a, tp)?;
+                }
+            }
+            None => {
+                nc(file.add_dimension("frame", n), "frame", tp)?;
+            }
+        }
         nc(file.add_dimension("y", h0 as usize), "y", tp)?;
         nc(file.add_dimension("x", w0 as usize), "x", tp)?;
         for (k, v) in [
@@ -236,14 +404,44 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         ] {
             nc(file.add_attribute(k, v), k, tp)?;
         }
+        let fdims: Vec<&str> = frame_dims.iter().map(String::as_str).collect();
+        // Per-frame values laid out over the frame dimensions.
+        let cell = |k: usize| match &layout {
+            Some(p) => p.offset(&p.positions[k]),
+            None => k,
+        };
+        let cells = layout.as_ref().map_or(n, Product::size);
+        let spread = |vals: &[f64]| -> Vec<f64> {
+            let mut out = vec![f64::NAN; cells];
+            for (k, v) in vals.iter().enumerate() {
+                out[cell(k)] = *v;
+            }
+            out
+        };
+        let index_of = |c: usize| -> Vec<usize> {
+            let mut idx = vec![0; fdims.len()];
+            if let Some(p) = &layout {
+                let mut r = c;
+                for (i, (_, v)) in p.axes.iter().enumerate().rev() {
+                    idx[i] = r % v.len();
+                    r /= v.len();
+                }
+            } else {
+                idx[0] = c;
+            }
+            idx
+        };
         {
-            let mut v = nc(file.add_variable::<i32>("frame", &["frame"]), "frame", tp)?;
+            let mut v = nc(file.add_variable::<i32>("frame", &fdims), "frame", tp)?;
             nc(
                 v.put_attribute("long_name", "frame index in the manifest"),
                 "frame",
                 tp,
             )?;
-            let idx: Vec<i32> = (0..n as i32).collect();
+            let idx: Vec<i32> = spread(&(0..n).map(|k| k as f64).collect::<Vec<_>>())
+                .iter()
+                .map(|&f| f as i32)
+                .collect();
             nc(v.put_values(&idx, ..), "frame", tp)?;
         }
         for (name, len, what) in [
@@ -256,16 +454,74 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             let idx: Vec<i32> = (0..len as i32).collect();
             nc(v.put_values(&idx, ..), name, tp)?;
         }
+        // The product's axis coordinates.
+        if let Some(p) = &layout {
+            for (a, vals) in &p.axes {
+                let nums: Option<Vec<f64>> = vals.iter().map(|s| s.parse::<f64>().ok()).collect();
+                if a == "time" {
+                    let secs: Vec<f64> = vals
+                        .iter()
+                        .map(|l| {
+                            chrono::NaiveDateTime::parse_from_str(l, super::plan::LOCAL_FORMAT)
+                                .map(|t| t.and_utc().timestamp() as f64)
+                                .map_err(|e| anyhow::anyhow!("time label {l:?}: {e}"))
+                        })
+                        .collect::<anyhow::Result<_>>()?;
+                    let mut v = nc(file.add_variable::<f64>(a, &[a]), a, tp)?;
+                    nc(v.put_attribute("standard_name", "time"), a, tp)?;
+                    nc(
+                        v.put_attribute(
+                            "long_name",
+                            "local image time at the site (the scene's time zone)",
+                        ),
+                        a,
+                        tp,
+                    )?;
+                    nc(
+                        v.put_attribute("units", "seconds since 1970-01-01 00:00:00"),
+                        a,
+                        tp,
+                    )?;
+                    nc(v.put_attribute("calendar", "standard"), a, tp)?;
+                    nc(v.put_values(&secs, ..), a, tp)?;
+                } else if a == "draw" {
+                    let mut v = nc(file.add_variable::<i32>(a, &[a]), a, tp)?;
+                    nc(v.put_attribute("long_name", "random draw number"), a, tp)?;
+                    let d: Vec<i32> = nums.unwrap_or_default().iter().map(|&f| f as i32).collect();
+                    nc(v.put_values(&d, ..), a, tp)?;
+                } else if let (Some(nums), false) = (nums, a == "scene") {
+                    let mut v = nc(file.add_variable::<f64>(a, &[a]), a, tp)?;
+                    nc(
+                        v.put_attribute("long_name", format!("scene key {a}")),
+                        a,
+                        tp,
+                    )?;
+                    nc(v.put_values(&nums, ..), a, tp)?;
+                } else {
+                    let mut v = nc(file.add_string_variable(a, &[a]), a, tp)?;
+                    for (k, s) in vals.iter().enumerate() {
+                        nc(v.put_string(s, [k]), a, tp)?;
+                    }
+                }
+            }
+        }
         {
-            let mut v = nc(file.add_variable::<f64>("time", &["frame"]), "time", tp)?;
-            nc(v.put_attribute("standard_name", "time"), "time", tp)?;
-            nc(v.put_attribute("long_name", "image time (UTC)"), "time", tp)?;
+            let tname = if layout.is_some() {
+                "image_time"
+            } else {
+                "time"
+            };
+            let mut v = nc(file.add_variable::<f64>(tname, &fdims), tname, tp)?;
+            if layout.is_none() {
+                nc(v.put_attribute("standard_name", "time"), tname, tp)?;
+            }
+            nc(v.put_attribute("long_name", "image time (UTC)"), tname, tp)?;
             nc(
                 v.put_attribute("units", "seconds since 1970-01-01 00:00:00"),
-                "time",
+                tname,
                 tp,
             )?;
-            nc(v.put_attribute("calendar", "standard"), "time", tp)?;
+            nc(v.put_attribute("calendar", "standard"), tname, tp)?;
             let t: Vec<f64> = metas
                 .iter()
                 .map(|m| {
@@ -273,7 +529,7 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
                         + m.image_time_utc.timestamp_subsec_nanos() as f64 * 1e-9
                 })
                 .collect();
-            nc(v.put_values(&t, ..), "time", tp)?;
+            nc(v.put_values(&spread(&t), ..), tname, tp)?;
         }
         for (name, unit, vals) in [
             (
@@ -287,14 +543,24 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
                 metas.iter().map(|m| m.sun_azimuth_deg).collect(),
             ),
         ] {
-            let mut v = nc(file.add_variable::<f64>(name, &["frame"]), name, tp)?;
+            let mut v = nc(file.add_variable::<f64>(name, &fdims), name, tp)?;
             nc(v.put_attribute("units", unit), name, tp)?;
             nc(v.put_attribute("long_name", long_name(name)), name, tp)?;
-            nc(v.put_values(&vals, ..), name, tp)?;
+            nc(v.put_values(&spread(&vals), ..), name, tp)?;
         }
-        // Text coordinates along `frame`: id, local time, and each
-        // dimension (numbers as float64 when every value is one).
-        let mut text_coords: Vec<(String, Vec<String>)> = vec![
+        // Text values per frame: id, local time, and each dimension that is
+        // not an axis (numbers as float64 when every value is one).
+        let mut per_frame: Vec<String> = vec![
+            if layout.is_some() {
+                "image_time"
+            } else {
+                "time"
+            }
+            .to_string(),
+            "sun_zenith".into(),
+            "sun_azimuth".into(),
+        ];
+        let mut frame_text: Vec<(String, Vec<String>)> = vec![
             (
                 "id".into(),
                 batch.frames.iter().map(|f| f.id.clone()).collect(),
@@ -305,7 +571,7 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             ),
         ];
         for d in &batch.info.dimensions {
-            if d == "time" {
+            if d == "time" || frame_dims.contains(d) {
                 continue;
             }
             let vals: Vec<String> = batch
@@ -316,48 +582,38 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             let nums: Option<Vec<f64>> = vals.iter().map(|s| s.parse::<f64>().ok()).collect();
             match nums {
                 Some(nums) if d != "scene" => {
-                    let mut v = nc(file.add_variable::<f64>(d, &["frame"]), d, tp)?;
+                    let mut v = nc(file.add_variable::<f64>(d, &fdims), d, tp)?;
                     nc(
                         v.put_attribute("long_name", format!("scene key {d}")),
                         d,
                         tp,
                     )?;
-                    nc(v.put_values(&nums, ..), d, tp)?;
+                    nc(v.put_values(&spread(&nums), ..), d, tp)?;
+                    per_frame.push(d.clone());
                 }
-                _ => text_coords.push((d.clone(), vals)),
+                _ => frame_text.push((d.clone(), vals)),
             }
         }
-        for (name, vals) in &text_coords {
-            let mut v = nc(file.add_string_variable(name, &["frame"]), name, tp)?;
+        for (name, vals) in &frame_text {
+            let mut v = nc(file.add_string_variable(name, &fdims), name, tp)?;
             for (k, s) in vals.iter().enumerate() {
-                nc(v.put_string(s, [k]), name, tp)?;
+                let idx = index_of(cell(k));
+                nc(v.put_string(s, idx.as_slice()), name, tp)?;
             }
+            per_frame.push(name.clone());
         }
-        // CF: the per-frame variables are coordinates of every plane.
-        let mut coord_names = vec![
-            "time".to_string(),
-            "sun_zenith".into(),
-            "sun_azimuth".into(),
-        ];
-        coord_names.extend(
-            batch
-                .info
-                .dimensions
-                .iter()
-                .filter(|d| *d != "time" && *d != "scene")
-                .cloned(),
-        );
-        coord_names.extend(text_coords.iter().map(|(n, _)| n.clone()));
-        let coordinates = coord_names.join(" ");
+        // CF: the per-frame variables are auxiliary coordinates of every
+        // plane.
+        let coordinates = per_frame.join(" ");
+        let mut plane_dims = fdims.clone();
+        plane_dims.extend(["y", "x"]);
+        let mut chunk = vec![1usize; fdims.len()];
+        chunk.extend([h0 as usize, w0 as usize]);
         for (name, unit) in &stack_planes {
-            let mut v = nc(
-                file.add_variable::<f32>(name, &["frame", "y", "x"]),
-                name,
-                tp,
-            )?;
+            let mut v = nc(file.add_variable::<f32>(name, &plane_dims), name, tp)?;
             // One chunk per frame, deflated (level 1 with byte shuffle:
             // lossless, deterministic).
-            nc(v.set_chunking(&[1, h0 as usize, w0 as usize]), name, tp)?;
+            nc(v.set_chunking(&chunk), name, tp)?;
             nc(v.set_compression(1, true), name, tp)?;
             nc(
                 v.put_attribute("coordinates", coordinates.as_str()),
@@ -366,6 +622,18 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             )?;
             nc(v.put_attribute("units", unit.as_str()), name, tp)?;
             nc(v.put_attribute("long_name", long_name(name)), name, tp)?;
+            let flags = match name.as_str() {
+                "case" => Some((
+                    CASE_FLAGS.iter().map(|f| f.0).collect::<Vec<f32>>(),
+                    CASE_FLAGS.map(|f| f.1).join(" "),
+                )),
+                "material" => shared_materials.as_deref().map(material_flags),
+                _ => None,
+            };
+            if let Some((values, meanings)) = flags {
+                nc(v.put_attribute("flag_values", values), name, tp)?;
+                nc(v.put_attribute("flag_meanings", meanings), name, tp)?;
+            }
         }
         // The planes, frame by frame (one frame in memory at a time).
         for (k, (f, m)) in batch.frames.iter().zip(&metas).enumerate() {
@@ -392,11 +660,10 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
                 let mut v = file
                     .variable_mut(name)
                     .ok_or_else(|| anyhow::anyhow!("stack variable {name} vanished"))?;
-                nc(
-                    v.put_values(data, [k..k + 1, 0..h as usize, 0..w as usize]),
-                    name,
-                    tp,
-                )?;
+                let mut ext: Vec<std::ops::Range<usize>> =
+                    index_of(cell(k)).into_iter().map(|i| i..i + 1).collect();
+                ext.extend([0..h as usize, 0..w as usize]);
+                nc(v.put_values(data, ext), name, tp)?;
             }
             let sr = get("sensor_radiance")?;
             if sheet_pick.binary_search(&k).is_ok() {
@@ -455,6 +722,12 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         name: batch.info.name.clone(),
         spec: batch.info.spec.clone(),
         dimensions: batch.info.dimensions.clone(),
+        stack_dimensions: match &layout {
+            Some(p) => p.axes.iter().map(|a| a.0.clone()).collect(),
+            None => vec!["frame".into()],
+        },
+        materials: shared_materials.clone(),
+        materials_by_scene,
         band: first.band.clone(),
         stack: "stack.nc".into(),
         contact_sheet: "contact_sheet.png".into(),

@@ -47,6 +47,10 @@ pub struct BatchInfo {
     pub spec: PathBuf,
     pub shards: usize,
     pub dimensions: Vec<String>,
+    /// The product's axes (see [`Plan::axes`]); empty in a batch planned
+    /// before they were recorded (its stack is then flat over `frame`).
+    #[serde(default)]
+    pub axes: Vec<String>,
     pub frames: usize,
     /// irsig's version that planned it.
     pub irsig_version: String,
@@ -77,6 +81,7 @@ pub fn write_plan(dir: &Path, p: &Plan) -> anyhow::Result<BatchInfo> {
         spec: p.spec.clone(),
         shards: p.shards,
         dimensions: p.dimensions.clone(),
+        axes: p.axes.clone(),
         frames: p.frames.len(),
         irsig_version: env!("CARGO_PKG_VERSION").into(),
     };

@@ -33,6 +33,10 @@ pub struct FrameJob {
     /// The frame's coordinates: `scene` and every varied dimension (`time`,
     /// sweep and random keys) → its value as a label.
     pub labels: BTreeMap<String, String>,
+    /// The random draw's number (0-based, per scene), for a spec with
+    /// `[random]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub draw: Option<usize>,
     /// Output files relative to the batch folder.
     pub outputs: Outputs,
 }
@@ -65,6 +69,10 @@ pub struct Plan {
     pub shards: usize,
     /// The label keys that vary across frames, `scene` first.
     pub dimensions: Vec<String>,
+    /// The axes of the batch's product, in order: `scene`, `time` (of
+    /// `[time]`), each sweep key, `draw` (of `[random]`); the merged stack's
+    /// dimensions where the frames are regular over them.
+    pub axes: Vec<String>,
     pub frames: Vec<FrameJob>,
 }
 
@@ -105,6 +113,19 @@ pub fn plan(spec_path: &Path) -> anyhow::Result<Plan> {
         for v in &r.vary {
             add_dim(&v.key);
         }
+    }
+    // The product's axes: scene, time, the sweep keys, and the draw number.
+    let mut axes: Vec<String> = dims
+        .iter()
+        .filter(|d| {
+            *d == "scene"
+                || (*d == "time" && spec.time.is_some())
+                || spec.sweeps.iter().any(|s| s.key == **d)
+        })
+        .cloned()
+        .collect();
+    if spec.random.is_some() {
+        axes.push("draw".into());
     }
     let n_scenes = spec.scenes.len();
     for (si, entry) in spec.scenes.iter().enumerate() {
@@ -308,6 +329,7 @@ pub fn plan(spec_path: &Path) -> anyhow::Result<Plan> {
                         overrides,
                         local_time: local.map(|t| t.format(LOCAL_FORMAT).to_string()),
                         labels,
+                        draw: spec.random.is_some().then_some(d),
                     });
                 }
             }
@@ -318,6 +340,7 @@ pub fn plan(spec_path: &Path) -> anyhow::Result<Plan> {
         spec: spec_abs,
         shards: spec.shards.min(frames.len().max(1)),
         dimensions: dims,
+        axes,
         frames,
     })
 }

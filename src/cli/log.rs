@@ -34,7 +34,8 @@ pub fn detail(msg: &str) {
     }
 }
 
-fn stage_name(s: Stage) -> &'static str {
+/// The name of a stage in progress lines.
+pub fn stage_name(s: Stage) -> &'static str {
     match s {
         Stage::Trace => "tracing (blocks)",
         Stage::Thermal => "temperatures (samples)",
@@ -42,21 +43,86 @@ fn stage_name(s: Stage) -> &'static str {
     }
 }
 
+/// The plain-line form of progress (off a terminal): one line when a stage
+/// first starts and one each time it passes another tenth, nothing else.
+/// A frame is rendered band by band, so the stages alternate (trace,
+/// temperatures, radiometry, trace, ...); each stage's count runs on across
+/// its bands, and coming back to a stage prints nothing. With `verbose`,
+/// each return to a stage is a line too (where it stands). Reports may come
+/// from any worker thread and out of order, so a stage's position only
+/// grows.
+#[derive(Default)]
+pub struct ProgressLines {
+    verbose: bool,
+    /// Per stage (trace, thermal, radiometry): (units done, tenths printed).
+    stages: [Option<(u64, u64)>; 3],
+    current: Option<Stage>,
+}
+
+fn stage_index(s: Stage) -> usize {
+    match s {
+        Stage::Trace => 0,
+        Stage::Thermal => 1,
+        Stage::Radiometry => 2,
+    }
+}
+
+impl ProgressLines {
+    pub fn new(verbose: bool) -> ProgressLines {
+        ProgressLines {
+            verbose,
+            ..Default::default()
+        }
+    }
+
+    /// The lines (without the `irsig: ` prefix and the time) that report
+    /// `p` calls for: none, a stage start, or a tenth passed.
+    pub fn lines(&mut self, p: Progress) -> Vec<String> {
+        let mut out = Vec::new();
+        let tenths = |done: u64| (done * 10).checked_div(p.total).unwrap_or(10).min(10);
+        let name = stage_name(p.stage);
+        let switched = self.current != Some(p.stage);
+        self.current = Some(p.stage);
+        let slot = &mut self.stages[stage_index(p.stage)];
+        match slot {
+            None => {
+                out.push(format!("{name} started, 0/{}", p.total));
+                *slot = Some((0, 0));
+            }
+            Some((done, _)) if switched && self.verbose => {
+                out.push(format!("{name} resumed at {done}/{}", p.total));
+            }
+            _ => {}
+        }
+        let (done, printed) = slot.as_mut().expect("set above");
+        if p.done > *done {
+            *done = p.done;
+            let t = tenths(p.done);
+            if t > *printed {
+                *printed = t;
+                out.push(format!("{name} {}/{} ({} %)", p.done, p.total, t * 10));
+            }
+        }
+        out
+    }
+}
+
 /// Progress of a render on stderr: a bar on a terminal, else plain lines
-/// (the stage, then each tenth done with the elapsed time). Reports may
-/// come from any worker thread and out of order, so the position only
-/// grows within a stage.
+/// ([`ProgressLines`]: the stage starts and each tenth done, with the
+/// elapsed time).
 pub struct ProgressReporter {
     bar: Option<indicatif::ProgressBar>,
-    /// (stage, units done, tenths printed).
-    state: Mutex<Option<(Stage, u64, u64)>>,
+    /// The bar's stage and position (the bar only moves forward).
+    state: Mutex<(Option<Stage>, [u64; 3])>,
+    lines: Mutex<ProgressLines>,
     start: Instant,
 }
 
 impl ProgressReporter {
     /// A reporter, or `None` with `-q`.
     pub fn new() -> Option<ProgressReporter> {
-        if LEVEL.load(Ordering::Relaxed) == 0 {
+        let level = LEVEL.load(Ordering::Relaxed);
+        if level == 0 {
             return None;
         }
         let bar = std::io::stderr().is_terminal().then(|| {
@@ -72,49 +138,32 @@ impl ProgressReporter {
         });
         Some(ProgressReporter {
             bar,
-            state: Mutex::new(None),
+            state: Mutex::new((None, [0; 3])),
+            lines: Mutex::new(ProgressLines::new(level >= 2)),
             start: Instant::now(),
         })
     }
 
     pub fn report(&self, p: Progress) {
-        let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
-        let tenths = |done: u64| (done * 10).checked_div(p.total).unwrap_or(10);
-        match *st {
-            Some((stage, done, printed)) if stage == p.stage => {
-                if p.done <= done {
-                    return;
+        match &self.bar {
+            Some(b) => {
+                let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
+                let i = stage_index(p.stage);
+                if st.0 != Some(p.stage) {
+                    st.0 = Some(p.stage);
+                    b.set_message(stage_name(p.stage));
+                    b.set_length(p.total);
+                    b.set_position(st.1[i]);
                 }
-                let t = tenths(p.done);
-                *st = Some((stage, p.done, t.max(printed)));
-                match &self.bar {
-                    Some(b) => b.set_position(p.done),
-                    None if t > printed => eprintln!(
-                        "irsig: {} {}/{} ({} %), {:.1} s",
-                        stage_name(stage),
-                        p.done,
-                        p.total,
-                        t * 10,
-                        self.start.elapsed().as_secs_f64()
-                    ),
-                    None => {}
+                if p.done > st.1[i] {
+                    st.1[i] = p.done;
+                    b.set_position(p.done);
                 }
             }
-            _ => {
-                *st = Some((p.stage, p.done, tenths(p.done)));
-                match &self.bar {
-                    Some(b) => {
-                        b.reset();
-                        b.set_message(stage_name(p.stage));
-                        b.set_length(p.total);
-                        b.set_position(p.done);
-                    }
-                    None => eprintln!(
-                        "irsig: {} 0/{}, {:.1} s",
-                        stage_name(p.stage),
-                        p.total,
-                        self.start.elapsed().as_secs_f64()
-                    ),
+            None => {
+                let mut l = self.lines.lock().unwrap_or_else(|e| e.into_inner());
+                for line in l.lines(p) {
+                    eprintln!("irsig: {line}, {:.1} s", self.start.elapsed().as_secs_f64());
                 }
             }
         }

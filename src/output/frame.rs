@@ -6,12 +6,15 @@
 //!   `truth.*`, integer planes as UINT, units/time/sun/band/CRS in the
 //!   header;
 //! * GeoTIFF: every plane as float32 bands (`x.tif`) and the geolocation in
-//!   float64 (`x_geo.tif`: lat, lon, map x, map y), georeferenced;
-//! * ENVI: the radiance cube (`x.img`: the planes at the sensor band, with
-//!   wavelength, fwhm, acquisition time, sun angles, map info), the truth
-//!   cube in float64 (`x_truth.img`: material, facet, case, sun, range,
-//!   angles, temperature, ground x/y/z, lat/lon, map x/y) and the material
-//!   classification (`x_class.img`: class names and colours).
+//!   float64 (`x_geo.tif`: lat, lon, map x, map y), georeferenced; for a
+//!   nadir view with a rotated transform also the planes resampled onto a
+//!   north-up map grid at the GSD (`x_map.tif`);
+//! * ENVI: the radiance cube (`x.img`: the radiances at the sensor band,
+//!   with wavelength, fwhm, acquisition time, sun angles, map info), the
+//!   truth cube in float64 (`x_truth.img`: material, facet, case, sun,
+//!   range, angles, temperatures, ground x/y/z, lat/lon, map x/y, with
+//!   units), the DN (`x_dn.img`) and the material classification
+//!   (`x_class.img`: class names and colours); no data is -9999.
 //!
 //! docs/render.md documents every file and field.
 
@@ -22,7 +25,9 @@ use serde::Serialize;
 
 use super::envi::{list, write_cube};
 use super::exr::{Attr, ExrCompression, write_exr, write_exr_planes};
-use super::geotiff::{Band, Placement, placement, write_geotiff};
+use super::geotiff::{
+    Band, Placement, is_class_plane, north_up_grid, placement, resample_affine, write_geotiff,
+};
 use super::{OutputSet, quicklook::write_png};
 use crate::render::{Frame, Rendered, Stats};
 use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
@@ -95,14 +100,25 @@ impl Formats {
     }
 }
 
-/// The planes of the radiance cube, quantities at the sensor's band: the
-/// band radiance and apparent temperature, the terms of eqs. 1-4, the
-/// sensor's radiance and DN.
-fn radiometric() -> impl Iterator<Item = &'static str> {
-    ["band_radiance", "apparent_temperature"]
+/// The planes of the radiance cube, radiances at the sensor's band (all in
+/// W m⁻² sr⁻¹ µm⁻¹): the band radiance, the terms of eqs. 1-4 and the
+/// sensor's radiance. Temperatures go to the truth cube, DN to its own.
+pub fn radiance_cube_planes() -> impl Iterator<Item = &'static str> {
+    ["band_radiance"]
         .into_iter()
         .chain(crate::render::planes::TERM_PLANES)
-        .chain(["sensor_radiance", "dn"])
+        .chain(["sensor_radiance"])
+}
+
+/// The value that stands for "no data" in the float ENVI cubes (ENVI's
+/// `data ignore value` must be a number; NaN samples are written as it).
+pub const ENVI_IGNORE: f64 = -9999.0;
+
+/// The ENVI cubes' samples with NaN replaced by [`ENVI_IGNORE`].
+fn envi_f32(d: &[f32]) -> Vec<f32> {
+    d.iter()
+        .map(|&v| if v.is_nan() { ENVI_IGNORE as f32 } else { v })
+        .collect()
 }
 
 /// One entry of the material table.
@@ -481,6 +497,54 @@ pub fn write_rendered(
             &place,
             &common_meta,
         )?;
+        // A nadir view whose transform is rotated (UTM grid convergence, a
+        // yawed camera) also gets the planes on a north-up map grid at its
+        // GSD, which GIS tools turn into x/y coordinates.
+        if let Some((gt, ogt, ow, oh)) = g
+            .geotransform
+            .and_then(|gt| north_up_grid(gt, w, h).map(|(o, ow, oh)| (gt, o, ow, oh)))
+        {
+            let data: Vec<Vec<f32>> = kept
+                .iter()
+                .map(|pl| {
+                    resample_affine(
+                        &pl.data,
+                        (w, h),
+                        gt,
+                        ogt,
+                        (ow, oh),
+                        is_class_plane(&pl.name),
+                    )
+                })
+                .collect();
+            let bands: Vec<Band<f32>> = kept
+                .iter()
+                .zip(&data)
+                .map(|(pl, d)| Band {
+                    name: &pl.name,
+                    unit: &pl.unit,
+                    data: d,
+                })
+                .collect();
+            let mut meta = common_meta.clone();
+            meta.push((
+                "resampling".into(),
+                format!(
+                    "north-up map grid at the GSD {} m from the image grid {}: bilinear, nearest for material facet case dn; NaN off the image",
+                    ogt[1],
+                    gt.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
+                ),
+            ));
+            write_geotiff(
+                &mut set,
+                &sibling(path, "_map", "tif"),
+                (ow, oh),
+                &bands,
+                Some(&g.crs),
+                &Placement::Affine(ogt),
+                &meta,
+            )?;
+        }
     }
     if formats.envi {
         let (lo, hi) = r.band_um;
@@ -490,20 +554,22 @@ pub fn write_rendered(
             ("sun azimuth".into(), format!("{:.6}", r.sun_azimuth_deg)),
             ("sun elevation".into(), format!("{sun_el:.6}")),
             ("sensor type".into(), format!("irsig {}", r.band)),
-            ("data ignore value".into(), "nan".into()),
+            ("data ignore value".into(), format!("{ENVI_IGNORE}")),
             ("irsig version".into(), crate::version::LONG_VERSION.into()),
         ];
         common.extend(geo_fields);
-        // Radiance cube: the planes at the sensor's band.
-        let rad: Vec<_> = radiometric().filter_map(|n| p.get(n)).collect();
+        // Radiance cube: the radiances at the sensor's band, each band
+        // labelled with the band's centre and width.
+        let rad: Vec<_> = radiance_cube_planes().filter_map(|n| p.get(n)).collect();
         let names: Vec<String> = rad
             .iter()
             .map(|pl| format!("{} [{}]", pl.name, pl.unit))
             .collect();
+        let rad_data: Vec<Vec<f32>> = rad.iter().map(|pl| envi_f32(&pl.data)).collect();
         let bands: Vec<(&str, &[f32])> = names
             .iter()
-            .zip(&rad)
-            .map(|(n, pl)| (n.as_str(), pl.data.as_slice()))
+            .zip(&rad_data)
+            .map(|(n, d)| (n.as_str(), d.as_slice()))
             .collect();
         let mut fields = vec![
             ("wavelength units".to_string(), "Micrometers".to_string()),
@@ -515,6 +581,7 @@ pub fn write_rendered(
                 "fwhm".into(),
                 list(rad.iter().map(|_| format!("{:.6}", hi - lo))),
             ),
+            ("data units".into(), "W m-2 sr-1 um-1".into()),
             (
                 "default stretch".into(),
                 format!("{:.6} {:.6} linear", s.lo, s.hi),
@@ -533,13 +600,32 @@ pub fn write_rendered(
         // Truth cube, float64: exact indices and full-precision positions.
         let to64 = |name: &str| -> Vec<f64> {
             plane(name).map_or_else(
-                || vec![f64::NAN; (w * h) as usize],
-                |d| d.iter().map(|&v| v as f64).collect(),
+                || vec![ENVI_IGNORE; (w * h) as usize],
+                |d| {
+                    d.iter()
+                        .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v as f64 })
+                        .collect()
+                },
             )
         };
-        let abs = |d: &[f32], o: f64| -> Vec<f64> { d.iter().map(|&v| v as f64 + o).collect() };
+        let abs = |d: &[f32], o: f64| -> Vec<f64> {
+            d.iter()
+                .map(|&v| {
+                    if v.is_nan() {
+                        ENVI_IGNORE
+                    } else {
+                        v as f64 + o
+                    }
+                })
+                .collect()
+        };
+        let fill = |d: &[f64]| -> Vec<f64> {
+            d.iter()
+                .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v })
+                .collect()
+        };
         let o = g.ground_origin_m;
-        let mut truth: Vec<(String, Vec<f64>)> = [
+        let mut truth: Vec<(String, String, Vec<f64>)> = [
             "material",
             "facet",
             "case",
@@ -548,27 +634,31 @@ pub fn write_rendered(
             "range",
             "view_angle",
             "surface_temperature",
+            "apparent_temperature",
         ]
         .iter()
-        .filter_map(|n| p.get(n).map(|pl| (format!("{n} [{}]", pl.unit), to64(n))))
+        .filter_map(|n| p.get(n).map(|pl| (n.to_string(), pl.unit.clone(), to64(n))))
         .collect();
-        truth.push(("ground_x [m scene frame]".into(), abs(gx, o[0])));
-        truth.push(("ground_y [m scene frame]".into(), abs(gy, o[1])));
-        truth.push(("ground_z [m scene frame]".into(), abs(gz, o[2])));
-        truth.push(("lat [deg]".into(), geoloc().lat_deg.clone()));
-        truth.push(("lon [deg]".into(), geoloc().lon_deg.clone()));
-        truth.push((
-            format!("map_x [m {}]", g.crs.name),
-            geoloc().map_x_m.clone(),
-        ));
-        truth.push((
-            format!("map_y [m {}]", g.crs.name),
-            geoloc().map_y_m.clone(),
-        ));
-        let bands: Vec<(&str, &[f64])> = truth
+        let scene_m = "m scene frame".to_string();
+        truth.push(("ground_x".into(), scene_m.clone(), abs(gx, o[0])));
+        truth.push(("ground_y".into(), scene_m.clone(), abs(gy, o[1])));
+        truth.push(("ground_z".into(), scene_m, abs(gz, o[2])));
+        truth.push(("lat".into(), "deg".into(), fill(&geoloc().lat_deg)));
+        truth.push(("lon".into(), "deg".into(), fill(&geoloc().lon_deg)));
+        let map_m = format!("m {}", g.crs.name);
+        truth.push(("map_x".into(), map_m.clone(), fill(&geoloc().map_x_m)));
+        truth.push(("map_y".into(), map_m, fill(&geoloc().map_y_m)));
+        let truth_names: Vec<String> = truth.iter().map(|(n, u, _)| format!("{n} [{u}]")).collect();
+        let bands: Vec<(&str, &[f64])> = truth_names
             .iter()
-            .map(|(n, d)| (n.as_str(), d.as_slice()))
+            .zip(&truth)
+            .map(|(n, t)| (n.as_str(), t.2.as_slice()))
             .collect();
+        let mut fields = vec![(
+            "band units".to_string(),
+            list(truth.iter().map(|t| t.1.replace([',', '{', '}'], ";"))),
+        )];
+        fields.extend(common.iter().cloned());
         write_cube(
             &mut set,
             &sibling(path, "_truth", "img"),
@@ -576,8 +666,56 @@ pub fn write_rendered(
             &bands,
             "ENVI Standard",
             &format!("irsig truth cube, {time}"),
-            &common,
+            &fields,
         )?;
+        // DN, alone: uint16 counts where every value is one, else float32.
+        if let Some(dn) = p.get("dn") {
+            let common_int: Vec<(String, String)> = common
+                .iter()
+                .filter(|(k, _)| k != "data ignore value")
+                .cloned()
+                .collect();
+            let mut fields = vec![
+                ("data units".to_string(), "counts".to_string()),
+                ("wavelength units".into(), "Micrometers".into()),
+                (
+                    "wavelength".into(),
+                    list([format!("{:.6}", (lo + hi) / 2.0)]),
+                ),
+                ("fwhm".into(), list([format!("{:.6}", hi - lo)])),
+            ];
+            let dn_path = sibling(path, "_dn", "img");
+            let desc = format!("irsig sensor counts, {}, {time}", r.band);
+            let counts = dn
+                .data
+                .iter()
+                .all(|&v| v.fract() == 0.0 && (0.0..=65535.0).contains(&v));
+            if counts {
+                fields.extend(common_int);
+                let d: Vec<u16> = dn.data.iter().map(|&v| v as u16).collect();
+                write_cube(
+                    &mut set,
+                    &dn_path,
+                    (w, h),
+                    &[("dn [counts]", d.as_slice())],
+                    "ENVI Standard",
+                    &desc,
+                    &fields,
+                )?;
+            } else {
+                fields.extend(common.iter().cloned());
+                let d = envi_f32(&dn.data);
+                write_cube(
+                    &mut set,
+                    &dn_path,
+                    (w, h),
+                    &[("dn [counts]", d.as_slice())],
+                    "ENVI Standard",
+                    &desc,
+                    &fields,
+                )?;
+            }
+        }
         // Material classification: class = material index + 1, 0 = none.
         let class: Vec<u16> = plane("material")
             .unwrap_or(&nan)

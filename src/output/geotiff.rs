@@ -240,3 +240,103 @@ impl GeoTiffSample for f32 {
 impl GeoTiffSample for f64 {
     type Color = Gray64Float;
 }
+
+/// A north-up map grid for a rotated affine transform `gt` (GDAL's order)
+/// of a `width`×`height` image: the grid's transform (`[x0, gsd, 0, y0, 0,
+/// -gsd]`) and size, covering the image's corners, at the image's finer
+/// pixel size (the GSD). `None` where `gt` is north-up already (no
+/// rotation terms) or not invertible.
+pub fn north_up_grid(gt: [f64; 6], width: u32, height: u32) -> Option<([f64; 6], u32, u32)> {
+    let det = gt[1] * gt[5] - gt[2] * gt[4];
+    if (gt[2] == 0.0 && gt[4] == 0.0) || !det.is_finite() || det == 0.0 {
+        return None;
+    }
+    let gsd = (gt[1].hypot(gt[4])).min(gt[2].hypot(gt[5]));
+    let corner = |c: f64, r: f64| (gt[0] + c * gt[1] + r * gt[2], gt[3] + c * gt[4] + r * gt[5]);
+    let (w, h) = (width as f64, height as f64);
+    let cs = [
+        corner(0.0, 0.0),
+        corner(w, 0.0),
+        corner(w, h),
+        corner(0.0, h),
+    ];
+    let minx = cs.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+    let maxx = cs.iter().map(|c| c.0).fold(f64::NEG_INFINITY, f64::max);
+    let miny = cs.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+    let maxy = cs.iter().map(|c| c.1).fold(f64::NEG_INFINITY, f64::max);
+    // A relative tolerance keeps an exact fit from gaining a column.
+    let n = |span: f64| ((span / gsd) * (1.0 - 1e-12)).ceil().max(1.0) as u32;
+    Some((
+        [minx, gsd, 0.0, maxy, 0.0, -gsd],
+        n(maxx - minx),
+        n(maxy - miny),
+    ))
+}
+
+/// Resamples `data` (a `width`×`height` image placed by the affine `gt`)
+/// onto the grid `out_gt` of `out_w`×`out_h` cells: each cell's centre is
+/// taken back through the inverse of `gt`; `nearest` (class planes:
+/// material, facet, case, DN) takes the image pixel it falls in, otherwise
+/// bilinear between the four nearest pixel centres (nearest where one of
+/// them is NaN or off the image, at the image's edge half-pixel). Cells
+/// outside the image are NaN.
+pub fn resample_affine(
+    data: &[f32],
+    (width, height): (u32, u32),
+    gt: [f64; 6],
+    out_gt: [f64; 6],
+    (out_w, out_h): (u32, u32),
+    nearest: bool,
+) -> Vec<f32> {
+    let det = gt[1] * gt[5] - gt[2] * gt[4];
+    let (w, h) = (width as i64, height as i64);
+    let at = |c: i64, r: i64| -> f32 {
+        if c < 0 || r < 0 || c >= w || r >= h {
+            f32::NAN
+        } else {
+            data[(r * w + c) as usize]
+        }
+    };
+    let mut out = Vec::with_capacity(out_w as usize * out_h as usize);
+    for j in 0..out_h {
+        for i in 0..out_w {
+            let x = out_gt[0] + (i as f64 + 0.5) * out_gt[1] + (j as f64 + 0.5) * out_gt[2];
+            let y = out_gt[3] + (i as f64 + 0.5) * out_gt[4] + (j as f64 + 0.5) * out_gt[5];
+            let (dx, dy) = (x - gt[0], y - gt[3]);
+            let col = (gt[5] * dx - gt[2] * dy) / det;
+            let row = (-gt[4] * dx + gt[1] * dy) / det;
+            if !(col >= 0.0 && row >= 0.0 && col < width as f64 && row < height as f64) {
+                out.push(f32::NAN);
+                continue;
+            }
+            let near = at(col.floor() as i64, row.floor() as i64);
+            if nearest {
+                out.push(near);
+                continue;
+            }
+            let (u, v) = (col - 0.5, row - 0.5);
+            let (c0, r0) = (u.floor() as i64, v.floor() as i64);
+            let (fu, fv) = (u - c0 as f64, v - r0 as f64);
+            let q = [
+                at(c0, r0),
+                at(c0 + 1, r0),
+                at(c0, r0 + 1),
+                at(c0 + 1, r0 + 1),
+            ];
+            if q.iter().any(|s| s.is_nan()) {
+                out.push(near);
+            } else {
+                let top = q[0] as f64 * (1.0 - fu) + q[1] as f64 * fu;
+                let bot = q[2] as f64 * (1.0 - fu) + q[3] as f64 * fu;
+                out.push((top * (1.0 - fv) + bot * fv) as f32);
+            }
+        }
+    }
+    out
+}
+
+/// Planes whose values are classes or counts: resampled by nearest
+/// neighbour onto a map grid.
+pub fn is_class_plane(name: &str) -> bool {
+    matches!(name, "material" | "facet" | "case" | "dn")
+}
