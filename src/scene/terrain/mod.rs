@@ -405,7 +405,8 @@ pub(crate) fn load(
         }
     };
     let dem_file = must_exist(&t.file, &["file"], "DEM file")?;
-    let dem = raster::read_raster(&dem_file)?;
+    let zone = |e| raster::with_site_zone(e, site.latitude_deg, site.longitude_deg);
+    let dem = raster::read_raster(&dem_file).map_err(zone)?;
     let surface =
         Surface::new(&dem, site).map_err(|e| src.invalid(&at(&["file"]), e.to_string()))?;
     let extent = t.extent_m.bbox();
@@ -474,7 +475,7 @@ pub(crate) fn load(
         (Some(m), _) => vec![material(m, &at(&["material"]))?; nx * ny],
         (None, Some(lc)) => {
             let file = must_exist(&lc.file, &["land_cover", "file"], "land-cover file")?;
-            let cover = raster::read_raster(&file)?;
+            let cover = raster::read_raster(&file).map_err(zone)?;
             let map = CrsMap::new(cover.crs);
             let geo = &surface.geo;
             let classes: Vec<Option<f32>> = (0..ny)
