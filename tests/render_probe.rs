@@ -409,7 +409,7 @@ fn probe_and_render_take_unset() {
         "--set",
         &target,
     ];
-    let (rc, b, e) = common::irsig_out(&[&["probe", &scene][..], &base[..8], &switch].concat());
+    let (rc, b, e) = common::irsig_out(&[&["probe", &scene][..], &base[..7], &switch].concat());
     assert_eq!(rc, 0, "{e}");
     let (a, b): (Value, Value) = (
         serde_json::from_str(&a).unwrap(),
