@@ -3,6 +3,7 @@
 use std::io::Write;
 
 use irsig::atmos::{AtmosError, AtmosTable, Atmosphere, SpectralAtmosphere};
+use irsig::scene::frame;
 
 fn full(name: &str) -> SpectralAtmosphere {
     Atmosphere::builtin(name)
@@ -226,13 +227,7 @@ fn geometry_rules() {
         .unwrap();
     let mut v = [0.0; 2];
     // no silent extrapolation
-    for (alt, vz) in [
-        (0.1, 0.0),
-        (150.0, 0.0),
-        (3.0, 86.0),
-        (3.0, -1.0),
-        (f64::NAN, 0.0),
-    ] {
+    for (alt, vz) in [(0.1, 0.0), (3.0, 86.0), (3.0, -1.0), (f64::NAN, 0.0)] {
         match sa.tau_path(alt, vz, &mut v) {
             Err(AtmosError::OutOfRange { .. }) => {}
             other => panic!("{alt} {vz}: {other:?}"),
@@ -269,6 +264,56 @@ fn geometry_rules() {
     sa.l_ue(3.0, 10.0, &mut l0).unwrap();
     sa.l_ue(3.0, 62.0, &mut l1).unwrap();
     assert!(t1[0] < t0[0] && l1[0] > l0[0]);
+}
+
+/// Above the top of a table that reaches 100 km (the shipped tables) a
+/// sensor sees the path through the whole atmosphere: the 100-km values,
+/// exactly, for every path quantity and angle (a Landsat-like 705 km).
+/// A table ending lower (here the shipped table with its top node
+/// relabelled 50 km) refuses a sensor above its top, naming the axis.
+#[test]
+fn above_the_top_of_the_atmosphere_is_the_top_path() {
+    let sa = Atmosphere::builtin("mls")
+        .unwrap()
+        .resample(&[900.0, 1000.0, 2500.0])
+        .unwrap();
+    for vz in [0.0, 17.0, 45.0, 85.0] {
+        let top = sa.path(100.0, vz, 40.0, 30.0).unwrap();
+        for h in [100.0 + 1e-6, 150.0, 705.0, 35_786.0] {
+            assert_eq!(sa.path(h, vz, 40.0, 30.0).unwrap(), top, "{h} km, {vz}°");
+        }
+        // and the top path is not the 20-km one (the clamp is at the top)
+        assert_ne!(sa.path(20.0, vz, 40.0, 30.0).unwrap().tau2, top.tau2);
+    }
+    let raw = decompressed("mls");
+    let ok = AtmosTable::from_bytes(&raw, "x.atm").unwrap();
+    let payload_at = raw.len()
+        - ok.quantities
+            .iter()
+            .map(|q| q.data.len() * 4)
+            .sum::<usize>();
+    let text = String::from_utf8_lossy(&raw[..payload_at])
+        .replace("20,100 ", "20,50 ")
+        .replace("altitude_km=0.3,1,3,100 ", "altitude_km=0.3,1,3,50 ");
+    assert_ne!(text.as_bytes(), &raw[..payload_at]);
+    let mut low = text.into_bytes();
+    low.extend_from_slice(&raw[payload_at..]);
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("low.atm");
+    std::fs::write(&p, &low).unwrap();
+    let sa = Atmosphere::load(&p).unwrap().resample(&[1000.0]).unwrap();
+    let mut v = [0.0];
+    sa.tau_path(50.0, 0.0, &mut v).unwrap();
+    match sa.tau_path(60.0, 0.0, &mut v) {
+        Err(e @ AtmosError::OutOfRange { .. }) => {
+            let e = e.to_string();
+            assert!(
+                e.contains("altitude_km = 60") && e.contains("0.3 .. 50"),
+                "{e}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]
@@ -400,4 +445,63 @@ fn bad_files_give_clear_errors() {
     let p2 = dir.path().join("plain.atm");
     std::fs::write(&p2, &raw).unwrap();
     assert_eq!(AtmosTable::load(&p2).unwrap().quantities, ok.quantities);
+}
+
+/// The path geometry against spherical trigonometry: a sensor at
+/// height H above the origin looking η off nadir meets the sphere
+/// where the zenith angle θ obeys sin θ = (R + H)/R · sin η (law of
+/// sines in the triangle centre-sensor-point); the point there is
+/// at central angle γ = θ − η from the origin.
+#[test]
+fn path_geometry_follows_the_sphere() {
+    let r = frame::EARTH_RADIUS_M;
+    for (h, eta_deg) in [(705_000.0f64, 7.5f64), (705_000.0, 15.0), (3000.0, 30.0)] {
+        let eta = eta_deg.to_radians();
+        let theta = ((r + h) / r * eta.sin()).asin();
+        let gamma = theta - eta;
+        let p = [r * gamma.sin(), 0.0, r * gamma.cos() - r];
+        let (h_km, vz) = frame::path_geometry([0.0, 0.0, h], p);
+        assert!((h_km * 1000.0 - h).abs() < 1e-6, "{h_km}");
+        assert!((vz - theta.to_degrees()).abs() < 1e-9, "{vz} {theta}");
+    }
+    // the numbers the docs give
+    let th = |eta: f64| {
+        ((r + 705e3) / r * eta.to_radians().sin())
+            .asin()
+            .to_degrees()
+    };
+    assert!((th(7.5) - 8.34).abs() < 0.005, "{}", th(7.5));
+    assert!((th(15.0) - 16.7).abs() < 0.05, "{}", th(15.0));
+    // straight above: the flat frame's numbers
+    let (h_km, vz) = frame::path_geometry([0.0, 0.0, 5000.0], [0.0, 0.0, 12.0]);
+    assert!((h_km - 4.988).abs() < 1e-9 && vz == 0.0, "{h_km} {vz}");
+}
+
+/// The slant range on the sphere solves the triangle it is defined
+/// by, tends to the flat h / cos θ for a low sensor, and gives the
+/// docs' 705-km numbers.
+#[test]
+fn slant_range_on_the_sphere() {
+    let r = frame::EARTH_RADIUS_M;
+    for (alt, z, vz) in [
+        (705e3, 0.0, 30.0),
+        (705e3, 150.0, 0.0),
+        (5000.0, -12.0, 20.0),
+    ] {
+        let d = frame::slant_range_on_sphere_m(alt, z, vz);
+        let c = (vz as f64).to_radians().cos();
+        let lhs = (r + alt) * (r + alt);
+        let rhs = (r + z) * (r + z) + d * d + 2.0 * (r + z) * d * c;
+        assert!((lhs - rhs).abs() / lhs < 1e-13, "{alt} {vz}");
+        // the sensor is at `alt` on the sphere: path_geometry agrees
+        let th = (vz as f64).to_radians();
+        let s = [d * th.sin(), 0.0, z + d * th.cos()];
+        let (h_km, v) = frame::path_geometry(s, [0.0, 0.0, z]);
+        assert!((h_km * 1e3 - (alt - z)).abs() < 1e-6 && (v - vz).abs() < 1e-9);
+    }
+    let flat = 5000.0 / 20f64.to_radians().cos();
+    assert!((frame::slant_range_on_sphere_m(5000.0, 0.0, 20.0) - flat).abs() < 0.5);
+    assert!((frame::slant_range_on_sphere_m(705e3, 0.0, 30.0) / 1e3 - 801.0).abs() < 0.05);
+    assert!(((705e3 / 30f64.to_radians().cos()) / 1e3 - 814.1).abs() < 0.05);
+    assert!((frame::slant_range_on_sphere_m(705e3, 0.0, 0.0) - 705e3).abs() < 1e-6);
 }

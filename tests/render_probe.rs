@@ -309,3 +309,187 @@ fn adjacent_pixels_of_one_surface_have_no_sky_view_step() {
     }
     assert!(pairs >= 5, "only {pairs} comparable pairs");
 }
+
+fn terrain_km() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/terrain-km/scene.toml")
+}
+
+/// The probe of the centre pixel of a 41×41 nadir view of the terrain
+/// scene from `altitude_m`, with `fov_h_deg`, one ray per pixel, aimed at
+/// a point inside a terrain cell (not on a vertex) clear of the vehicles.
+fn nadir_probe(altitude_m: f64, fov_h_deg: f64) -> Value {
+    let mut args = vec![
+        "probe".to_string(),
+        terrain_km().display().to_string(),
+        "--pixel".into(),
+        "20,20".into(),
+        "--json".into(),
+    ];
+    args.extend(sets(&[
+        &format!("sensor.pose.altitude.altitude_m={altitude_m}"),
+        "sensor.pose.altitude.view_zenith_deg=0",
+        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
+        "sensor.width_px=41",
+        "sensor.height_px=41",
+        &format!("sensor.fov_h_deg={fov_h_deg}"),
+        "render.supersample=1",
+    ]));
+    serde_json::from_str(&run(&args)).expect("probe JSON")
+}
+
+/// A Landsat-like view (705 km, nadir, 100 m pixels over the terrain
+/// scene) renders, and `irsig check` with the same overrides passes;
+/// its path is the top-of-atmosphere path of the tables (100 km): the
+/// centre pixel's emitted term ε L_T τ₂ and path terms equal those of a
+/// 100-km sensor looking at the same point (so τ₂ is equal), and differ
+/// from a 20-km sensor's.
+#[test]
+fn a_705_km_nadir_view_sees_the_top_of_atmosphere_path() {
+    // 41 px of 100 m at 705 km (the target's terrain is within metres of z = 0)
+    let fov = |range_m: f64| 2.0 * (20.5 * 100.0 / range_m).atan().to_degrees();
+    let kv = [
+        "sensor.pose.altitude.altitude_m=705000".to_string(),
+        "sensor.pose.altitude.view_zenith_deg=0".into(),
+        "sensor.width_px=41".into(),
+        "sensor.height_px=41".into(),
+        format!("sensor.fov_h_deg={}", fov(705_000.0)),
+        "render.supersample=1".into(),
+    ];
+    let kv: Vec<&str> = kv.iter().map(|s| s.as_str()).collect();
+    let mut check = vec!["check".to_string(), terrain_km().display().to_string()];
+    check.extend(sets(&kv));
+    let out = run(&check);
+    assert!(out.contains("GSD"), "{out}");
+    let dir = tempfile::tempdir().unwrap();
+    let img = render(dir.path(), &terrain_km(), "landsat", &kv);
+    assert!(
+        img.plane("band_radiance")
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0)
+    );
+    // 100 m pixels: ground_x steps by 100 m ± 1 % along a row
+    // (the image is turned by the pose's azimuth: the step is a distance)
+    let (gx, gy) = (img.plane("ground_x"), img.plane("ground_y"));
+    let (a, b) = (20 * 41 + 10, 20 * 41 + 30);
+    let step = ((gx[b] - gx[a]) as f64).hypot((gy[b] - gy[a]) as f64) / 20.0;
+    assert!((step - 100.0).abs() < 1.0, "GSD {step} m");
+
+    let p705 = nadir_probe(705_000.0, fov(705_000.0));
+    let p100 = nadir_probe(100_000.0, fov(100_000.0));
+    let p20 = nadir_probe(20_000.0, fov(20_000.0));
+    let hit = |p: &Value| p["samples"][0]["hit"]["triangle"].clone();
+    assert_eq!(hit(&p705), hit(&p100));
+    let (a, b) = (&p705["pixel_result"], &p100["pixel_result"]);
+    assert_eq!(a["surface_temperature_k"], b["surface_temperature_k"]);
+    for term in [
+        "emitted",
+        "path_thermal",
+        "path_scattered",
+        "reflected_sky_thermal",
+    ] {
+        assert_eq!(a["terms"][term], b["terms"][term], "{term}");
+        assert!(f(&a["terms"][term]).is_finite());
+    }
+    let c = &p20["pixel_result"];
+    assert_eq!(a["surface_temperature_k"], c["surface_temperature_k"]);
+    assert!(f(&a["terms"]["path_thermal"]) > f(&c["terms"]["path_thermal"]));
+    assert!(f(&a["terms"]["emitted"]) < f(&c["terms"]["emitted"]));
+}
+
+/// `irsig check` refuses what the render refuses before tracing, with the
+/// render's message (one validation, `render::prepare::validate`): here
+/// the memory limit.
+#[test]
+fn check_refuses_what_the_render_refuses() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = airfield().display().to_string();
+    let set = ["--set", "render.max_memory_mib=1"];
+    let (rc, _, check_err) = common::irsig_out(&[&["check", &scene][..], &set].concat());
+    let exr = dir.path().join("x.exr").display().to_string();
+    let (rr, _, render_err) =
+        common::irsig_out(&[&["render", &scene, "-o", &exr][..], &set].concat());
+    assert!(rc != 0 && rr != 0, "{check_err}\n{render_err}");
+    let msg = |e: &str| {
+        e.lines()
+            .find(|l| l.contains("more than"))
+            .map(|l| l.trim_start_matches("error: ").to_string())
+    };
+    assert!(msg(&check_err).is_some(), "{check_err}");
+    assert_eq!(msg(&check_err), msg(&render_err));
+}
+
+/// `probe` and `render` take `--unset` as `sequence`/`sweep` do: switching
+/// the airfield's altitude pose to the same view given as a slant range
+/// (range = altitude above the target / cos θ, here θ = 0) probes the same.
+#[test]
+fn probe_and_render_take_unset() {
+    let scene = airfield().display().to_string();
+    let s = irsig::scene::load(&airfield()).unwrap();
+    let irsig::scene::spec::SensorPose::Altitude {
+        altitude_m,
+        target_m,
+        ..
+    } = s.scene.sensor.pose
+    else {
+        panic!("the airfield's pose is [sensor.pose.altitude]");
+    };
+    let base = [
+        "--pixel",
+        "10,10",
+        "--json",
+        "--set",
+        "sensor.width_px=16",
+        "--set",
+        "sensor.height_px=16",
+        "--set",
+        "sensor.pose.altitude.view_zenith_deg=0",
+    ];
+    let (rc, a, e) = common::irsig_out(&[&["probe", &scene][..], &base].concat());
+    assert_eq!(rc, 0, "{e}");
+    let range = format!(
+        "sensor.pose.slant_range.slant_range_m={}",
+        altitude_m - target_m[2]
+    );
+    let target = format!("sensor.pose.slant_range.target_m={target_m:?}");
+    let switch = [
+        "--unset",
+        "sensor.pose.altitude",
+        "--set",
+        &range,
+        "--set",
+        "sensor.pose.slant_range.view_zenith_deg=0",
+        "--set",
+        "sensor.pose.slant_range.azimuth_deg=180",
+        "--set",
+        &target,
+    ];
+    let (rc, b, e) = common::irsig_out(&[&["probe", &scene][..], &base[..7], &switch].concat());
+    assert_eq!(rc, 0, "{e}");
+    let (a, b): (Value, Value) = (
+        serde_json::from_str(&a).unwrap(),
+        serde_json::from_str(&b).unwrap(),
+    );
+    // (the same camera to rounding: the altitude pose's range is computed
+    // on the Earth's sphere)
+    let (ra, rb) = (
+        f(&a["pixel_result"]["band_radiance_w_m2_sr_um"]),
+        f(&b["pixel_result"]["band_radiance_w_m2_sr_um"]),
+    );
+    assert!((ra - rb).abs() <= 1e-6 * ra, "{ra} {rb}");
+    assert_eq!(
+        a["samples"][0]["hit"]["triangle"],
+        b["samples"][0]["hit"]["triangle"]
+    );
+    // render: an --unset of a key the scene lacks is refused, naming it
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("u.exr").display().to_string();
+    let (rc, _, e) = common::irsig_out(&[
+        "render",
+        &scene,
+        "-o",
+        &exr,
+        "--unset",
+        "sensor.pose.look_at",
+    ]);
+    assert!(rc != 0 && e.contains("unset `sensor.pose.look_at`"), "{e}");
+}

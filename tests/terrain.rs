@@ -811,3 +811,40 @@ fn terrain_km_is_meshed_from_its_dem_and_its_objects_rest_on_it() {
         );
     }
 }
+
+/// The reprojection hint of a DEM in an unsupported CRS names the site's
+/// own UTM zone (here a site at 99° W, zone 14N), not a fixed one.
+#[test]
+fn the_reprojection_hint_names_the_sites_utm_zone() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (e0, n0) = upper_left(600.0);
+    let flat = Grid::from_fn(e0, n0, 20.0, 60, 60, |_, _| ELEV);
+    let nad83 = flat.write_tif(d, "nad83", &["-a_srs", "EPSG:26918", "-ot", "Float32"]);
+    let pose = "[sensor.pose.altitude]\naltitude_m = 700.0\nview_zenith_deg = 0.0\nazimuth_deg = 0.0\ntarget_m = [0.0, 0.0, 0.0]";
+    let terrain = format!(
+        "file = \"{}\"\nextent_m = 800.0\nresolution_m = 20.0\nmaterial = \"grass_irrigated\"",
+        nad83.display()
+    );
+    let file = d.join("zone14.toml");
+    let text = scene_text(&terrain, pose);
+    let moved = text.replace(&format!("longitude_deg = {LON}"), "longitude_deg = -99.0");
+    assert_ne!(moved, text);
+    for (t, want) in [
+        (
+            &text,
+            "EPSG:32618 in.tif out.tif` (WGS 84 / UTM zone 18N, the site's zone)",
+        ),
+        (
+            &moved,
+            "EPSG:32614 in.tif out.tif` (WGS 84 / UTM zone 14N, the site's zone)",
+        ),
+    ] {
+        std::fs::write(&file, t).unwrap();
+        let e = irsig::scene::load(&file)
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(e.contains(want) && !e.contains("<UTM>"), "{e}");
+    }
+}

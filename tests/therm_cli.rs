@@ -134,6 +134,13 @@ fn therm_bad_inputs_give_clear_errors() {
         !out.status.success() && err.contains("no material `concrete`") && err.contains("asphalt"),
         "{err}"
     );
+    // a misspelt material gets a "did you mean"
+    let out = base(mats.to_str().unwrap(), "asfalt");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("no material `asfalt` (did you mean `asphalt`?)"),
+        "{err}"
+    );
     let bad_forcing = dir.path().join("f.csv");
     std::fs::write(&bad_forcing, "t_s,air_temp_k,sky_temp_k,wind_speed_m_s,dni_w_m2,dhi_w_m2,ghi_w_m2,sun_e,sun_n,sun_u\n0,280,260,1,0,0,0,0,0,1\n900,abc,260,1,0,0,0,0,0,1\n").unwrap();
     let out = irsig(&[
@@ -243,4 +250,47 @@ fn run_with(mats: &std::path::Path, forcing: &str, flags: &[&str]) -> String {
     let out = irsig(&args);
     assert!(!out.status.success());
     String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// `--from`/`--to` without seconds (`2021-05-04T01:00-04:00`) read as the
+/// same instants as with `:00` seconds: the two runs print the same rows.
+#[test]
+fn therm_times_without_seconds() {
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    std::fs::write(&mats, MATS).unwrap();
+    let forcing = format!("{DATA}therm_ref_forcing.csv");
+    let go = |from: &str, to: &str| {
+        let out = irsig(&[
+            "therm",
+            "--materials",
+            mats.to_str().unwrap(),
+            "--material",
+            "asphalt",
+            "--forcing",
+            &forcing,
+            "--lat",
+            "36",
+            "--lon",
+            "-80",
+            "--from",
+            from,
+            "--to",
+            to,
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let a = go("2021-05-04T01:00-04:00", "2021-05-04T06:00Z");
+    let b = go("2021-05-04T01:00:00-04:00", "2021-05-04T06:00:00Z");
+    assert_eq!(a, b);
+    assert!(a.lines().count() > 2, "{a}");
+    assert_eq!(
+        irsig::sun::report::parse_time("2001-08-07T00:00-04:00").unwrap(),
+        irsig::sun::report::parse_time("2001-08-07T04:00:00Z").unwrap()
+    );
 }

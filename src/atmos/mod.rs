@@ -41,7 +41,13 @@
 //! Interpolation (per axis, multilinear):
 //! * altitude_km: linear in u(h) = −(e^(−h/2 km) + e^(−h/8 km))/2, a proxy for the
 //!   fraction of the absorber column (water vapour scale height ≈ 2 km, dry air
-//!   ≈ 8 km) below h; outside the grid → [`AtmosError::OutOfRange`].
+//!   ≈ 8 km) below h; outside the grid → [`AtmosError::OutOfRange`], except
+//!   above the top of a table that reaches [`TOP_OF_ATMOSPHERE_KM`] (100 km,
+//!   the top of LOWTRAN's model atmospheres and of the shipped tables): a
+//!   sensor higher than that (a satellite) is given the top's values, the
+//!   path through the whole atmosphere. Above 100 km the air holds about
+//!   3·10⁻⁷ of the surface pressure (US 1976: 0.032 Pa), so the path from
+//!   there to a satellite absorbs and emits nothing the tables resolve.
 //! * transmissions (τ₂, τ₁) are interpolated in ln τ (Beer's law makes ln τ
 //!   nearly linear in air mass and absorber column); radiances linearly.
 //! * view_zenith_deg: linear in sec θ (optical air mass); 0 ≤ θ ≤ the last grid
@@ -368,6 +374,11 @@ fn altitude_coord(h_km: f64) -> f64 {
     -0.5 * ((-h_km / 2.0).exp() + (-h_km / 8.0).exp())
 }
 
+/// The height (km) from which a table's top stands for the top of the
+/// atmosphere: a query above the top of a table that reaches it takes the
+/// top's values (see the module docs); a table ending lower refuses it.
+pub const TOP_OF_ATMOSPHERE_KM: f64 = 100.0;
+
 /// Floor for ln τ interpolation.
 const TAU_FLOOR: f64 = 1e-30;
 
@@ -433,6 +444,12 @@ impl Field {
                         scale *= (90.0 - x) / (90.0 - max);
                         x = max;
                     }
+                }
+                AxisKind::Linear
+                    if ax.name == "altitude_km" && x > max && max >= TOP_OF_ATMOSPHERE_KM =>
+                {
+                    // above the top of the atmosphere: the top's path
+                    x = max;
                 }
                 AxisKind::ViewZenith | AxisKind::Linear => {
                     let tol = 1e-9 * (1.0 + max.abs());

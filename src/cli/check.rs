@@ -1,6 +1,9 @@
 //! `irsig check <scene> [--json]`: load and validate a scene, then print a
 //! summary of what it holds and what rendering it will need
-//! ([`crate::scene::summary`]).
+//! ([`crate::scene::summary`]); then refuse what a render would refuse
+//! before tracing ([`crate::render::prepare::validate`], the render's own
+//! checks: memory limit, band, emissivity tables, atmosphere table and the
+//! sensor's paths through it).
 
 use std::path::PathBuf;
 
@@ -19,11 +22,19 @@ pub struct Args {
     /// (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Remove a scene key (a value or a whole table) before the `--set`
+    /// overrides, e.g. `--unset sensor.pose.altitude` to switch pose
+    /// tables, or `--unset 'object[1]'` (repeatable).
+    #[arg(long = "unset", value_name = "KEY")]
+    pub unset: Vec<String>,
     /// Refuse what would only be a warning (a weather station more than
     /// 0.5 deg from the site).
     #[arg(long)]
     pub strict: bool,
 }
+
+/// Objects listed in the text summary (all of them in the JSON).
+const OBJECT_LINES: usize = 50;
 
 fn fmt3(v: [f64; 3]) -> String {
     format!("({:.1}, {:.1}, {:.1})", v[0], v[1], v[2])
@@ -49,6 +60,36 @@ pub fn render_text(s: &SceneSummary) -> String {
         "geometry   {} objects, {} faces, {} triangles, {} vertices, {} degenerate triangles skipped",
         s.objects, s.faces, s.triangles, s.vertices, s.degenerate_skipped
     );
+    // Each object: where it stands and how big it is (at most
+    // OBJECT_LINES; all in --json).
+    let _ = writeln!(
+        o,
+        "objects    (triangles, size E×N×H m, base centre x, y, z m; on the map {})",
+        s.map_crs
+    );
+    for ob in s.object_list.iter().take(OBJECT_LINES) {
+        let map = ob
+            .base_centre_map_m
+            .map_or("-".to_string(), |m| format!("({:.1}, {:.1})", m[0], m[1]));
+        let _ = writeln!(
+            o,
+            "  {:<20} {:>7}  {:.1}×{:.1}×{:.1}  {}  map {}",
+            ob.name,
+            ob.triangles,
+            ob.size_m[0],
+            ob.size_m[1],
+            ob.size_m[2],
+            fmt3(ob.base_centre_m),
+            map
+        );
+    }
+    if s.object_list.len() > OBJECT_LINES {
+        let _ = writeln!(
+            o,
+            "  ... and {} more (all in --json)",
+            s.object_list.len() - OBJECT_LINES
+        );
+    }
     let _ = writeln!(
         o,
         "bounds     {} .. {} m",
@@ -188,7 +229,7 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
 
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = super::render::parse_overrides(&a.set)?;
-    let s = scene::load_with_overrides(&a.scene, &overrides)?;
+    let s = scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
     // The weather must read and cover the render's history, as a render
     // would need it (a scene whose weather cannot be read fails here).
     let image_time = s.scene.time.utc(&s.scene.site);
@@ -200,6 +241,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     } else {
         print!("{}{}", render_text(&r.summary), memory_text(&r.memory));
     }
+    // What a render refuses before tracing, by the render's own checks:
+    // the summary is printed first, then the refusal (exit status 1).
+    crate::render::prepare::validate(&s)?;
     Ok(0)
 }
 

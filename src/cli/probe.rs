@@ -31,6 +31,11 @@ pub struct Args {
     /// Override a scene key before loading (as for `irsig render`).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Remove a scene key (a value or a whole table) before the `--set`
+    /// overrides, e.g. `--unset sensor.pose.altitude` to switch pose
+    /// tables, or `--unset 'object[1]'` (repeatable).
+    #[arg(long = "unset", value_name = "KEY")]
+    pub unset: Vec<String>,
     /// Ray-tracing backend (default: the scene's `render.tracer`).
     #[arg(long, value_enum)]
     pub tracer: Option<Backend>,
@@ -305,7 +310,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let px = parse_pixel(&a.pixel)?;
     let overrides = super::render::parse_overrides(&a.set)?;
     let pool = crate::render::thread_pool(None)?;
-    let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
+    let scene = crate::scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
     super::warn_about_frame(&scene);
     let report = pool.install(|| probe_scene(scene, a.tracer, px, a.spectral))?;
     if a.json {

@@ -27,6 +27,11 @@ pub struct Args {
     /// `--set 'sensor.pose={slant_range={slant_range_m=10000.0,view_zenith_deg=75.0,azimuth_deg=180.0}}'`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Remove a scene key (a value or a whole table) before the `--set`
+    /// overrides, e.g. `--unset sensor.pose.altitude` to switch pose
+    /// tables, or `--unset 'object[1]'` (repeatable).
+    #[arg(long = "unset", value_name = "KEY")]
+    pub unset: Vec<String>,
     /// Refuse what would only be a warning (a weather station more than
     /// 0.5 deg from the site).
     #[arg(long)]
@@ -91,7 +96,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;
     note("loading scene");
-    let scene = crate::scene::load_with_overrides(&a.scene, &overrides)?;
+    let scene = crate::scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
     super::warn_about_frame(&scene);
     super::warn_or_refuse(&crate::render::prepare::weather_warnings(&scene)?, a.strict)?;
     let memory = crate::render::memory::estimate(&scene);

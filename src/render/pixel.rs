@@ -4,7 +4,11 @@
 //! quantisation).
 //!
 //! Atmospheric geometry: τ₂, L_UE, L_US for the target→sensor path at the
-//! sensor's height above the target and the view zenith at the target;
+//! sensor's height above the target and the view zenith at the target,
+//! both on the Earth's sphere ([`crate::scene::frame::path_geometry`]:
+//! the vertical tilts by d/R at a distance d from the frame's origin); a
+//! sensor above the tables' top (100 km) sees the top's path, the whole
+//! atmosphere ([`crate::atmos::TOP_OF_ATMOSPHERE_KM`]);
 //! L_DE, L_DS in the specular direction θ_SK; τ₁ at the sun's zenith.
 //! Table lookups are memoised on a fine grid of their arguments (0.05° in
 //! angles, 10 m in height, 5° in relative azimuth) — deterministic, since a
@@ -47,6 +51,7 @@ use crate::radiometry::{
     Background, PathRadiance, RadianceTerms, SkyRadiance, SunIllumination, case1_diffuse,
     case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
 };
+use crate::scene::frame::path_geometry;
 
 const LOWEST_ALT_KM: f64 = 0.3;
 const MAX_VIEW_ZENITH_DEG: f64 = 85.0;
@@ -166,6 +171,47 @@ pub fn representatives_frame(samples: &[Sample], sw: u32, sh: u32, n: u32) -> Ve
     rep
 }
 
+/// τ₂, L_UE, L_US of the path to a sensor `h_km` above the point, seen
+/// at view zenith `vz_deg` there (the render's rules: the view zenith
+/// clamped to the tables' last angle, a sensor below the tables' lowest
+/// altitude scaled as a uniform layer; see the module docs). The render's
+/// lookups and [`super::prepare::validate`] both go through it.
+pub fn path_at(
+    sa: &crate::atmos::SpectralAtmosphere,
+    h: f64,
+    vz: f64,
+    sun_zenith_deg: f64,
+    rel: f64,
+) -> Result<PathSpectra, crate::atmos::AtmosError> {
+    let vz = vz.min(MAX_VIEW_ZENITH_DEG);
+    let p = if h >= LOWEST_ALT_KM {
+        sa.path(h, vz, sun_zenith_deg.min(90.0), rel)?
+    } else {
+        let base = sa.path(LOWEST_ALT_KM, vz, sun_zenith_deg.min(90.0), rel)?;
+        let f = h.max(0.0) / LOWEST_ALT_KM;
+        let tau2: Vec<f64> = base.tau2.iter().map(|t| t.max(1e-300).powf(f)).collect();
+        let l_ue = base
+            .l_ue_w_m2_sr_um
+            .iter()
+            .zip(base.tau2.iter().zip(&tau2))
+            .map(|(l, (t0, t))| {
+                if *t0 < 1.0 {
+                    l * (1.0 - t) / (1.0 - t0)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let l_us = base.l_us_w_m2_sr_um.iter().map(|l| l * f).collect();
+        PathSpectra {
+            tau2,
+            l_ue_w_m2_sr_um: l_ue,
+            l_us_w_m2_sr_um: l_us,
+        }
+    };
+    Ok(p)
+}
+
 fn key(x: f64, quantum: f64) -> i64 {
     (x / quantum).round() as i64
 }
@@ -227,8 +273,8 @@ impl<'a> RadiometryContext<'a> {
     /// The memo key of the path from `point` to the sensor.
     fn path_key(&self, point: DVec3) -> PathKey {
         let to_sensor = self.camera - point;
-        let h_km = (to_sensor.z / 1000.0).max(1e-4);
-        let vz = to_sensor.normalize().z.clamp(-1.0, 1.0).acos().to_degrees();
+        let (h_km, vz) = path_geometry(self.camera.into(), point.into());
+        let h_km = h_km.max(1e-4);
         let los_az = azimuth_deg(-to_sensor);
         let rel = fold_deg(self.sun_azimuth_deg - los_az);
         (key(h_km, 0.01), key(vz, 0.05), key(rel, 5.0))
@@ -247,34 +293,13 @@ impl<'a> RadiometryContext<'a> {
     /// τ₂, L_UE, L_US of a path key (its grid values).
     fn path_spectra(&self, k: &PathKey) -> anyhow::Result<PathSpectra> {
         let (h, vz, rel) = (k.0 as f64 * 0.01, k.1 as f64 * 0.05, k.2 as f64 * 5.0);
-        let vz = vz.min(MAX_VIEW_ZENITH_DEG);
-        let sa = &self.cond.atmosphere;
-        let p = if h >= LOWEST_ALT_KM {
-            sa.path(h, vz, self.sun_zenith_deg.min(90.0), rel)?
-        } else {
-            let base = sa.path(LOWEST_ALT_KM, vz, self.sun_zenith_deg.min(90.0), rel)?;
-            let f = h.max(0.0) / LOWEST_ALT_KM;
-            let tau2: Vec<f64> = base.tau2.iter().map(|t| t.max(1e-300).powf(f)).collect();
-            let l_ue = base
-                .l_ue_w_m2_sr_um
-                .iter()
-                .zip(base.tau2.iter().zip(&tau2))
-                .map(|(l, (t0, t))| {
-                    if *t0 < 1.0 {
-                        l * (1.0 - t) / (1.0 - t0)
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
-            let l_us = base.l_us_w_m2_sr_um.iter().map(|l| l * f).collect();
-            PathSpectra {
-                tau2,
-                l_ue_w_m2_sr_um: l_ue,
-                l_us_w_m2_sr_um: l_us,
-            }
-        };
-        Ok(p)
+        Ok(path_at(
+            &self.cond.atmosphere,
+            h,
+            vz,
+            self.sun_zenith_deg,
+            rel,
+        )?)
     }
 
     /// The memo key of a direction towards the sky.

@@ -157,6 +157,91 @@ pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
     })
 }
 
+/// The sensor band's bins: uniform in wavenumber at the scene's step over
+/// the response's support, only bins with non-zero response kept; refused
+/// beyond [`crate::bounds::sizes::MAX_SPECTRAL_BINS`].
+pub fn band_of(scene: &LoadedScene) -> anyhow::Result<Band> {
+    // Spectral grid: uniform in wavenumber at the scene's step over the
+    // response's support; only bins with non-zero response are kept.
+    let resp = &scene.response;
+    let (lo_um, hi_um) = resp.support_um();
+    let (first, step, count) = super::memory::band_grid(scene);
+    let max_bins = crate::bounds::sizes::MAX_SPECTRAL_BINS;
+    if count.is_nan() || count > max_bins as f64 {
+        anyhow::bail!(
+            "{}: the band {lo_um}-{hi_um} um at render.spectral_step_cm1 = {step} needs {count} \
+             spectral bins (about {:.0} MiB of atmosphere spectra); at most {max_bins}: \
+             raise render.spectral_step_cm1 or narrow the band",
+            scene.path.display(),
+            super::memory::spectral_mib(count)
+        );
+    }
+    let count = (count as usize).max(2);
+    let grid = SpectralGrid::uniform(first.max(step), step, count);
+    Band::new(&grid, resp).context("sensor band")
+}
+
+/// What a render refuses before it traces, checked without tracing: the
+/// memory limit, the band's bins, the materials' emissivity tables, the
+/// atmosphere table (its source, file and bins) and the sensor's paths
+/// through it ([`check_paths`]). `irsig check` calls it, so it refuses
+/// what a render of the scene would (the render makes the same calls in
+/// [`derive_static`]).
+pub fn validate(scene: &LoadedScene) -> anyhow::Result<()> {
+    super::memory::check(scene)?;
+    for m in &scene.materials {
+        emissivity_of(m)?;
+    }
+    let band = band_of(scene)?;
+    let source = atmosphere_source(scene, |from, to| scene_weather(scene, from, to))?;
+    let (sa, _) = load_atmosphere(scene, &source, &band)?;
+    check_paths(scene, &sa)
+}
+
+/// The sensor's paths to the scene's geometry are inside the atmosphere
+/// table: the path lookups of the render ([`super::pixel::path_at`]) at
+/// the lowest and highest sensor height over the geometry's bounding box
+/// (on the Earth's sphere, [`crate::scene::frame::path_geometry`]) and
+/// at the view zeniths from 0 to the largest of the box's corners. A
+/// sensor above the tables' top (100 km) passes (it sees the top's path);
+/// a table file ending lower refuses it here, naming the axis and range.
+pub fn check_paths(scene: &LoadedScene, sa: &SpectralAtmosphere) -> anyhow::Result<()> {
+    let cam = scene.local_camera.position_m;
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &scene.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k] as f64);
+            hi[k] = hi[k].max(p[k] as f64);
+        }
+    }
+    if scene.positions.is_empty() {
+        (lo, hi) = ([0.0; 3], [0.0; 3]);
+    }
+    let (mut h_min, mut h_max, mut vz_max) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for c in 0..8 {
+        let pick = |k: usize| if c >> k & 1 == 1 { hi[k] } else { lo[k] };
+        let corner = [pick(0), pick(1), pick(2)];
+        let (h, vz) = crate::scene::frame::path_geometry(cam, corner);
+        let below = crate::scene::frame::path_geometry(cam, [cam[0], cam[1], corner[2]]).0;
+        h_min = h_min.min(h).min(below);
+        h_max = h_max.max(h).max(below);
+        vz_max = vz_max.max(vz);
+    }
+    for h in [h_min.max(1e-4), h_max.max(1e-4)] {
+        for vz in [0.0, vz_max.min(90.0)] {
+            super::pixel::path_at(sa, h, vz, 0.0, 0.0).with_context(|| {
+                format!(
+                    "{}: the sensor {:.3} km above the scene's geometry, seen at view zenith {:.2}°",
+                    scene.path.display(),
+                    h,
+                    vz
+                )
+            })?;
+        }
+    }
+    Ok(())
+}
+
 /// Loads the static part of a scene.
 pub fn prepare_static(scene: LoadedScene, backend: Option<Backend>) -> anyhow::Result<Static> {
     Ok(derive_static(None, scene, backend)?.0)
@@ -221,24 +306,7 @@ pub fn derive_static(
         .collect::<anyhow::Result<Vec<_>>>()?;
     let specularity = scene.materials.iter().map(|m| m.specularity).collect();
 
-    // Spectral grid: uniform in wavenumber at the scene's step over the
-    // response's support; only bins with non-zero response are kept.
-    let resp = &scene.response;
-    let (lo_um, hi_um) = resp.support_um();
-    let (first, step, count) = super::memory::band_grid(&scene);
-    let max_bins = crate::bounds::sizes::MAX_SPECTRAL_BINS;
-    if count.is_nan() || count > max_bins as f64 {
-        anyhow::bail!(
-            "{}: the band {lo_um}-{hi_um} um at render.spectral_step_cm1 = {step} needs {count} \
-             spectral bins (about {:.0} MiB of atmosphere spectra); at most {max_bins}: \
-             raise render.spectral_step_cm1 or narrow the band",
-            scene.path.display(),
-            super::memory::spectral_mib(count)
-        );
-    }
-    let count = (count as usize).max(2);
-    let grid = SpectralGrid::uniform(first.max(step), step, count);
-    let band = Band::new(&grid, resp).context("sensor band")?;
+    let band = band_of(&scene)?;
     let wavelength_um = band.wavenumber_cm1.iter().map(|v| 1e4 / v).collect();
 
     let source = atmosphere_source(&scene, |from, to| scene_weather(&scene, from, to))?;
@@ -254,6 +322,7 @@ pub fn derive_static(
         }
         None => load_atmosphere(&scene, &source, &band)?,
     };
+    check_paths(&scene, &atmosphere)?;
     Ok((
         Static {
             scene,

@@ -145,7 +145,8 @@ pub struct ThermalReport {
 pub struct Angles {
     /// Angle between the line of sight (towards the sensor) and the normal.
     pub view_angle_deg: f64,
-    /// Zenith angle of the line of sight towards the sensor, at the target.
+    /// Zenith angle of the line of sight towards the sensor, at the target
+    /// (on the Earth's sphere, as the atmosphere lookup takes it).
     pub view_zenith_deg: f64,
     /// Azimuth of the direction target → sensor, clockwise from north.
     pub view_azimuth_deg: f64,
@@ -281,7 +282,11 @@ impl Ctx<'_> {
         let sun_dir = Vec3::from(self.cond.sun_now.sun_dir_enu.map(|v| v as f32));
         let angles = s.surface.as_ref().map(|surf| Angles {
             view_angle_deg: angle_deg(-s.dir, surf.normal),
-            view_zenith_deg: zenith_deg(-s.dir),
+            view_zenith_deg: crate::scene::frame::path_geometry(
+                self.st.scene.local_camera.position_m,
+                surf.point.as_dvec3().into(),
+            )
+            .1,
             view_azimuth_deg: azimuth_deg(-s.dir.as_dvec3()),
             sun_incidence_deg: angle_deg(sun_dir.normalize(), surf.normal),
         });

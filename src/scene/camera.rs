@@ -82,7 +82,8 @@ pub fn camera_geometry(s: &SensorSpec) -> Result<Camera, String> {
                     t.z
                 ));
             }
-            let range = h / view_zenith_deg.to_radians().cos();
+            // on the Earth's sphere: the sensor `altitude_m` above it
+            let range = super::frame::slant_range_on_sphere_m(*altitude_m, t.z, *view_zenith_deg);
             let d = DVec3::from(direction_from_angles(*view_zenith_deg, *azimuth_deg));
             (t + d * range, t, None)
         }

@@ -198,6 +198,28 @@ pub fn load_with_overrides(
     Ok(scene)
 }
 
+/// Loads a scene file with the keys `unset` removed from its text
+/// ([`remove_keys`], `--unset`) and then the `overrides` applied
+/// ([`load_with_overrides`], `--set`); errors name the file's own line or
+/// the override.
+pub fn load_with_edits(
+    path: &Path,
+    unset: &[String],
+    overrides: &[(String, String)],
+) -> Result<LoadedScene, SceneError> {
+    if unset.is_empty() {
+        return load_with_overrides(path, overrides);
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: path.to_path_buf(),
+        error: e,
+    })?;
+    let edited = apply_overrides(path, &remove_keys(path, &text, unset)?, overrides)?;
+    let mut scene = load_edited(path, edited, overrides)?;
+    scene.overrides = overrides.to_vec();
+    Ok(scene)
+}
+
 /// Applies `key = value` overrides to scene text (see [`load_with_overrides`]).
 pub fn apply_overrides(
     path: &Path,
@@ -215,26 +237,10 @@ pub fn apply_overrides(
         let value: toml_edit::Value = v
             .parse()
             .unwrap_or_else(|_| toml_edit::Value::from(v.as_str()));
-        let parts: Vec<&str> = k.split('.').collect();
-        if parts.iter().any(|p| p.is_empty()) {
-            return Err(bad(format!(
-                "override `{k}`: expected a dotted key such as sensor.band"
-            )));
-        }
-        let mut item: &mut toml_edit::Item = doc.as_item_mut();
-        for part in &parts[..parts.len() - 1] {
-            let table = item
-                .as_table_like_mut()
-                .ok_or_else(|| bad(format!("override `{k}`: `{part}` is not inside a table")))?;
-            if table.get(part).is_none() {
-                table.insert(part, toml_edit::Item::Table(toml_edit::Table::new()));
-            }
-            item = table.get_mut(part).expect("just inserted");
-        }
-        let table = item
-            .as_table_like_mut()
-            .ok_or_else(|| bad(format!("override `{k}`: the parent is not a table")))?;
-        table.insert(parts[parts.len() - 1], toml_edit::Item::Value(value));
+        let path =
+            tomlsrc::override_path(doc.as_item(), k).map_err(|e| bad(format!("override {e}")))?;
+        tomlsrc::set_at(doc.as_item_mut(), &path, value)
+            .map_err(|e| bad(format!("override `{k}`: {e}")))?;
     }
     Ok(doc.to_string())
 }
@@ -251,23 +257,10 @@ pub fn remove_keys(path: &Path, text: &str, keys: &[String]) -> Result<String, S
         .parse()
         .map_err(|e| bad(format!("cannot remove keys: {e}")))?;
     for k in keys {
-        let parts: Vec<&str> = k.split('.').map(str::trim).collect();
-        if parts.iter().any(|p| p.is_empty()) {
-            return Err(bad(format!(
-                "unset `{k}`: expected a dotted key such as sensor.pose.altitude"
-            )));
-        }
-        let mut item: &mut toml_edit::Item = doc.as_item_mut();
-        for part in &parts[..parts.len() - 1] {
-            item = item
-                .as_table_like_mut()
-                .and_then(|t| t.get_mut(part))
-                .ok_or_else(|| bad(format!("unset `{k}`: the scene has no `{part}` there")))?;
-        }
-        let last = parts[parts.len() - 1];
-        item.as_table_like_mut()
-            .and_then(|t| t.remove(last))
-            .ok_or_else(|| bad(format!("unset `{k}`: the scene has no such key")))?;
+        let path =
+            tomlsrc::override_path(doc.as_item(), k).map_err(|e| bad(format!("unset {e}")))?;
+        tomlsrc::remove_at(doc.as_item_mut(), &path)
+            .map_err(|e| bad(format!("unset `{k}`: {e}")))?;
     }
     Ok(doc.to_string())
 }

@@ -40,6 +40,35 @@ pub struct Needs {
     pub shadow_samples: usize,
 }
 
+/// One object (an `[[object]]` entry, each of its instances, or a
+/// `[[terrain]]`) as `irsig check` lists it: where it stands and how big
+/// it is, in the scene frame and on the map.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ObjectSummary {
+    /// Object name (`name#k` for instance k).
+    pub name: String,
+    /// Index of its `[[object]]` (or `[[terrain]]`) entry, and the
+    /// instance number within it: `object[i].instance[k - 1]` for
+    /// `--set` overrides.
+    pub spec_index: usize,
+    pub instance: usize,
+    pub triangles: u32,
+    pub faces: u32,
+    /// Axis-aligned bounds, scene frame (local ENU of the site), m.
+    pub bounds_min_m: [f64; 3],
+    pub bounds_max_m: [f64; 3],
+    /// Footprint (east-west, north-south extent) and height, m.
+    pub size_m: [f64; 3],
+    /// The centre of the footprint at the object's lowest point, scene
+    /// frame, m.
+    pub base_centre_m: [f64; 3],
+    /// That point's map coordinates (x, y) in the outputs' CRS
+    /// (`site.crs`, named in [`SceneSummary::map_crs`]), m.
+    pub base_centre_map_m: Option<[f64; 2]>,
+    /// That point's latitude and longitude (WGS 84), degrees.
+    pub base_centre_lat_lon_deg: Option<[f64; 2]>,
+}
+
 /// The summary `irsig check` prints: what a scene holds and what
 /// rendering it will need.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -49,6 +78,10 @@ pub struct SceneSummary {
     pub time_local: String,
     pub time_utc: String,
     pub objects: usize,
+    /// Each object's bounds, footprint, base and triangle count.
+    pub object_list: Vec<ObjectSummary>,
+    /// The map CRS of [`ObjectSummary::base_centre_map_m`] (the outputs').
+    pub map_crs: String,
     pub faces: usize,
     pub triangles: usize,
     pub vertices: usize,
@@ -75,9 +108,42 @@ pub struct SceneSummary {
     pub needs: Needs,
 }
 
+/// Each object of a loaded scene as [`ObjectSummary`], with the map CRS's
+/// name (map coordinates are left out when the site cannot be projected).
+pub fn object_list(s: &LoadedScene) -> (Vec<ObjectSummary>, String) {
+    let geo = super::georef::Geo::new(&s.scene.site, &s.scene.site.crs).ok();
+    let crs = geo
+        .as_ref()
+        .map_or_else(|| "-".to_string(), |g| g.crs.name.clone());
+    let list = s
+        .objects
+        .iter()
+        .map(|o| {
+            let (lo, hi) = (o.bounds_min_m, o.bounds_max_m);
+            let base = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, lo[2]];
+            let ll = geo.as_ref().and_then(|g| g.geodetic(base));
+            ObjectSummary {
+                name: o.name.clone(),
+                spec_index: o.spec_index,
+                instance: o.instance,
+                triangles: o.triangle_count,
+                faces: o.face_count,
+                bounds_min_m: lo,
+                bounds_max_m: hi,
+                size_m: std::array::from_fn(|k| hi[k] - lo[k]),
+                base_centre_m: base,
+                base_centre_map_m: geo.as_ref().and_then(|g| g.scene_to_map(base)),
+                base_centre_lat_lon_deg: ll.map(|(lat, lon, _)| [lat, lon]),
+            }
+        })
+        .collect();
+    (list, crs)
+}
+
 /// Builds the summary of a loaded scene.
 pub fn summarize(s: &LoadedScene) -> SceneSummary {
     let sc = &s.scene;
+    let (object_list, map_crs) = object_list(s);
     let mut counts = vec![0usize; s.materials.len()];
     for &m in &s.tri_material {
         counts[m as usize] += 1;
@@ -129,6 +195,8 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
         time_local: sc.time.local.format("%Y-%m-%d %H:%M:%S").to_string(),
         time_utc: t_utc.to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
         objects: s.objects.len(),
+        object_list,
+        map_crs,
         faces,
         triangles: s.triangles.len(),
         vertices: s.positions.len(),

@@ -137,7 +137,12 @@ impl TomlSource {
                 None => Location::file(&self.path),
             };
         };
-        let keys = |k: &str| -> Vec<Seg> { k.split('.').map(|p| key(p.trim())).collect() };
+        let doc = toml_edit::ImDocument::parse(ed.original.as_str()).ok();
+        let keys = |k: &str| -> Vec<Seg> {
+            doc.as_ref()
+                .and_then(|d| override_path(d.as_item(), k).ok())
+                .unwrap_or_else(|| k.split('.').map(|p| key(p.trim())).collect())
+        };
         let via = |(k, v): &(String, String)| Location {
             via: Some(format!("--set {k}={v}").into()),
             ..Location::file(&self.path)
@@ -342,6 +347,321 @@ impl Node<'_> {
             Node::Table(t) => t.span(),
             Node::Value(v) => v.span(),
         }
+    }
+}
+
+/// The key path of an override key (`--set`, `--unset`, a sweep's or a
+/// batch's key) in the document `root`: dotted parts, each a key with
+/// optional `[n]` indices (`object[2].material`,
+/// `object[0].instance[1].translate_m[2]`); a part that follows an array of
+/// tables (`[[object]]`, `[[terrain]]`, `[[object.instance]]`) or an array
+/// of inline tables selects an entry by index (`object.2`) or by its
+/// `name` key (`object.truck.translate_m`). Keys not in the document stay
+/// keys (an override may add them). Errors name the override and what
+/// was expected.
+pub fn override_path(root: &toml_edit::Item, k: &str) -> Result<Vec<Seg>, String> {
+    let mut raw = Vec::new();
+    for part in k.split('.') {
+        let part = part.trim();
+        let (base, mut rest) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        let base = base.trim();
+        if base.is_empty() {
+            return Err(format!(
+                "`{k}`: expected a dotted key such as sensor.band or object[0].material"
+            ));
+        }
+        raw.push(Seg::Key(base.to_string()));
+        while !rest.is_empty() {
+            let close = rest.find(']').filter(|_| rest.starts_with('['));
+            let idx = close.and_then(|c| rest[1..c].trim().parse::<usize>().ok());
+            match (close, idx) {
+                (Some(c), Some(i)) => {
+                    raw.push(Seg::Index(i));
+                    rest = rest[c + 1..].trim_start();
+                }
+                _ => {
+                    return Err(format!(
+                        "`{k}`: `{part}`: expected an index in brackets such as object[0]"
+                    ));
+                }
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(raw.len());
+    let mut node = Some(ONode::Item(root));
+    let mut shown = String::new();
+    for seg in raw {
+        let entries = node.and_then(|n| n.entries());
+        let seg = match (seg, &entries) {
+            (Seg::Key(name), Some(list)) => match name.parse::<usize>() {
+                Ok(i) => Seg::Index(i),
+                Err(_) => match list
+                    .iter()
+                    .position(|t| t.0.as_deref() == Some(name.as_str()))
+                {
+                    Some(i) => Seg::Index(i),
+                    None => {
+                        let names: Vec<&str> = list.iter().filter_map(|t| t.0.as_deref()).collect();
+                        return Err(format!(
+                            "`{k}`: no entry of `{shown}` is named `{name}` ({}); select one by \
+                             its `name` or by index, e.g. {shown}[0]",
+                            if names.is_empty() {
+                                "its entries have no `name`".to_string()
+                            } else {
+                                format!("names: {}", names.join(", "))
+                            }
+                        ));
+                    }
+                },
+            },
+            (s, _) => s,
+        };
+        node = match (&seg, node) {
+            (Seg::Index(i), Some(n)) => match &entries {
+                Some(list) if *i < list.len() => list[*i].1,
+                Some(list) => {
+                    return Err(format!(
+                        "`{k}`: `{shown}` has {} entries (indices 0..{}); no index {i}",
+                        list.len(),
+                        list.len().saturating_sub(1)
+                    ));
+                }
+                None => match n.array_len() {
+                    Some(len) if *i < len => n.at(*i),
+                    Some(len) => {
+                        return Err(format!("`{k}`: `{shown}` has {len} elements; no index {i}"));
+                    }
+                    None => return Err(format!("`{k}`: `{shown}` is not an array")),
+                },
+            },
+            (Seg::Key(name), Some(n)) => n.get(name),
+            (_, None) => None,
+        };
+        match &seg {
+            Seg::Key(name) if shown.is_empty() => shown = name.clone(),
+            Seg::Key(name) => shown = format!("{shown}.{name}"),
+            Seg::Index(i) => shown = format!("{shown}[{i}]"),
+        }
+        out.push(seg);
+    }
+    Ok(out)
+}
+
+/// A node of a parsed document while an override key is resolved.
+#[derive(Clone, Copy)]
+enum ONode<'a> {
+    Item(&'a toml_edit::Item),
+    Table(&'a toml_edit::Table),
+    Value(&'a toml_edit::Value),
+}
+
+/// (its `name`, the node) of each entry of an array of tables or inline tables.
+type Entries<'a> = Vec<(Option<String>, Option<ONode<'a>>)>;
+
+impl<'a> ONode<'a> {
+    fn entries(self) -> Option<Entries<'a>> {
+        let name = |t: &dyn toml_edit::TableLike| {
+            t.get("name").and_then(|n| n.as_str()).map(str::to_string)
+        };
+        match self {
+            ONode::Item(toml_edit::Item::ArrayOfTables(a)) => {
+                Some(a.iter().map(|t| (name(t), Some(ONode::Table(t)))).collect())
+            }
+            ONode::Item(toml_edit::Item::Value(v)) | ONode::Value(v) => {
+                let a = v.as_array()?;
+                if a.is_empty() || !a.iter().all(|e| e.is_inline_table()) {
+                    return None;
+                }
+                Some(
+                    a.iter()
+                        .map(|e| {
+                            (
+                                e.as_inline_table().and_then(|t| name(t)),
+                                Some(ONode::Value(e)),
+                            )
+                        })
+                        .collect(),
+                )
+            }
+            _ => None,
+        }
+    }
+
+    fn array_len(self) -> Option<usize> {
+        match self {
+            ONode::Item(toml_edit::Item::Value(v)) | ONode::Value(v) => {
+                v.as_array().map(|a| a.len())
+            }
+            ONode::Item(toml_edit::Item::ArrayOfTables(a)) => Some(a.len()),
+            _ => None,
+        }
+    }
+
+    fn at(self, i: usize) -> Option<ONode<'a>> {
+        match self {
+            ONode::Item(toml_edit::Item::Value(v)) | ONode::Value(v) => {
+                v.as_array().and_then(|a| a.get(i)).map(ONode::Value)
+            }
+            _ => None,
+        }
+    }
+
+    fn get(self, k: &str) -> Option<ONode<'a>> {
+        match self {
+            ONode::Item(it) => it.as_table_like()?.get(k).map(ONode::Item),
+            ONode::Table(t) => t.get(k).map(ONode::Item),
+            ONode::Value(v) => v.as_inline_table()?.get(k).map(ONode::Value),
+        }
+    }
+}
+
+/// Sets the item at `path` (from [`override_path`]) to `value`, creating
+/// missing tables on the way; `Err` says why it cannot (shown after the
+/// override's name).
+pub fn set_at(
+    root: &mut toml_edit::Item,
+    path: &[Seg],
+    value: toml_edit::Value,
+) -> Result<(), String> {
+    edit_item(root, path, &mut Some(value), "")
+}
+
+/// Removes the item at `path` (from [`override_path`]): a key, an array
+/// element or a whole `[[...]]` entry.
+pub fn remove_at(root: &mut toml_edit::Item, path: &[Seg]) -> Result<(), String> {
+    edit_item(root, path, &mut None, "")
+}
+
+fn seg_text(shown: &str, seg: &Seg) -> String {
+    match seg {
+        Seg::Key(k) if shown.is_empty() => k.clone(),
+        Seg::Key(k) => format!("{shown}.{k}"),
+        Seg::Index(i) => format!("{shown}[{i}]"),
+    }
+}
+
+/// `value`: Some to set, None to remove.
+fn edit_item(
+    item: &mut toml_edit::Item,
+    path: &[Seg],
+    value: &mut Option<toml_edit::Value>,
+    shown: &str,
+) -> Result<(), String> {
+    let Some(seg) = path.first() else {
+        return Err(format!("`{shown}`: expected a key inside it"));
+    };
+    match (item, seg) {
+        (toml_edit::Item::ArrayOfTables(a), Seg::Index(i)) => {
+            let n = a.len();
+            if *i >= n {
+                return Err(format!("`{shown}` has {n} entries; no index {i}"));
+            }
+            if path.len() == 1 {
+                return match value {
+                    None => {
+                        a.remove(*i);
+                        Ok(())
+                    }
+                    Some(_) => Err(format!(
+                        "`{}`: a whole [[{shown}]] entry cannot be set; set its keys",
+                        seg_text(shown, seg)
+                    )),
+                };
+            }
+            let t = a.get_mut(*i).expect("in range");
+            edit_table(t, &path[1..], value, &seg_text(shown, seg), false)
+        }
+        (toml_edit::Item::Value(v), _) => edit_value(v, path, value, shown),
+        (toml_edit::Item::Table(t), Seg::Key(_)) => edit_table(t, path, value, shown, false),
+        (toml_edit::Item::None, _) => Err(format!("`{shown}` is not in the scene")),
+        _ => Err(format!(
+            "`{}`: `{shown}` is not an array",
+            seg_text(shown, seg)
+        )),
+    }
+}
+
+fn edit_table(
+    t: &mut dyn toml_edit::TableLike,
+    path: &[Seg],
+    value: &mut Option<toml_edit::Value>,
+    shown: &str,
+    inline: bool,
+) -> Result<(), String> {
+    let seg = &path[0];
+    let Seg::Key(k) = seg else {
+        return Err(format!(
+            "`{}`: `{shown}` is a table, not an array",
+            seg_text(shown, seg)
+        ));
+    };
+    let here = seg_text(shown, seg);
+    if path.len() == 1 {
+        return match value.take() {
+            Some(v) => {
+                t.insert(k, toml_edit::Item::Value(v));
+                Ok(())
+            }
+            None => t
+                .remove(k)
+                .map(|_| ())
+                .ok_or_else(|| format!("the scene has no `{here}`")),
+        };
+    }
+    if t.get(k).is_none() {
+        if value.is_none() {
+            return Err(format!("the scene has no `{here}`"));
+        }
+        let new = if inline {
+            toml_edit::Item::Value(toml_edit::Value::InlineTable(Default::default()))
+        } else {
+            toml_edit::Item::Table(toml_edit::Table::new())
+        };
+        t.insert(k, new);
+    }
+    let item = t.get_mut(k).expect("present");
+    edit_item(item, &path[1..], value, &here)
+}
+
+fn edit_value(
+    v: &mut toml_edit::Value,
+    path: &[Seg],
+    value: &mut Option<toml_edit::Value>,
+    shown: &str,
+) -> Result<(), String> {
+    let seg = &path[0];
+    match (v, seg) {
+        (toml_edit::Value::InlineTable(t), Seg::Key(_)) => edit_table(t, path, value, shown, true),
+        (toml_edit::Value::Array(a), Seg::Index(i)) => {
+            let n = a.len();
+            if *i >= n {
+                return Err(format!("`{shown}` has {n} elements; no index {i}"));
+            }
+            if path.len() == 1 {
+                match value.take() {
+                    Some(new) => {
+                        a.replace(*i, new);
+                    }
+                    None => {
+                        a.remove(*i);
+                    }
+                }
+                return Ok(());
+            }
+            let e = a.get_mut(*i).expect("in range");
+            edit_value(e, &path[1..], value, &seg_text(shown, seg))
+        }
+        (_, Seg::Key(_)) => Err(format!(
+            "`{}`: `{shown}` is a value, not a table",
+            seg_text(shown, seg)
+        )),
+        (_, Seg::Index(_)) => Err(format!(
+            "`{}`: `{shown}` is not an array",
+            seg_text(shown, seg)
+        )),
     }
 }
 

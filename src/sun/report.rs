@@ -7,15 +7,36 @@ use serde::Serialize;
 use super::{SolarPosition, SpaOptions, solar_position_with, validate_site};
 
 /// What `--time` accepts, repeated in error messages.
-pub const TIME_FORMAT_HELP: &str =
-    "an RFC 3339 time with a UTC offset, e.g. 2024-06-21T12:00:00Z or 2024-06-21T14:00:00+02:00";
+pub const TIME_FORMAT_HELP: &str = "an RFC 3339 time with a UTC offset, e.g. 2024-06-21T12:00:00Z or 2024-06-21T14:00+02:00 (seconds optional)";
 
-/// Parses an RFC 3339 time with a UTC offset (`irsig sun --time`); the
+/// `s` with `:00` seconds added where its clock time has hours and
+/// minutes only (`2001-08-07T00:00-04:00`, `...T14:30Z`), else as is.
+fn with_seconds(s: &str) -> std::borrow::Cow<'_, str> {
+    let Some(t) = s.find(['T', 't', ' ']) else {
+        return s.into();
+    };
+    let clock = s.get(t + 1..t + 6).map(str::as_bytes);
+    let hh_mm = clock.is_some_and(|c| {
+        c[0].is_ascii_digit()
+            && c[1].is_ascii_digit()
+            && c[2] == b':'
+            && c[3].is_ascii_digit()
+            && c[4].is_ascii_digit()
+    });
+    if hh_mm && s.as_bytes().get(t + 6) != Some(&b':') {
+        format!("{}:00{}", &s[..t + 6], &s[t + 6..]).into()
+    } else {
+        s.into()
+    }
+}
+
+/// Parses an RFC 3339 time with a UTC offset (`irsig sun --time`, `irsig
+/// therm --from/--to`); the seconds may be left out (`14:00+02:00`); the
 /// error says what format is expected.
 /// Years outside [`crate::bounds::time::YEAR`] are refused.
 pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
     use chrono::Datelike;
-    let t = DateTime::parse_from_rfc3339(s.trim())
+    let t = DateTime::parse_from_rfc3339(&with_seconds(s.trim()))
         .map(|t| t.with_timezone(&Utc))
         .map_err(|e| format!("cannot read time '{s}' ({e}): expected {TIME_FORMAT_HELP}"))?;
     crate::bounds::time::YEAR

@@ -93,8 +93,11 @@ pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
     match lib.iter().find(|m| m.name == name) {
         Some(m) => Ok(m.slab()),
         None => bail!(
-            "{}: no material `{name}`; the library defines: {}",
+            "{}: no material `{name}`{}; the library defines: {}",
             path.display(),
+            crate::scene::error::closest(name, lib.iter().map(|m| m.name.as_str()))
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default(),
             lib.iter()
                 .map(|m| m.name.as_str())
                 .collect::<Vec<_>>()

@@ -414,7 +414,8 @@ pub(crate) fn load(
         }
     };
     let dem_file = must_exist(&t.file, &["file"], "DEM file")?;
-    let dem = raster::read_raster(&dem_file)?;
+    let zone = |e| raster::with_site_zone(e, site.latitude_deg, site.longitude_deg);
+    let dem = raster::read_raster(&dem_file).map_err(zone)?;
     let hb = crate::bounds::terrain::HEIGHT;
     if let Some(i) = dem
         .data
@@ -505,7 +506,7 @@ pub(crate) fn load(
         (Some(m), _) => vec![material(m, &at(&["material"]))?; nx * ny],
         (None, Some(lc)) => {
             let file = must_exist(&lc.file, &["land_cover", "file"], "land-cover file")?;
-            let cover = raster::read_raster(&file)?;
+            let cover = raster::read_raster(&file).map_err(zone)?;
             let map = CrsMap::new(cover.crs);
             let geo = &surface.geo;
             let classes: Vec<Option<f32>> = (0..ny)

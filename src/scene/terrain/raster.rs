@@ -101,7 +101,35 @@ fn geokeys(dir: &[u16]) -> Result<Vec<(u16, u16)>, String> {
 
 const REPROJECT: &str = "a DEM or land-cover raster must be in WGS 84 geographic coordinates \
      (EPSG:4326) or WGS 84 / UTM (EPSG:326zz north, 327zz south): reproject it, e.g. \
-     `gdalwarp -t_srs EPSG:32618 in.tif out.tif` (UTM zone 18N)";
+     `gdalwarp -t_srs EPSG:<UTM> in.tif out.tif`";
+
+/// The placeholder of the UTM zone in the reprojection hints, which
+/// [`with_site_zone`] fills in.
+const UTM_PLACEHOLDER: &str = "EPSG:<UTM> in.tif out.tif`";
+
+/// `e` with its reprojection hint naming the UTM zone of the site at
+/// (`lat_deg`, `lon_deg`) (e.g. `EPSG:32614 ... (WGS 84 / UTM zone 14N,
+/// the site's zone)`); other errors unchanged.
+pub fn with_site_zone(e: SceneError, lat_deg: f64, lon_deg: f64) -> SceneError {
+    let crs = crate::scene::georef::CrsInfo::utm(lat_deg, lon_deg);
+    let fill = |msg: String| {
+        msg.replace(
+            UTM_PLACEHOLDER,
+            &format!(
+                "EPSG:{} in.tif out.tif` ({}, the site's zone)",
+                crs.epsg.unwrap_or(4326),
+                crs.name
+            ),
+        )
+    };
+    match e {
+        SceneError::Data { loc, msg } => SceneError::Data {
+            loc,
+            msg: fill(msg),
+        },
+        other => other,
+    }
+}
 
 /// The CRS of a GeoKey directory.
 fn crs_of(keys: &[(u16, u16)]) -> Result<RasterCrs, String> {
@@ -261,7 +289,7 @@ pub fn parse_raster(path: &Path, bytes: &[u8]) -> Result<Raster, SceneError> {
         (None, None, Some(t)) if t.len() > 6 => {
             return Err(err(format!(
                 "georeferenced by {} ground control points, not by a transform: warp it \
-                 first, e.g. `gdalwarp -t_srs EPSG:32618 in.tif out.tif`",
+                 first, e.g. `gdalwarp -t_srs EPSG:<UTM> in.tif out.tif`",
                 t.len() / 6
             )));
         }
