@@ -50,7 +50,12 @@ fn git_commit() -> String {
             .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
     };
     for r in ["HEAD", "packed-refs"] {
-        if let Some(p) = git(&["rev-parse", "--git-path", r]) {
+        // Only a file that exists: cargo reruns a build script whose
+        // watched path is missing every time (a checkout with no packed
+        // refs rebuilt irsig on every cargo call).
+        if let Some(p) =
+            git(&["rev-parse", "--git-path", r]).filter(|p| std::path::Path::new(p).exists())
+        {
             println!("cargo:rerun-if-changed={p}");
         }
     }

@@ -489,12 +489,12 @@ fn slant_range_on_the_sphere() {
         (5000.0, -12.0, 20.0),
     ] {
         let d = frame::slant_range_on_sphere_m(alt, z, vz);
-        let c = (vz as f64).to_radians().cos();
+        let c = vz.to_radians().cos();
         let lhs = (r + alt) * (r + alt);
         let rhs = (r + z) * (r + z) + d * d + 2.0 * (r + z) * d * c;
         assert!((lhs - rhs).abs() / lhs < 1e-13, "{alt} {vz}");
         // the sensor is at `alt` on the sphere: path_geometry agrees
-        let th = (vz as f64).to_radians();
+        let th = vz.to_radians();
         let s = [d * th.sin(), 0.0, z + d * th.cos()];
         let (h_km, v) = frame::path_geometry(s, [0.0, 0.0, z]);
         assert!((h_km * 1e3 - (alt - z)).abs() < 1e-6 && (v - vz).abs() < 1e-9);
