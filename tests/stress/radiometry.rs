@@ -404,9 +404,29 @@ fn atmosphere_at_grid_edges() {
                 }
             }
             // outside the grids: errors
+            // Above the top: a table reaching the top of the atmosphere
+            // (100 km) gives the top's path (a satellite, issue 32); a lower
+            // table refuses it like any other out-of-grid altitude.
+            let above = sa.path(alt_hi * 1.01, 0.0, 30.0, 0.0);
+            if alt_hi >= irsig::atmos::TOP_OF_ATMOSPHERE_KM {
+                let (a, t) = (above.unwrap(), sa.path(alt_hi, 0.0, 30.0, 0.0).unwrap());
+                assert_eq!(a.tau2, t.tau2, "{ctx0}: tau2 above the top");
+                assert_eq!(
+                    a.l_ue_w_m2_sr_um, t.l_ue_w_m2_sr_um,
+                    "{ctx0}: L_UE above the top"
+                );
+                assert_eq!(
+                    a.l_us_w_m2_sr_um, t.l_us_w_m2_sr_um,
+                    "{ctx0}: L_US above the top"
+                );
+            } else {
+                assert!(
+                    above.is_err(),
+                    "{ctx0}: path above a table's top below 100 km"
+                );
+            }
             let bad_path = [
                 (alt_lo * 0.99, 0.0),
-                (alt_hi * 1.01, 0.0),
                 (alt_lo, vz_max + 0.1),
                 (alt_lo, 90.0),
                 (alt_lo, -0.1),

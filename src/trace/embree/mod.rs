@@ -346,14 +346,18 @@ impl Tracer for EmbreeTracer {
         let mut r = ffi::RTCRay16::default();
         let mut in_range = 0u16;
         for (lane, o) in origins.iter().enumerate() {
-            r.org_x[lane] = o.x;
-            r.org_y[lane] = o.y;
-            r.org_z[lane] = o.z;
-            r.mask[lane] = u32::MAX;
-            r.id[lane] = lane as u32;
+            // A lane whose origin Embree cannot take keeps zeros: Embree's
+            // AVX2 packet kernels (Debian's build keeps its assertions)
+            // abort on a non-finite origin even in a masked-off lane (seen
+            // on an AVX-512-less AMD EPYC; tests/trace.rs).
             if in_ray_range(*o) {
+                r.org_x[lane] = o.x;
+                r.org_y[lane] = o.y;
+                r.org_z[lane] = o.z;
                 in_range |= 1 << lane;
             }
+            r.mask[lane] = u32::MAX;
+            r.id[lane] = lane as u32;
         }
         for ((dir, &act), out) in dirs.iter().zip(active).zip(blocked.iter_mut()) {
             *out = 0;
@@ -376,6 +380,11 @@ impl Tracer for EmbreeTracer {
             } else {
                 0
             };
+            if live == 0 {
+                // Nothing to trace (and an invalid direction must not
+                // reach Embree's lanes, above).
+                continue;
+            }
             let mut valid = Valid16([0; 16]);
             for lane in 0..16 {
                 valid.0[lane] = -((live >> lane & 1) as i32);
