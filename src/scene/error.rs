@@ -125,6 +125,18 @@ fn libraries_list(libs: &[PathBuf]) -> String {
 }
 
 impl SceneError {
+    /// Reads a text file a scene refers to (the scene itself, a material
+    /// library, a response or kernel CSV) through [`crate::files::read_text`]
+    /// with the text-file size limit; a failure is [`SceneError::Io`].
+    pub fn read_text(path: &Path) -> Result<String, SceneError> {
+        crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|error| {
+            SceneError::Io {
+                path: path.to_path_buf(),
+                error,
+            }
+        })
+    }
+
     /// The location the error points at (file, line, column), if any.
     pub fn location(&self) -> Option<&Location> {
         match self {

@@ -566,13 +566,7 @@ pub(crate) fn parse_csv_numbers(line: &str) -> Result<Vec<f64>, (usize, String)>
 /// data line is `wavelength_um, θ1, θ2, ...` (angles from the normal,
 /// degrees); then one line per wavelength: `λ, ε(θ1), ε(θ2), ...`.
 pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError> {
-    let text =
-        crate::files::read_text(file, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: file.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let text = SceneError::read_text(file)?;
     parse_emissivity_table(file, &text)
 }
 

@@ -184,13 +184,7 @@ pub fn load_with_overrides(
     if overrides.is_empty() {
         return load(path);
     }
-    let text =
-        crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: path.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let text = SceneError::read_text(path)?;
     let edited = apply_overrides(path, &text, overrides)?;
     let src = TomlSource::from_edited(path, text, edited, overrides);
     let mut scene = load_source(path, src)?;
@@ -739,13 +733,7 @@ fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
 /// Reads a response CSV: `#` comments; an optional header line
 /// (`wavelength_um,response`); rows `λ_µm, R`.
 pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
-    let text =
-        crate::files::read_text(file, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: file.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let text = SceneError::read_text(file)?;
     parse_response(file, &text)
 }
 
@@ -813,13 +801,7 @@ pub fn parse_response(file: &Path, text: &str) -> Result<SpectralResponse, Scene
 
 /// Reads a PSF kernel CSV: `#` comments; n rows of n weights, n odd.
 pub fn read_kernel(file: &Path) -> Result<PsfKernel, SceneError> {
-    let text =
-        crate::files::read_text(file, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: file.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let text = SceneError::read_text(file)?;
     parse_kernel(file, &text)
 }
 
