@@ -129,12 +129,22 @@ impl SceneError {
     /// library, a response or kernel CSV) through [`crate::files::read_text`]
     /// with the text-file size limit; a failure is [`SceneError::Io`].
     pub fn read_text(path: &Path) -> Result<String, SceneError> {
-        crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|error| {
-            SceneError::Io {
-                path: path.to_path_buf(),
-                error,
-            }
-        })
+        crate::files::read_text(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES)
+            .map_err(|error| Self::io(path, error))
+    }
+
+    /// Reads the bytes of a file a scene refers to (a mesh, a raster, the
+    /// scene text) through [`crate::files::read`] with its kind's size
+    /// limit; a failure is [`SceneError::Io`].
+    pub fn read_bytes(path: &Path, max_bytes: u64) -> Result<Vec<u8>, SceneError> {
+        crate::files::read(path, max_bytes).map_err(|error| Self::io(path, error))
+    }
+
+    fn io(path: &Path, error: std::io::Error) -> SceneError {
+        SceneError::Io {
+            path: path.to_path_buf(),
+            error,
+        }
     }
 
     /// The location the error points at (file, line, column), if any.

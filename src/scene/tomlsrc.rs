@@ -35,13 +35,7 @@ pub struct Edits {
 impl TomlSource {
     /// Reads a file (UTF-8).
     pub fn read(path: &Path) -> Result<Self, SceneError> {
-        let bytes =
-            crate::files::read(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES).map_err(|e| {
-                SceneError::Io {
-                    path: path.to_path_buf(),
-                    error: e,
-                }
-            })?;
+        let bytes = SceneError::read_bytes(path, crate::bounds::sizes::MAX_TEXT_FILE_BYTES)?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let off = e.utf8_error().valid_up_to();
             let text = String::from_utf8_lossy(e.as_bytes()).into_owned();

@@ -57,13 +57,7 @@ const MAX_ZERO_FILLED: usize = 1 << 24;
 
 /// Reads a `.gltf` or `.glb` file and its buffers.
 pub fn load_gltf(path: &Path) -> Result<Mesh, SceneError> {
-    let bytes =
-        crate::files::read(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: path.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let bytes = SceneError::read_bytes(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES)?;
     parse_gltf(path, &bytes)
 }
 

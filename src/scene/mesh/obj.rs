@@ -55,13 +55,7 @@ const IGNORED: &[&str] = &[
 
 /// Reads and parses an OBJ file (faces not yet triangulated).
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
-    let bytes =
-        crate::files::read(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: path.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let bytes = SceneError::read_bytes(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES)?;
     parse_obj(path, &super::decode_text(&bytes))
 }
 

@@ -203,13 +203,7 @@ fn invert(g: &[f64; 6]) -> Option<[f64; 6]> {
 
 /// Reads a single-band GeoTIFF (a DEM or a land-cover raster).
 pub fn read_raster(path: &Path) -> Result<Raster, SceneError> {
-    let bytes =
-        crate::files::read(path, crate::bounds::sizes::MAX_RASTER_FILE_BYTES).map_err(|e| {
-            SceneError::Io {
-                path: path.to_path_buf(),
-                error: e,
-            }
-        })?;
+    let bytes = SceneError::read_bytes(path, crate::bounds::sizes::MAX_RASTER_FILE_BYTES)?;
     parse_raster(path, &bytes)
 }
 
