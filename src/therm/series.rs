@@ -91,7 +91,7 @@ pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
 pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
     let lib = crate::scene::material::load_library(path)?;
     match lib.iter().find(|m| m.name == name) {
-        Some(m) => Ok(m.slab()),
+        Some(m) => Ok(m.construction),
         None => bail!(
             "{}: no material `{name}`{}; the library defines: {}",
             path.display(),
