@@ -14,7 +14,7 @@ use crate::therm::slab::SlabMaterial;
 pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
     let lib = super::material::load_library(path)?;
     match lib.iter().find(|m| m.name == name) {
-        Some(m) => Ok(m.slab()),
+        Some(m) => Ok(m.construction),
         None => bail!(
             "{}: no material `{name}`{}; the library defines: {}",
             path.display(),
