@@ -11,8 +11,21 @@
 //! size and the limit. The limit is checked again while reading (a file
 //! growing under the reader stops at limit + 1 bytes).
 
+use std::collections::BTreeMap;
 use std::io::{self, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// How many times [`read`] has opened each path in this process.
+static OPENED: Mutex<BTreeMap<PathBuf, usize>> = Mutex::new(BTreeMap::new());
+
+/// How many times [`read`] (and [`read_text`]) opened `path` in this
+/// process, as given to them: a diagnostic for tests (a render opens its
+/// weather file once, `tests/weather_once.rs`).
+pub fn opened_count(path: &Path) -> usize {
+    let m = OPENED.lock().unwrap_or_else(|e| e.into_inner());
+    m.get(path).copied().unwrap_or(0)
+}
 
 /// What a path is when it is not a regular file (for error messages).
 fn kind_of(md: &std::fs::Metadata) -> &'static str {
@@ -66,6 +79,11 @@ fn too_large(len: u64, limit: u64) -> io::Error {
 pub fn read(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     let len = check_regular(path, limit)?;
     let f = std::fs::File::open(path)?;
+    *OPENED
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .entry(path.to_path_buf())
+        .or_default() += 1;
     let mut out = Vec::with_capacity(len as usize);
     f.take(limit.saturating_add(1)).read_to_end(&mut out)?;
     if out.len() as u64 > limit {

@@ -21,3 +21,4 @@ pub mod therm;
 pub mod trace;
 pub mod units;
 pub mod version;
+pub mod weather;

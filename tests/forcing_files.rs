@@ -7,7 +7,7 @@ use std::path::Path;
 use chrono::{DateTime, Duration, Utc};
 use irsig::sun::Site;
 use irsig::therm::forcing::{ForcingOptions, build_forcing, build_forcing_with};
-use irsig::therm::weather::{ReadOptions, WeatherSample, read_weather_file_with};
+use irsig::weather::{ReadOptions, WeatherSample, read_weather_file_with};
 
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

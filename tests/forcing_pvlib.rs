@@ -15,8 +15,9 @@ use chrono::{DateTime, Utc};
 use irsig::sun::{SpaOptions, solar_position_with};
 use irsig::therm::forcing::{
     erbs_split, extraterrestrial_normal_w_m2, ineichen_perez, kasten_czeplak_ghi_w_m2,
-    kasten_young_airmass, pressure_pa_from_altitude,
+    kasten_young_airmass,
 };
+use irsig::weather::pressure_pa_from_altitude;
 
 #[test]
 fn irradiance_models_match_pvlib() {

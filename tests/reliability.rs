@@ -9,7 +9,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use irsig::therm::weather::{ReadOptions, parse_epw, parse_tmy3};
+use irsig::weather::{ReadOptions, parse_epw, parse_tmy3};
 
 fn plate_dir(tmp: &Path) -> PathBuf {
     // The plate scene with its materials, copied so that data files can be

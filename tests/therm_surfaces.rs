@@ -7,7 +7,7 @@ use irsig::sun::Site;
 use irsig::therm::balance::Orientation;
 use irsig::therm::forcing::{Forcing, build_forcing};
 use irsig::therm::slab::{SlabMaterial, SlabModel, ThermSettings};
-use irsig::therm::weather::{ReadOptions, read_weather_file_with};
+use irsig::weather::{ReadOptions, read_weather_file_with};
 
 const WEATHER: &str = "scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv";
 const SITE: Site = Site {

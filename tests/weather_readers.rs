@@ -7,10 +7,8 @@
 use std::path::Path;
 
 use chrono::{DateTime, Duration, Utc};
-use irsig::therm::weather::{
-    ReadOptions, WeatherFormat, read_weather_file, read_weather_file_with,
-};
 use irsig::units::{STEFAN_BOLTZMANN_W_M2K4, ZERO_C_K};
+use irsig::weather::{ReadOptions, WeatherFormat, read_weather_file, read_weather_file_with};
 
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

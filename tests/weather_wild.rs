@@ -8,8 +8,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use chrono::{DateTime, Duration, Utc};
-use irsig::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather};
 use irsig::units::ZERO_C_K;
+use irsig::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather};
 
 fn wild(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -264,7 +264,7 @@ enum At {
     MidHour,
 }
 
-type Get = fn(&irsig::therm::weather::WeatherSample) -> f64;
+type Get = fn(&irsig::weather::WeatherSample) -> f64;
 
 /// Every reference row's values in irsig's history: (column, where, what
 /// irsig holds there in the column's unit).
@@ -293,46 +293,46 @@ fn compare(h: &WeatherHistory, rows: &[Row], fields: &[(&str, At, Get)]) {
     }
 }
 
-fn air_c(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn air_c(s: &irsig::weather::WeatherSample) -> f64 {
     s.air_temp_k - ZERO_C_K
 }
-fn dew_c(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn dew_c(s: &irsig::weather::WeatherSample) -> f64 {
     s.dew_point_k - ZERO_C_K
 }
-fn rh(s: &irsig::therm::weather::WeatherSample) -> f64 {
-    irsig::therm::weather::rh_percent_from_dew_point(air_c(s), dew_c(s))
+fn rh(s: &irsig::weather::WeatherSample) -> f64 {
+    irsig::weather::rh_percent_from_dew_point(air_c(s), dew_c(s))
 }
-fn hpa(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn hpa(s: &irsig::weather::WeatherSample) -> f64 {
     s.pressure_pa / 100.0
 }
-fn pa(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn pa(s: &irsig::weather::WeatherSample) -> f64 {
     s.pressure_pa
 }
-fn wind(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn wind(s: &irsig::weather::WeatherSample) -> f64 {
     s.wind_speed_m_s
 }
-fn ghi(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn ghi(s: &irsig::weather::WeatherSample) -> f64 {
     s.ghi_w_m2.unwrap()
 }
-fn dni(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn dni(s: &irsig::weather::WeatherSample) -> f64 {
     s.dni_w_m2.unwrap()
 }
-fn dhi(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn dhi(s: &irsig::weather::WeatherSample) -> f64 {
     s.dhi_w_m2.unwrap()
 }
-fn tenths(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn tenths(s: &irsig::weather::WeatherSample) -> f64 {
     s.cloud_fraction.unwrap() * 10.0
 }
 /// Downwelling infrared back from the sky temperature, σT⁴.
-fn infrared(s: &irsig::therm::weather::WeatherSample) -> f64 {
+fn infrared(s: &irsig::weather::WeatherSample) -> f64 {
     irsig::units::STEFAN_BOLTZMANN_W_M2K4 * s.sky_temp_k.unwrap().powi(4)
 }
 
-fn read_ok(name: &str) -> irsig::therm::weather::WeatherFile {
+fn read_ok(name: &str) -> irsig::weather::WeatherFile {
     read_weather(&wild(name), &ReadOptions::default()).unwrap()
 }
 
-fn station(f: &irsig::therm::weather::WeatherFile) -> (f64, f64, f64) {
+fn station(f: &irsig::weather::WeatherFile) -> (f64, f64, f64) {
     let s = f.station.as_ref().unwrap();
     (s.lat_deg, s.lon_deg, s.utc_offset_h)
 }
@@ -343,7 +343,7 @@ fn station(f: &irsig::therm::weather::WeatherFile) -> (f64, f64, f64) {
 #[test]
 fn tmy2_matches_pvlib() {
     let f = read_ok("tmy2_12839_miami_jan1-3.tm2");
-    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Tmy2);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::Tmy2);
     let (lat, lon, tz) = station(&f);
     assert!((lat - 25.8).abs() < 1e-12 && (lon + 80.0 + 16.0 / 60.0).abs() < 1e-12 && tz == -5.0);
     let rows = reference("tmy2_12839_miami_pvlib.csv");
@@ -369,7 +369,7 @@ fn tmy2_matches_pvlib() {
 #[test]
 fn psm3_matches_pvlib() {
     let f = read_ok("psm3_401182_2017_jan1-3.csv");
-    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Psm3);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::Psm3);
     assert_eq!(station(&f), (40.53, -108.54, -7.0));
     let rows = reference("psm3_401182_pvlib.csv");
     assert_eq!(rows.len(), 144);
@@ -395,7 +395,7 @@ fn psm3_matches_pvlib() {
 #[test]
 fn pvgis_csv_matches_pvlib() {
     let f = read_ok("pvgis_tmy_45N_8E_jan1-3.csv");
-    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::PvgisCsv);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::PvgisCsv);
     assert_eq!(station(&f), (45.0, 8.0, 0.0));
     let rows = reference("pvgis_tmy_45N_8E_pvlib.csv");
     assert_eq!(rows.len(), 72);
@@ -422,7 +422,7 @@ fn pvgis_csv_matches_pvlib() {
 #[test]
 fn pvgis_epw_without_cloud_matches_pvlib() {
     let f = read_ok("pvgis_tmy_45N_8E_jan1-3.epw");
-    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Epw);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::Epw);
     assert_eq!(station(&f), (45.0, 8.0, 1.0));
     let rows = reference("pvgis_epw_45N_8E_pvlib.csv");
     assert_eq!(rows.len(), 72);
@@ -458,7 +458,7 @@ fn pvgis_epw_without_cloud_matches_pvlib() {
 #[test]
 fn solaranywhere_tmy3_matches_pvlib() {
     let f = read_ok("solaranywhere_tmy3_burlington_jan1-3.csv");
-    assert_eq!(f.format, irsig::therm::weather::WeatherFormat::Tmy3);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::Tmy3);
     assert_eq!(station(&f), (44.465, -73.205, -5.0));
     let rows = reference("solaranywhere_tmy3_burlington_pvlib.csv");
     assert_eq!(rows.len(), 72);
@@ -476,7 +476,7 @@ fn solaranywhere_tmy3_matches_pvlib() {
     );
     // No pressure in the file: the standard atmosphere at 41 m.
     let p = f.history.samples[0].pressure_pa;
-    assert!((p - irsig::therm::forcing::pressure_pa_from_altitude(41.0)).abs() < 1e-9);
+    assert!((p - irsig::weather::pressure_pa_from_altitude(41.0)).abs() < 1e-9);
 }
 
 /// Files that are not a weather format irsig reads are named plainly, with

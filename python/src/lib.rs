@@ -65,7 +65,7 @@ fn to_py(e: anyhow::Error) -> PyErr {
                     }),
                 };
                 Some((SceneError::new_err(msg.clone()), file, line, col, via))
-            } else if let Some(w) = c.downcast_ref::<irsig::therm::weather::WeatherError>() {
+            } else if let Some(w) = c.downcast_ref::<irsig::weather::WeatherError>() {
                 let (file, line) = weather_location(w);
                 Some((WeatherError::new_err(msg.clone()), file, line, 0, None))
             } else {
@@ -88,8 +88,8 @@ fn to_py(e: anyhow::Error) -> PyErr {
 
 /// File and line of a weather error (line 0: none; file empty: the error
 /// names no file, e.g. weather that does not cover the history).
-fn weather_location(w: &irsig::therm::weather::WeatherError) -> (String, usize) {
-    use irsig::therm::weather::WeatherError as W;
+fn weather_location(w: &irsig::weather::WeatherError) -> (String, usize) {
+    use irsig::weather::WeatherError as W;
     match w {
         W::Malformed { file, line, .. }
         | W::OutOfRange { file, line, .. }

@@ -186,7 +186,7 @@ pub fn speed(
             // The peak of the render and its write (before the floor's own
             // ray buffers below).
             let peak_rss_mib = peak_rss_mib();
-            let cam = Camera::from_geometry(&st.scene.local_camera);
+            let cam = st.scene.local_camera;
             let sun = glam::DVec3::from(cond.sun_now.sun_dir_enu).as_vec3();
             let (rp, rs) = embree_rates(&st.geometry, &cam, sun)?;
             let floor = s.primary_rays as f64 / rp + (s.solar_rays + s.specular_rays) as f64 / rs;

@@ -163,9 +163,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         bail!("--to {} is before --from {}", a.to, a.from);
     }
     if let Some(p) = &a.weather {
-        let station = crate::therm::weather::read_station(p, a.typical_year)?;
+        let station = crate::weather::read_station(p, a.typical_year)?;
         let warning = station.and_then(|st| {
-            crate::therm::weather::station_mismatch(&st, &p.display().to_string(), a.lat, a.lon)
+            crate::weather::station_mismatch(&st, &p.display().to_string(), a.lat, a.lon)
         });
         super::warn_or_refuse(&warning.into_iter().collect::<Vec<_>>(), a.strict)?;
     }

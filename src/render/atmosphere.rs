@@ -7,7 +7,7 @@ use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 use serde::Serialize;
 
-use super::prepare::window_means;
+use crate::atmos::PathSpectra;
 use crate::atmos::adjust::{SkyFit, WeatherAdjustment, fit_sky};
 use crate::atmos::standard::{self, Choice, StandardAtmosphere};
 use crate::atmos::{Atmosphere, SpectralAtmosphere};
@@ -15,9 +15,10 @@ use crate::radiometry::Band;
 use crate::scene::LoadedScene;
 use crate::scene::spec::AtmosphereModel;
 use crate::sun::Site;
+use crate::therm::conditions::window_means;
 use crate::therm::forcing::Forcing;
-use crate::therm::weather::WeatherHistory;
 use crate::units::ZERO_C_K;
+use crate::weather::WeatherHistory;
 
 /// Hours of weather before the scene's time that `model = "auto"` averages.
 pub const AUTO_WINDOW_H: i64 = 24;
@@ -233,4 +234,51 @@ pub fn frame_atmosphere(
             fit,
         },
     ))
+}
+
+/// The lowest altitude of the atmosphere tables, km: a sensor lower is
+/// scaled as a uniform layer ([`path_at`]).
+const LOWEST_ALT_KM: f64 = 0.3;
+/// The largest view zenith the path lookups use, degrees.
+const MAX_VIEW_ZENITH_DEG: f64 = 85.0;
+
+/// τ₂, L_UE, L_US of the path to a sensor `h_km` above the point, seen
+/// at view zenith `vz_deg` there (the render's rules: the view zenith
+/// clamped to the tables' last angle, a sensor below the tables' lowest
+/// altitude scaled as a uniform layer; see [`super::pixel`]'s module docs). The render's
+/// lookups and [`super::prepare::validate`] both go through it.
+pub fn path_at(
+    sa: &crate::atmos::SpectralAtmosphere,
+    h: f64,
+    vz: f64,
+    sun_zenith_deg: f64,
+    rel: f64,
+) -> Result<PathSpectra, crate::atmos::AtmosError> {
+    let vz = vz.min(MAX_VIEW_ZENITH_DEG);
+    let p = if h >= LOWEST_ALT_KM {
+        sa.path(h, vz, sun_zenith_deg.min(90.0), rel)?
+    } else {
+        let base = sa.path(LOWEST_ALT_KM, vz, sun_zenith_deg.min(90.0), rel)?;
+        let f = h.max(0.0) / LOWEST_ALT_KM;
+        let tau2: Vec<f64> = base.tau2.iter().map(|t| t.max(1e-300).powf(f)).collect();
+        let l_ue = base
+            .l_ue_w_m2_sr_um
+            .iter()
+            .zip(base.tau2.iter().zip(&tau2))
+            .map(|(l, (t0, t))| {
+                if *t0 < 1.0 {
+                    l * (1.0 - t) / (1.0 - t0)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let l_us = base.l_us_w_m2_sr_um.iter().map(|l| l * f).collect();
+        PathSpectra {
+            tau2,
+            l_ue_w_m2_sr_um: l_ue,
+            l_us_w_m2_sr_um: l_us,
+        }
+    };
+    Ok(p)
 }

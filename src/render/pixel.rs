@@ -41,6 +41,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use serde::Serialize;
 
+use super::atmosphere::path_at;
 use super::planes::Planes;
 use super::prepare::{Conditions, Static};
 use super::{LastKey, Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
@@ -52,9 +53,6 @@ use crate::radiometry::{
     case2_specular_sky, case3_specular_background, case4_sky, integrate_terms,
 };
 use crate::scene::frame::path_geometry;
-
-const LOWEST_ALT_KM: f64 = 0.3;
-const MAX_VIEW_ZENITH_DEG: f64 = 85.0;
 
 /// The band-integrated result of one sample.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -169,47 +167,6 @@ pub fn representatives_frame(samples: &[Sample], sw: u32, sh: u32, n: u32) -> Ve
         }
     }
     rep
-}
-
-/// τ₂, L_UE, L_US of the path to a sensor `h_km` above the point, seen
-/// at view zenith `vz_deg` there (the render's rules: the view zenith
-/// clamped to the tables' last angle, a sensor below the tables' lowest
-/// altitude scaled as a uniform layer; see the module docs). The render's
-/// lookups and [`super::prepare::validate`] both go through it.
-pub fn path_at(
-    sa: &crate::atmos::SpectralAtmosphere,
-    h: f64,
-    vz: f64,
-    sun_zenith_deg: f64,
-    rel: f64,
-) -> Result<PathSpectra, crate::atmos::AtmosError> {
-    let vz = vz.min(MAX_VIEW_ZENITH_DEG);
-    let p = if h >= LOWEST_ALT_KM {
-        sa.path(h, vz, sun_zenith_deg.min(90.0), rel)?
-    } else {
-        let base = sa.path(LOWEST_ALT_KM, vz, sun_zenith_deg.min(90.0), rel)?;
-        let f = h.max(0.0) / LOWEST_ALT_KM;
-        let tau2: Vec<f64> = base.tau2.iter().map(|t| t.max(1e-300).powf(f)).collect();
-        let l_ue = base
-            .l_ue_w_m2_sr_um
-            .iter()
-            .zip(base.tau2.iter().zip(&tau2))
-            .map(|(l, (t0, t))| {
-                if *t0 < 1.0 {
-                    l * (1.0 - t) / (1.0 - t0)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let l_us = base.l_us_w_m2_sr_um.iter().map(|l| l * f).collect();
-        PathSpectra {
-            tau2,
-            l_ue_w_m2_sr_um: l_ue,
-            l_us_w_m2_sr_um: l_us,
-        }
-    };
-    Ok(p)
 }
 
 fn key(x: f64, quantum: f64) -> i64 {

@@ -19,11 +19,14 @@ use crate::scene::material::{Emissivity as SceneEmissivity, Material};
 use crate::scene::spec::{TracerKind, WeatherSpec};
 use crate::sun::{Site, SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
-use crate::therm::forcing::{EstimatorReport, Forcing, build_forcing};
-use crate::therm::slab::{BackBoundary, SlabMaterial, ThermSettings};
-use crate::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather_file_with};
+use crate::therm::conditions::{
+    FrameForcing, frame_forcing, solve_ground, weather_window, with_deep_ground,
+};
+use crate::therm::forcing::{EstimatorReport, Forcing};
+use crate::therm::slab::{SlabMaterial, ThermSettings};
 use crate::trace::sky_view::{SkyPatch, barycentric};
 use crate::trace::{self, Backend, Geometry, Tracer};
+use crate::weather::{ReadOptions, WeatherHistory, YearSpan};
 
 /// The parts of a render that do not depend on time or weather.
 pub struct Static {
@@ -120,7 +123,7 @@ pub struct Conditions {
     /// for the wind are taken above it.
     pub ground_z_m: f64,
     /// The scene's slabs with `deep_ground = {}` set to
-    /// [`deep_ground_temp_k`] (indexed like the scene's materials).
+    /// [`crate::therm::conditions::deep_ground_temp_k`] (indexed like the scene's materials).
     pub slabs: Vec<SlabMaterial>,
     /// The frame's atmosphere: [`Static::atmosphere`] adjusted to the
     /// weather at the image time (`atmos::adjust`).
@@ -194,7 +197,7 @@ pub fn validate(scene: &LoadedScene) -> anyhow::Result<()> {
 }
 
 /// The sensor's paths to the scene's geometry are inside the atmosphere
-/// table: the path lookups of the render ([`super::pixel::path_at`]) at
+/// table: the path lookups of the render ([`super::atmosphere::path_at`]) at
 /// the lowest and highest sensor height over the geometry's bounding box
 /// (on the Earth's sphere, [`crate::scene::frame::path_geometry`]) and
 /// at the view zeniths from 0 to the largest of the box's corners. A
@@ -224,7 +227,7 @@ pub fn check_paths(scene: &LoadedScene, sa: &SpectralAtmosphere) -> anyhow::Resu
     }
     for h in [h_min.max(1e-4), h_max.max(1e-4)] {
         for vz in [0.0, vz_max.min(90.0)] {
-            super::pixel::path_at(sa, h, vz, 0.0, 0.0).with_context(|| {
+            super::atmosphere::path_at(sa, h, vz, 0.0, 0.0).with_context(|| {
                 format!(
                     "{}: the sensor {:.3} km above the scene's geometry, seen at view zenith {:.2}°",
                     scene.path.display(),
@@ -338,63 +341,6 @@ pub fn derive_static(
     ))
 }
 
-/// Hours of air temperature averaged into the deep-ground temperature.
-pub const DEEP_GROUND_WINDOW_H: i64 = 72;
-
-/// Start of the deep-ground averaging window (before clipping to the
-/// weather record): [`DEEP_GROUND_WINDOW_H`] before the image time, or the
-/// history's start if earlier.
-fn deep_ground_window_start(
-    history_start: DateTime<Utc>,
-    image_time: DateTime<Utc>,
-) -> DateTime<Utc> {
-    history_start.min(image_time - chrono::Duration::hours(DEEP_GROUND_WINDOW_H))
-}
-
-/// The deep-ground temperature of `deep_ground = {}` materials: the mean air
-/// temperature (trapezoid rule on hourly samples) over the
-/// [`DEEP_GROUND_WINDOW_H`] hours before the image time, or over the whole
-/// history when that is longer, clipped to the start of the weather record.
-/// At the depth of the airfield's ground slabs (0.3-0.5 m, two to four
-/// diurnal damping depths) the soil follows the multi-day mean, not the
-/// day's. The window does not depend on the history length, so the
-/// `history_hours` knob changes the spin-up only, not the boundary.
-pub fn deep_ground_temp_k(
-    history: &WeatherHistory,
-    site: &Site,
-    history_start: DateTime<Utc>,
-    image_time: DateTime<Utc>,
-) -> anyhow::Result<f64> {
-    let from = deep_ground_window_start(history_start, image_time);
-    Ok(window_means(history, site, from, image_time, [|f| f.air_temp_k])?[0])
-}
-
-/// Means of each of `fs` over the weather's forcing from `from` (or the
-/// start of the record, if later) to `to`: samples at most an hour apart,
-/// trapezoid rule.
-pub fn window_means<const N: usize>(
-    history: &WeatherHistory,
-    site: &Site,
-    from: DateTime<Utc>,
-    to: DateTime<Utc>,
-    fs: [fn(&Forcing) -> f64; N],
-) -> anyhow::Result<[f64; N]> {
-    let mut from = from;
-    if let Some(&first) = history.times.first() {
-        from = from.max(first);
-    }
-    let span_s = (to - from).num_milliseconds() as f64 / 1e3;
-    if span_s <= 0.0 {
-        anyhow::bail!("the weather record starts after the image time");
-    }
-    let n = (span_s / 3600.0).ceil().max(1.0) as usize;
-    let (f, _) = build_forcing(history, site, from, span_s / n as f64, n)?;
-    Ok(fs.map(|g| {
-        let sum: f64 = f.windows(2).map(|w| 0.5 * (g(&w[0]) + g(&w[1]))).sum();
-        sum / n as f64
-    }))
-}
-
 /// The scene's ground material: the one with the largest area of
 /// triangles facing up within 10° of the zenith.
 pub fn ground_material(scene: &LoadedScene) -> Option<u32> {
@@ -434,12 +380,15 @@ pub fn scene_weather(
                 typical_year: typical_year.then(|| YearSpan::around(from, to)),
                 ..ReadOptions::default()
             };
-            read_weather_file_with(&p, &opts)
+            scene
+                .weather_record
+                .parsed(&p, &opts)
                 .with_context(|| format!("weather file of {}", scene.path.display()))?
                 .history
+                .clone()
         }
-        WeatherSpec::Constant(c) => crate::therm::weather::constant_weather(
-            &crate::therm::weather::ConstantWeather {
+        WeatherSpec::Constant(c) => crate::weather::constant_weather(
+            &crate::weather::ConstantWeather {
                 wind_speed_m_s: c.wind_m_s,
                 air_temp_min_c: c.air_min_c,
                 air_temp_max_c: c.air_max_c,
@@ -458,11 +407,11 @@ pub fn scene_weather(
 }
 
 /// Warnings about the scene's weather: its file's station more than
-/// [`crate::therm::weather::MAX_STATION_OFFSET_DEG`] from the site
-/// ([`crate::therm::weather::station_mismatch`]), unless the scene says the
+/// [`crate::weather::MAX_STATION_OFFSET_DEG`] from the site
+/// ([`crate::weather::station_mismatch`]), unless the scene says the
 /// file stands in for the site (`weather.file.stand_in`); and, stand-in or
 /// not, the hours of the image's history whose measured sunlight disagrees
-/// with the site's sun ([`crate::therm::weather::sunlight_mismatch`]).
+/// with the site's sun ([`crate::weather::sunlight_mismatch`]).
 pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
     let mut out = station_warnings(scene)?;
     let sc = &scene.scene;
@@ -471,7 +420,7 @@ pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
         let from = to - chrono::Duration::seconds((sc.render.history_hours * 3600.0) as i64);
         // A window the file does not cover is the render's error to report.
         if let Ok(h) = scene_weather(scene, from, to) {
-            out.extend(crate::therm::weather::sunlight_mismatch(
+            out.extend(crate::weather::sunlight_mismatch(
                 &h,
                 sc.site.latitude_deg,
                 sc.site.longitude_deg,
@@ -496,11 +445,15 @@ fn station_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
         return Ok(Vec::new());
     };
     let p = scene.resolve(path);
-    let station = crate::therm::weather::read_station(&p, *typical_year)
-        .with_context(|| format!("weather file of {}", scene.path.display()))?;
+    let station = scene
+        .weather_record
+        .parsed(&p, &crate::weather::station_options(*typical_year))
+        .with_context(|| format!("weather file of {}", scene.path.display()))?
+        .station
+        .clone();
     Ok(station
         .and_then(|st| {
-            crate::therm::weather::station_mismatch(
+            crate::weather::station_mismatch(
                 &st,
                 &p.display().to_string(),
                 sc.site.latitude_deg,
@@ -591,14 +544,13 @@ pub fn frame_weather(
     let n_steps = (history_s as f64 / step_s).ceil().max(1.0) as usize;
     let step_s = history_s as f64 / n_steps as f64;
 
-    let history = scene_weather(
-        scene,
-        deep_ground_window_start(start, image_time) - chrono::Duration::hours(2),
-        image_time + chrono::Duration::hours(2),
-    )?;
-    let (forcing, estimators) = build_forcing(&history, &site, start, step_s, n_steps)
-        .with_context(|| format!("weather for {}", scene.path.display()))?;
-    let deep_ground_k = deep_ground_temp_k(&history, &site, start, image_time)
+    let (from, to) = weather_window(start, image_time);
+    let history = scene_weather(scene, from, to)?;
+    let FrameForcing {
+        forcing,
+        estimators,
+        deep_ground_k,
+    } = frame_forcing(&history, &site, start, step_s, n_steps, image_time)
         .with_context(|| format!("weather for {}", scene.path.display()))?;
     Ok(FrameWeather {
         site,
@@ -629,19 +581,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         estimators,
         deep_ground_k,
     } = frame_weather(&st.scene, image_time)?;
-    let mut slabs: Vec<SlabMaterial> = st
-        .slabs
-        .iter()
-        .map(|m| match m.back {
-            BackBoundary::DeepGround { temp_k: None } => SlabMaterial {
-                back: BackBoundary::DeepGround {
-                    temp_k: Some(deep_ground_k),
-                },
-                ..*m
-            },
-            _ => *m,
-        })
-        .collect();
+    let mut slabs = with_deep_ground(&st.slabs, deep_ground_k);
     let settings = ThermSettings {
         step_s,
         tol_k: Some(opts.thermal_tol_k),
@@ -655,26 +595,13 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let mut ground_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
     if let Some(g) = ground {
         let m = slabs[g as usize];
-        let sol = crate::therm::slab::SlabModel::new(
-            &m,
-            crate::therm::balance::Orientation::HORIZONTAL,
-            &settings,
-        )
-        .and_then(|model| model.solve(&forcing, None, true))
-        .with_context(|| {
-            format!(
-                "thermal model of the ground material {}",
-                st.scene.materials[g as usize].name
-            )
-        })?;
-        for (f, r) in forcing.iter_mut().zip(&sol.series) {
-            f.ground_temp_k = Some(r.surface_temp_k);
-        }
-        ground_temp_k = sol.surface_temp_k;
-        let albedo = 1.0 - m.solar_absorptivity;
-        for s in &mut slabs {
-            s.ground_albedo = Some(albedo);
-        }
+        ground_temp_k =
+            solve_ground(&m, &settings, &mut forcing, &mut slabs).with_context(|| {
+                format!(
+                    "thermal model of the ground material {}",
+                    st.scene.materials[g as usize].name
+                )
+            })?;
     }
     let suns = (0..=n_sun)
         .map(|k| {
@@ -718,83 +645,4 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         atmosphere,
         atmosphere_report,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::therm::weather::WeatherSample;
-    use chrono::TimeZone;
-
-    /// An hourly record from `t0` with air temperature `f(hour)` °C.
-    fn record(t0: DateTime<Utc>, hours: i64, f: impl Fn(f64) -> f64) -> WeatherHistory {
-        let times: Vec<_> = (0..=hours)
-            .map(|h| t0 + chrono::Duration::hours(h))
-            .collect();
-        let samples = (0..=hours)
-            .map(|h| WeatherSample {
-                air_temp_k: f(h as f64) + 273.15,
-                dew_point_k: 273.15,
-                wind_speed_m_s: 2.0,
-                pressure_pa: 101_325.0,
-                cloud_fraction: Some(0.0),
-                ghi_w_m2: None,
-                dni_w_m2: None,
-                dhi_w_m2: None,
-                sky_temp_k: None,
-                precip_mm_h: 0.0,
-            })
-            .collect();
-        WeatherHistory {
-            times,
-            samples,
-            source: "test".into(),
-        }
-    }
-
-    const SITE: Site = Site {
-        lat_deg: 36.1,
-        lon_deg: -79.95,
-        elevation_m: 273.0,
-    };
-
-    /// Reference: the analytic mean of the record's piecewise-linear air
-    /// temperature, i.e. the trapezoid rule over its own hourly samples
-    /// (exact for a linear trend; a whole-day sinusoid adds nothing). A
-    /// trend of 0.1 K/h plus a 5-K diurnal wave over 72 h has the mean of
-    /// the trend at the window's midpoint. Tolerance 1e-9 K (rounding).
-    #[test]
-    fn deep_ground_is_the_72_h_mean_air_temperature() {
-        let t0 = Utc.with_ymd_and_hms(2001, 8, 1, 0, 0, 0).unwrap();
-        let trend = |h: f64| 20.0 + 0.1 * h;
-        let w = record(t0, 200, |h| {
-            trend(h) + 5.0 * (2.0 * std::f64::consts::PI * h / 24.0).sin()
-        });
-        let image = t0 + chrono::Duration::hours(150);
-        // Sinusoid sampled hourly over whole days: its trapezoid sum is 0.
-        let expect = trend(150.0 - 36.0) + 273.15;
-        // A 24-h history: the window is still 72 h.
-        let hist_start = image - chrono::Duration::hours(24);
-        let got = deep_ground_temp_k(&w, &SITE, hist_start, image).unwrap();
-        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
-        // A 96-h history: the window is the history.
-        let hist_start = image - chrono::Duration::hours(96);
-        let got = deep_ground_temp_k(&w, &SITE, hist_start, image).unwrap();
-        let expect = trend(150.0 - 48.0) + 273.15;
-        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
-    }
-
-    /// A record shorter than the window: the mean over what there is.
-    #[test]
-    fn deep_ground_window_is_clipped_to_the_record() {
-        let t0 = Utc.with_ymd_and_hms(2001, 8, 1, 0, 0, 0).unwrap();
-        let w = record(t0, 30, |h| 10.0 + 0.2 * h);
-        let image = t0 + chrono::Duration::hours(24);
-        let got = deep_ground_temp_k(&w, &SITE, t0, image).unwrap();
-        let expect = 10.0 + 0.2 * 12.0 + 273.15;
-        assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
-        let before = t0 - chrono::Duration::hours(1);
-        let e = deep_ground_temp_k(&w, &SITE, before, before).unwrap_err();
-        assert!(e.to_string().contains("starts after the image time"), "{e}");
-    }
 }

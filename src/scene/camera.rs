@@ -34,9 +34,6 @@ pub struct Camera {
     pub tan_half_fov: (f64, f64),
 }
 
-/// The former name of [`Camera`] (the scene's sensor camera).
-pub type CameraGeometry = Camera;
-
 /// Unit vector with azimuth `az_deg` (clockwise from north) and zenith
 /// angle `zen_deg` (from +z): (sin z·sin a, sin z·cos a, cos z).
 pub fn direction_from_angles(zenith_deg: f64, azimuth_deg: f64) -> [f64; 3] {

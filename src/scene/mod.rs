@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 pub use crate::radiometry::SpectralResponse;
-pub use camera::{Camera, CameraGeometry, camera_geometry};
+pub use camera::{Camera, camera_geometry};
 pub use error::{Location, SceneError};
 pub use frame::LocalFrame;
 pub use material::{
@@ -99,9 +99,9 @@ pub struct LoadedScene {
     pub tri_facet: Vec<u32>,
     pub objects: Vec<ObjectInfo>,
     /// The sensor camera in world coordinates (as the scene gives it).
-    pub camera: CameraGeometry,
+    pub camera: Camera,
     /// The same camera in the local frame: what the tracer's rays use.
-    pub local_camera: CameraGeometry,
+    pub local_camera: Camera,
     /// The sensor's relative spectral response.
     pub response: SpectralResponse,
     /// The PSF kernel when `psf = { kernel_file = ... }`.
@@ -113,6 +113,11 @@ pub struct LoadedScene {
     /// Notes on the inputs that do not stop the load (e.g. a mesh's
     /// objects with no faces); the CLI prints them.
     pub warnings: Vec<String>,
+    /// The weather file's record, read once and kept (the load's station,
+    /// the warnings, the atmosphere choice and every frame share it;
+    /// [`LoadedScene::weather_history`]).
+    #[serde(skip)]
+    pub weather_record: crate::weather::WeatherRecord,
 }
 
 impl LoadedScene {
@@ -286,7 +291,8 @@ pub fn load_edited(
 
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let mut scene: Scene = src.parse()?;
-    site_from_weather(path, &src, &mut scene)?;
+    let weather_record = crate::weather::WeatherRecord::default();
+    site_from_weather(path, &src, &mut scene, &weather_record)?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
@@ -597,6 +603,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         degenerate_skipped,
         overrides: Vec::new(),
         warnings,
+        weather_record,
     })
 }
 
@@ -868,7 +875,12 @@ pub fn parse_kernel(file: &Path, text: &str) -> Result<PsfKernel, SceneError> {
 /// Fills a site latitude/longitude left out of the scene with the weather
 /// file's station (TMY2/TMY3/EPW/PSM3/PVGIS headers); an error when the
 /// weather gives none.
-fn site_from_weather(path: &Path, src: &TomlSource, scene: &mut Scene) -> Result<(), SceneError> {
+fn site_from_weather(
+    path: &Path,
+    src: &TomlSource,
+    scene: &mut Scene,
+    record: &crate::weather::WeatherRecord,
+) -> Result<(), SceneError> {
     let site = &mut scene.site;
     if !(site.latitude_deg.is_nan() || site.longitude_deg.is_nan()) {
         return Ok(());
@@ -880,12 +892,17 @@ fn site_from_weather(path: &Path, src: &TomlSource, scene: &mut Scene) -> Result
             typical_year,
             ..
         } => {
-            crate::therm::weather::read_station(&resolve(path, w), *typical_year).map_err(|e| {
-                src.invalid(
-                    &at,
-                    format!("site.latitude_deg/longitude_deg left out, and {e}"),
-                )
-            })?
+            let p = resolve(path, w);
+            let opts = crate::weather::station_options(*typical_year);
+            record
+                .parsed(&p, &opts)
+                .map(|f| f.station.clone())
+                .map_err(|e| {
+                    src.invalid(
+                        &at,
+                        format!("site.latitude_deg/longitude_deg left out, and {e}"),
+                    )
+                })?
         }
         spec::WeatherSpec::Constant(_) => None,
     };

@@ -402,7 +402,7 @@ pub enum WeatherSpec {
     Constant(ConstantWeather),
 }
 
-/// Weather file formats (readers in `therm::weather`).
+/// Weather file formats (readers in `weather`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WeatherFormat {

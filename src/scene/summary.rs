@@ -96,7 +96,7 @@ pub struct SceneSummary {
     pub warning: Option<String>,
     /// Notes on the inputs ([`super::LoadedScene::warnings`]).
     pub warnings: Vec<String>,
-    pub camera: super::CameraGeometry,
+    pub camera: super::Camera,
     /// Image corners on the plane z = target z (TL, TR, BR, BL); `null`
     /// where a corner ray misses the ground (above the horizon).
     pub footprint_m: [Option<[f64; 3]>; 4],

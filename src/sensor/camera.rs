@@ -7,12 +7,6 @@ use crate::trace::Ray;
 pub use crate::scene::camera::Camera;
 
 impl Camera {
-    /// The camera itself (kept for callers of the former separate sensor
-    /// camera type).
-    pub fn from_geometry(g: &Camera) -> Self {
-        *g
-    }
-
     /// The primary ray through image point (x, y).
     pub fn ray(&self, x: f64, y: f64) -> Ray {
         Ray::new(self.position().as_vec3(), self.direction(x, y).as_vec3())

@@ -1,5 +1,5 @@
 //! The per-step boundary forcing of the thermal solver, built from a
-//! [`super::weather::WeatherHistory`] and the sun ephemeris. Owner: the
+//! [`crate::weather::WeatherHistory`] and the sun ephemeris. Owner: the
 //! sun/weather work (issue 4); consumed by the slab solver.
 //!
 //! At every step [`build_forcing`] interpolates the weather
@@ -25,9 +25,9 @@
 use chrono::{DateTime, Duration, Timelike, Utc};
 use serde::{Deserialize, Serialize};
 
-use super::weather::{WeatherError, WeatherHistory, WeatherSample};
 use crate::sun::{Site, SpaOptions, solar_position_with, validate_site};
 use crate::units::{STEFAN_BOLTZMANN_W_M2K4, ZERO_C_K};
+use crate::weather::{WeatherError, WeatherHistory, WeatherSample};
 
 /// Everything the surface energy balance needs at one instant, for an
 /// unshadowed horizontal reference; the solver applies orientation and the
@@ -98,7 +98,7 @@ impl Default for ForcingOptions {
     fn default() -> Self {
         Self {
             linke_turbidity: 3.0,
-            max_gap_s: super::weather::DEFAULT_MAX_GAP_S,
+            max_gap_s: crate::weather::DEFAULT_MAX_GAP_S,
         }
     }
 }
@@ -220,12 +220,6 @@ pub fn kasten_young_airmass(apparent_zenith_deg: f64) -> Option<f64> {
     }
     let z = apparent_zenith_deg;
     Some(1.0 / (z.to_radians().cos() + 0.50572 * (6.07995 + (90.0 - z)).powf(-1.6364)))
-}
-
-/// Air pressure (Pa) of the standard atmosphere at an altitude (m), as
-/// pvlib's `alt2pres`: p = 100·((44331.514 − h)/11880.516)^(1/0.1902632).
-pub fn pressure_pa_from_altitude(altitude_m: f64) -> f64 {
-    100.0 * ((44331.514 - altitude_m) / 11880.516).powf(1.0 / 0.1902632)
 }
 
 /// Clear-sky global, direct normal and diffuse horizontal irradiance, W/m².
@@ -685,7 +679,7 @@ pub fn sky_longwave_w_m2(sky_temp_k: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::therm::weather::{ConstantWeather, ReadOptions, constant_weather, parse_plain_csv};
+    use crate::weather::{ConstantWeather, ReadOptions, constant_weather, parse_plain_csv};
 
     fn utc(s: &str) -> DateTime<Utc> {
         DateTime::parse_from_rfc3339(s).unwrap().with_timezone(&Utc)

@@ -90,7 +90,7 @@ pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
 /// Where the forcing comes from.
 #[derive(Clone, Debug)]
 pub enum ForcingSource {
-    /// A weather file (any format of [`super::weather::read_weather`]);
+    /// A weather file (any format of [`crate::weather::read_weather`]);
     /// `typical_year`: a typical year, laid on every year of the run.
     Weather { path: PathBuf, typical_year: bool },
     /// A ready forcing CSV (see [`super::forcing_csv`]).
@@ -157,11 +157,11 @@ fn forcing_from_weather(
     n_steps: usize,
 ) -> anyhow::Result<(Vec<Forcing>, Vec<String>)> {
     let end = start + Duration::milliseconds((step_s * n_steps as f64 * 1e3).round() as i64);
-    let opts = super::weather::ReadOptions {
-        typical_year: typical_year.then(|| super::weather::YearSpan::around(start, end)),
+    let opts = crate::weather::ReadOptions {
+        typical_year: typical_year.then(|| crate::weather::YearSpan::around(start, end)),
         ..Default::default()
     };
-    let history = super::weather::read_weather_file_with(path, &opts)?.history;
+    let history = crate::weather::read_weather_file_with(path, &opts)?.history;
     let (forcing, report) = super::forcing::build_forcing(&history, site, start, step_s, n_steps)?;
     Ok((forcing, report.lines()))
 }

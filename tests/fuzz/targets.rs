@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use irsig::bounds::{self, Bound};
 use irsig::radiometry::{Band, SpectralGrid, SpectralResponse};
-use irsig::therm::weather::{
+use irsig::weather::{
     ReadOptions, WeatherFile, parse_epw, parse_plain_csv, parse_psm3, parse_pvgis_csv, parse_tmy2,
     parse_tmy3,
 };
@@ -85,13 +85,13 @@ fn weather_ok(w: &WeatherFile) -> R {
 }
 
 type WeatherParser =
-    fn(&str, &str, &ReadOptions) -> Result<WeatherFile, irsig::therm::weather::WeatherError>;
+    fn(&str, &str, &ReadOptions) -> Result<WeatherFile, irsig::weather::WeatherError>;
 
 fn weather_campaign(target: &str, seeds: Vec<Vec<u8>>, parse: WeatherParser, file: &str) {
     let opts = [
         ReadOptions::default(),
         ReadOptions {
-            typical_year: Some(irsig::therm::weather::YearSpan {
+            typical_year: Some(irsig::weather::YearSpan {
                 first: 2000,
                 last: 2001,
             }),

@@ -8,7 +8,7 @@ use chrono::{DateTime, Duration, TimeZone, Utc};
 use irsig::scene::parse_scene;
 use irsig::sun::report::parse_time;
 use irsig::sun::{solar_position, sun_events_near};
-use irsig::therm::weather::{ReadOptions, parse_plain_csv};
+use irsig::weather::{ReadOptions, parse_plain_csv};
 use proptest::prelude::*;
 
 fn utc(y: i32, mo: u32, d: u32, h: u32, mi: u32) -> DateTime<Utc> {

@@ -44,6 +44,7 @@ pub mod csv;
 pub mod epw;
 pub mod psm3;
 pub mod pvgis;
+pub mod record;
 pub mod tmy2;
 pub mod tmy3;
 
@@ -52,6 +53,7 @@ pub use csv::{PLAIN_CSV_COLUMNS, parse_plain_csv};
 pub use epw::parse_epw;
 pub use psm3::parse_psm3;
 pub use pvgis::parse_pvgis_csv;
+pub use record::{WeatherRecord, WeatherText};
 pub use tmy2::parse_tmy2;
 pub use tmy3::parse_tmy3;
 
@@ -492,11 +494,17 @@ pub fn sky_temp_k_from_irradiance(lw_down_w_m2: f64) -> f64 {
     (lw_down_w_m2 / STEFAN_BOLTZMANN_W_M2K4).powf(0.25)
 }
 
+/// Air pressure (Pa) of the standard atmosphere at an altitude (m), as
+/// pvlib's `alt2pres`: p = 100·((44331.514 − h)/11880.516)^(1/0.1902632).
+pub fn pressure_pa_from_altitude(altitude_m: f64) -> f64 {
+    100.0 * ((44331.514 - altitude_m) / 11880.516).powf(1.0 / 0.1902632)
+}
+
 /// Pressure of the standard atmosphere at a station's elevation, hPa: what
 /// a reader takes for a record without a pressure
-/// ([`crate::therm::forcing::pressure_pa_from_altitude`]).
+/// ([`pressure_pa_from_altitude`]).
 pub fn standard_pressure_hpa(elevation_m: f64) -> f64 {
-    crate::therm::forcing::pressure_pa_from_altitude(elevation_m) / 100.0
+    pressure_pa_from_altitude(elevation_m) / 100.0
 }
 
 // ---------------------------------------------------------------------------
@@ -535,32 +543,7 @@ pub fn read_weather_file_with(
 /// A UTF-8 byte-order mark is dropped; bytes that are not UTF-8 (Latin-1
 /// station names) are replaced.
 pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
-    let file = path.display().to_string();
-    let bytes =
-        crate::files::read(path, crate::bounds::sizes::MAX_WEATHER_FILE_BYTES).map_err(|err| {
-            WeatherError::Io {
-                file: file.clone(),
-                err,
-            }
-        })?;
-    let text = String::from_utf8_lossy(&bytes);
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    let is_epw = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("epw"));
-    match detect_format(text, is_epw) {
-        Ok(WeatherFormat::Epw) => parse_epw(text, &file, opts),
-        Ok(WeatherFormat::Tmy3) => parse_tmy3(text, &file, opts),
-        Ok(WeatherFormat::Tmy2) => parse_tmy2(text, &file, opts),
-        Ok(WeatherFormat::Psm3) => parse_psm3(text, &file, opts),
-        Ok(WeatherFormat::PvgisCsv) => parse_pvgis_csv(text, &file, opts),
-        Ok(WeatherFormat::PlainCsv) => parse_plain_csv(text, &file, opts),
-        Err((line, what)) => Err(WeatherError::Malformed {
-            file,
-            line,
-            msg: format!("{what}; irsig reads {SUPPORTED_FORMATS}"),
-        }),
-    }
+    WeatherText::read(path)?.parse(opts)
 }
 
 /// The format of a weather file's text, from its first lines: EPW (a
@@ -661,15 +644,20 @@ pub fn read_station(
     path: &Path,
     typical_year: bool,
 ) -> Result<Option<WeatherStation>, WeatherError> {
-    let opts = ReadOptions {
+    WeatherText::read(path)?.station(typical_year)
+}
+
+/// The options [`read_station`] reads a file with: no gap limit, a typical
+/// year laid on 2001.
+pub fn station_options(typical_year: bool) -> ReadOptions {
+    ReadOptions {
         typical_year: typical_year.then_some(YearSpan {
             first: 2001,
             last: 2001,
         }),
         max_gap_s: f64::INFINITY,
         ..ReadOptions::default()
-    };
-    Ok(read_weather(path, &opts)?.station)
+    }
 }
 
 /// A warning when `station` lies more than [`MAX_STATION_OFFSET_DEG`] in
