@@ -12,9 +12,9 @@
 
 use std::path::Path;
 
+use irsig::bench::crosscheck_file::crosscheck_scene;
 use irsig::render::{Rendered, prepare_static, render_at};
 use irsig::scene::{LoadedScene, apply_overrides, load_text};
-use irsig::trace::crosscheck_file::crosscheck_scene;
 
 /// (east, north) offsets of the whole scene, m.
 const OFFSETS: [[f64; 2]; 5] = [

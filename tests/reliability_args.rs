@@ -149,7 +149,7 @@ fn therm_arguments_out_of_range_are_refused_not_panics() {
     // The library (and Python) name the argument, not the flag.
     let run = irsig::therm::series::FacetRun {
         material_name: "asphalt".into(),
-        material: irsig::therm::series::load_material(&mats, "asphalt").unwrap(),
+        material: irsig::scene::lookup::load_material(&mats, "asphalt").unwrap(),
         forcing: irsig::therm::series::ForcingSource::Weather {
             path: PathBuf::from(DATA).join("tmy3_723170_greensboro_jun18-22.csv"),
             typical_year: false,

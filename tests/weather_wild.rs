@@ -8,7 +8,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use chrono::{DateTime, Duration, Utc};
-use irsig::therm::weather::{ReadOptions, WeatherHistory, YearSpan, ZERO_C_K, read_weather};
+use irsig::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather};
+use irsig::units::ZERO_C_K;
 
 fn wild(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -335,7 +336,7 @@ fn tenths(s: &irsig::therm::weather::WeatherSample) -> f64 {
 }
 /// Downwelling infrared back from the sky temperature, σT⁴.
 fn infrared(s: &irsig::therm::weather::WeatherSample) -> f64 {
-    irsig::therm::weather::STEFAN_BOLTZMANN * s.sky_temp_k.unwrap().powi(4)
+    irsig::units::STEFAN_BOLTZMANN_W_M2K4 * s.sky_temp_k.unwrap().powi(4)
 }
 
 fn read_ok(name: &str) -> irsig::therm::weather::WeatherFile {

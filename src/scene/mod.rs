@@ -14,6 +14,7 @@ pub mod camera;
 pub mod error;
 pub mod frame;
 pub mod georef;
+pub mod lookup;
 pub mod material;
 pub mod mesh;
 mod paths;
