@@ -31,6 +31,10 @@ fn a_render_opens_its_weather_file_once() {
         set("atmosphere.model", "\"auto\"".into()),
         set("sensor.width_px", "8".into()),
         set("sensor.height_px", "8".into()),
+        set(
+            "files.allow",
+            format!("[{:?}]", dir.path().display().to_string()),
+        ),
     ];
     let unset = [
         "site.latitude_deg".to_string(),

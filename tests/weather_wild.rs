@@ -174,12 +174,23 @@ fn check_fails_on_unreadable_weather() {
     let p = wild("tmy3_723170_yearend.csv");
     let scene = common::airfield();
     let set = format!("weather.file.path=\"{}\"", p.display());
-    let (code, _, err) = common::irsig_out(&["check", scene.to_str().unwrap(), "--set", &set]);
+    // (files.allow: the corpus lies outside the scene's folders.)
+    let allow = "files.allow=[\"/\"]";
+    let (code, _, err) = common::irsig_out(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        allow,
+        "--set",
+        &set,
+    ]);
     assert_ne!(code, 0, "{err}");
     assert!(err.contains("typical_year = true"), "{err}");
     let (code, _, err) = common::irsig_out(&[
         "check",
         scene.to_str().unwrap(),
+        "--set",
+        allow,
         "--set",
         &set,
         "--set",

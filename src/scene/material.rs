@@ -271,7 +271,20 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
                 Emissivity::Fresnel { n: *n, k: *k }
             }
             EmissivitySpec::TableFile(f) => {
-                let file = path.parent().unwrap_or(Path::new("")).join(f);
+                // The path policy: a library reads files in its own folder tree.
+                let folder = path.parent().unwrap_or(Path::new(""));
+                let file = crate::files::within(folder, f, &[]).map_err(|why| {
+                    let mut at = p("emissivity").to_vec();
+                    at.push(Seg::Key("table_file".into()));
+                    c.src.invalid(
+                        &at,
+                        format!(
+                            "emissivity table `{}` {why}: a material library reads files in its \
+                             own folder tree",
+                            f.display()
+                        ),
+                    )
+                })?;
                 Emissivity::Table(read_emissivity_table(&file)?)
             }
         };

@@ -17,6 +17,7 @@ pub mod georef;
 pub mod lookup;
 pub mod material;
 pub mod mesh;
+mod paths;
 pub mod spec;
 pub mod summary;
 pub mod terrain;
@@ -292,7 +293,7 @@ pub fn load_edited(
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let mut scene: Scene = src.parse()?;
     let weather_record = crate::weather::WeatherRecord::default();
-    site_from_weather(path, &src, &mut scene, &weather_record)?;
+    site_from_weather(&src, &mut scene, &weather_record)?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
@@ -300,30 +301,10 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     let local_camera = camera::camera_geometry_at(&scene.sensor, origin)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
 
-    // Referenced files must exist: report them at their scene-file key.
-    let must_exist = |p: &Path, at: &[Seg], what: &str| -> Result<PathBuf, SceneError> {
-        let r = resolve(path, p);
-        if r.is_file() {
-            Ok(r)
-        } else if let Some(kind) = crate::files::not_regular(&r) {
-            Err(src.invalid(
-                at,
-                format!(
-                    "{what} `{}` is {kind} ({}): expected a regular file",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        } else {
-            Err(src.invalid(
-                at,
-                format!(
-                    "{what} `{}` not found (looked for {})",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        }
+    // Referenced files: inside the path policy, existing, regular; each
+    // refusal reported at its scene-file key.
+    let must_exist = |p: &Path, at: &[Seg], what: &str| {
+        paths::referenced_file(&src, &scene.files.allow, p, at, what)
     };
 
     // Materials: later libraries override earlier ones of the same name.
@@ -537,7 +518,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         }
     }
     for (ti, t) in scene.terrain.iter().enumerate() {
-        let mesh = terrain::load(&src, ti, t, &scene.site, &|name, at| {
+        let mesh = terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
             by_name
                 .get(name)
                 .copied()
@@ -876,7 +857,6 @@ pub fn parse_kernel(file: &Path, text: &str) -> Result<PsfKernel, SceneError> {
 /// file's station (TMY2/TMY3/EPW/PSM3/PVGIS headers); an error when the
 /// weather gives none.
 fn site_from_weather(
-    path: &Path,
     src: &TomlSource,
     scene: &mut Scene,
     record: &crate::weather::WeatherRecord,
@@ -892,10 +872,16 @@ fn site_from_weather(
             typical_year,
             ..
         } => {
-            let p = resolve(path, w);
+            let file = paths::referenced_file(
+                src,
+                &scene.files.allow,
+                w,
+                &[key("weather"), key("file"), key("path")],
+                "weather file",
+            )?;
             let opts = crate::weather::station_options(*typical_year);
             record
-                .parsed(&p, &opts)
+                .parsed(&file, &opts)
                 .map(|f| f.station.clone())
                 .map_err(|e| {
                     src.invalid(

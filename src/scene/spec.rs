@@ -7,6 +7,24 @@ use std::path::PathBuf;
 use chrono::{NaiveDateTime, TimeZone};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+/// `[files]`: the path policy's allowances.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilesSpec {
+    /// Folders outside the scene file's folder tree from which the scene may
+    /// read files (relative to the scene file, or absolute), e.g. `[".."]`
+    /// for a material library beside the scene's folder; `["/"]` allows
+    /// any path (a scene you trust).
+    #[serde(default)]
+    pub allow: Vec<PathBuf>,
+}
+
+impl FilesSpec {
+    fn is_default(&self) -> bool {
+        self.allow.is_empty()
+    }
+}
+
 /// A whole scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -37,6 +55,10 @@ pub struct Scene {
     /// Terrain meshed from DEMs (`[[terrain]]` tables).
     #[serde(rename = "terrain", default, skip_serializing_if = "Vec::is_empty")]
     pub terrain: Vec<crate::scene::terrain::TerrainSpec>,
+    /// Where the files the scene refers to may lie (the path policy,
+    /// docs/reliability.md): by default inside the scene file's folder tree.
+    #[serde(default, skip_serializing_if = "FilesSpec::is_default")]
+    pub files: FilesSpec,
 }
 
 /// `[site]`.

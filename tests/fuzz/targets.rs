@@ -799,7 +799,7 @@ fn dem_geotiff() {
             std::fs::write(&dem, &b).unwrap();
             let (lat, lon) = sites[k];
             let text = format!(
-                "materials = [\"{}\"]\n[site]\nlatitude_deg = {lat}\nlongitude_deg = {lon}\n\
+                "materials = [\"{}\"]\n[files]\nallow = [\"/\"]\n[site]\nlatitude_deg = {lat}\nlongitude_deg = {lon}\n\
                  elevation_m = 150.0\nutc_offset_h = -4.0\n[time]\nlocal = 2001-08-08T14:00:00\n\
                  [weather.constant]\nwind_m_s = 3.0\nair_min_c = 17.0\nair_max_c = 29.0\n\
                  dew_point_c = 14.0\n[sensor]\nwidth_px = 8\nheight_px = 8\nfov_h_deg = 30.0\n\
