@@ -31,9 +31,11 @@ fn a_render_opens_its_weather_file_once() {
         set("atmosphere.model", "\"auto\"".into()),
         set("sensor.width_px", "8".into()),
         set("sensor.height_px", "8".into()),
+        // The scene's own allowance (its shared material library) and the
+        // copy's folder.
         set(
             "files.allow",
-            format!("[{:?}]", dir.path().display().to_string()),
+            format!("[\"..\", {:?}]", dir.path().display().to_string()),
         ),
     ];
     let unset = [

@@ -388,15 +388,7 @@ pub fn scene_weather(
                 .clone()
         }
         WeatherSpec::Constant(c) => crate::weather::constant_weather(
-            &crate::weather::ConstantWeather {
-                wind_speed_m_s: c.wind_m_s,
-                air_temp_min_c: c.air_min_c,
-                air_temp_max_c: c.air_max_c,
-                dew_point_c: c.dew_point_c,
-                cloud_fraction: c.cloud_fraction,
-                pressure_hpa: c.pressure_pa / 100.0,
-                t_max_after_noon_h: 2.5,
-            },
+            c,
             sc.site.latitude_deg,
             sc.site.longitude_deg,
             from,

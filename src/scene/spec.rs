@@ -442,31 +442,8 @@ pub enum WeatherFormat {
     Pvgis,
 }
 
-/// Constant weather: the same diurnal cycle every day (air temperature a
-/// smooth cycle between the daily minimum near sunrise and the maximum in
-/// mid-afternoon; everything else constant).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConstantWeather {
-    /// Wind speed, m/s (>= 0).
-    pub wind_m_s: f64,
-    /// Daily minimum air temperature, °C.
-    pub air_min_c: f64,
-    /// Daily maximum air temperature, °C (>= air_min_c).
-    pub air_max_c: f64,
-    /// Dew point, °C (<= air_min_c).
-    pub dew_point_c: f64,
-    /// Total cloud cover, 0 (clear) to 1 (overcast).
-    #[serde(default)]
-    pub cloud_fraction: f64,
-    /// Surface air pressure, Pa.
-    #[serde(default = "default_pressure_pa")]
-    pub pressure_pa: f64,
-}
-
-fn default_pressure_pa() -> f64 {
-    101_325.0
-}
+/// Constant weather (`[weather.constant]`): the weather layer's own type.
+pub use crate::weather::ConstantWeather;
 
 /// `[atmosphere]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -3,33 +3,54 @@
 
 use super::*;
 
-/// Parameters of the constant-weather source (sweeps such as the seed's
+/// Constant weather: the same diurnal cycle every day (air temperature a
+/// smooth cycle between the daily minimum near sunrise and the maximum in
+/// mid-afternoon; everything else constant). The scene's
+/// `[weather.constant]` table (these keys; `t_max_after_noon_h` is not one)
+/// and the library's constant-weather source (sweeps such as the seed's
 /// wind-speed figure, Fig. 13: fixed wind for the previous 24 h).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ConstantWeather {
-    pub wind_speed_m_s: f64,
+    /// Wind speed, m/s (>= 0).
+    pub wind_m_s: f64,
     /// Daily minimum air temperature (at sunrise), °C.
-    pub air_temp_min_c: f64,
-    /// Daily maximum air temperature (at solar noon + [`Self::t_max_after_noon_h`]), °C.
-    pub air_temp_max_c: f64,
-    /// Fixed dew point, °C; must not exceed `air_temp_min_c`.
+    pub air_min_c: f64,
+    /// Daily maximum air temperature (at solar noon + [`Self::t_max_after_noon_h`]), °C
+    /// (>= `air_min_c`).
+    pub air_max_c: f64,
+    /// Fixed dew point, °C; must not exceed `air_min_c`.
     pub dew_point_c: f64,
+    /// Total cloud cover, 0 (clear) to 1 (overcast).
+    #[serde(default)]
     pub cloud_fraction: f64,
-    pub pressure_hpa: f64,
-    /// Hours after solar noon of the daily maximum (default 2.5: mid-afternoon).
+    /// Surface air pressure, Pa.
+    #[serde(default = "default_pressure_pa")]
+    pub pressure_pa: f64,
+    /// Hours after solar noon of the daily maximum (default 2.5:
+    /// mid-afternoon; not a scene key).
+    #[serde(skip, default = "default_t_max_after_noon_h")]
     pub t_max_after_noon_h: f64,
+}
+
+fn default_pressure_pa() -> f64 {
+    101_325.0
+}
+
+fn default_t_max_after_noon_h() -> f64 {
+    2.5
 }
 
 impl Default for ConstantWeather {
     fn default() -> Self {
         Self {
-            wind_speed_m_s: 2.0,
-            air_temp_min_c: 15.0,
-            air_temp_max_c: 25.0,
+            wind_m_s: 2.0,
+            air_min_c: 15.0,
+            air_max_c: 25.0,
             dew_point_c: 10.0,
             cloud_fraction: 0.0,
-            pressure_hpa: 1013.25,
-            t_max_after_noon_h: 2.5,
+            pressure_pa: default_pressure_pa(),
+            t_max_after_noon_h: default_t_max_after_noon_h(),
         }
     }
 }
@@ -58,7 +79,7 @@ pub fn diurnal_air_temp_c(
         (rise, tmax)
     };
     let (r0, x0) = keys(0);
-    let (tmin, tmax) = (p.air_temp_min_c, p.air_temp_max_c);
+    let (tmin, tmax) = (p.air_min_c, p.air_max_c);
     let half_cos = |a: DateTime<Utc>, b: DateTime<Utc>| {
         let f = (secs_between(a, t) / secs_between(a, b)).clamp(0.0, 1.0);
         (1.0 - (std::f64::consts::PI * f).cos()) / 2.0
@@ -100,27 +121,27 @@ pub fn constant_weather(
         ));
     }
     let params = [
-        p.wind_speed_m_s,
-        p.air_temp_min_c,
-        p.air_temp_max_c,
+        p.wind_m_s,
+        p.air_min_c,
+        p.air_max_c,
         p.dew_point_c,
         p.cloud_fraction,
-        p.pressure_hpa,
+        p.pressure_pa,
         p.t_max_after_noon_h,
     ];
     if params.iter().any(|x| !x.is_finite()) {
         return bad(format!("parameters must be finite numbers: {p:?}"));
     }
-    if p.air_temp_min_c > p.air_temp_max_c {
+    if p.air_min_c > p.air_max_c {
         return bad(format!(
             "minimum air temperature {} °C is above the maximum {} °C",
-            p.air_temp_min_c, p.air_temp_max_c
+            p.air_min_c, p.air_max_c
         ));
     }
-    if p.dew_point_c > p.air_temp_min_c {
+    if p.dew_point_c > p.air_min_c {
         return bad(format!(
             "dew point {} °C is above the minimum air temperature {} °C (expected dew point <= air temperature)",
-            p.dew_point_c, p.air_temp_min_c
+            p.dew_point_c, p.air_min_c
         ));
     }
     if !(0.0..=8.0).contains(&p.t_max_after_noon_h) {
@@ -147,8 +168,8 @@ pub fn constant_weather(
             air_temp_c: diurnal_air_temp_c(p, lat_deg, lon_deg, t),
             dew_point_c: Some(p.dew_point_c),
             rh_percent: None,
-            wind_m_s: p.wind_speed_m_s,
-            pressure_hpa: p.pressure_hpa,
+            wind_m_s: p.wind_m_s,
+            pressure_hpa: p.pressure_pa / 100.0,
             cloud_fraction: Some(p.cloud_fraction),
             ghi: None,
             dni: None,

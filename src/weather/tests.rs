@@ -331,12 +331,12 @@ fn check_covers_lists_missing_hours() {
 #[test]
 fn constant_weather_diurnal_cycle() {
     let p = ConstantWeather {
-        wind_speed_m_s: 4.47,
-        air_temp_min_c: 12.0,
-        air_temp_max_c: 26.0,
+        wind_m_s: 4.47,
+        air_min_c: 12.0,
+        air_max_c: 26.0,
         dew_point_c: 8.0,
         cloud_fraction: 0.25,
-        pressure_hpa: 1000.0,
+        pressure_pa: 100_000.0,
         t_max_after_noon_h: 2.5,
     };
     let (lat, lon) = (43.1, -77.6);
