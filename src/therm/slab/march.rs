@@ -54,6 +54,9 @@ pub struct ThermSolution {
     /// Accepted and rejected internal steps.
     pub steps_accepted: usize,
     pub steps_rejected: usize,
+    /// Newton iterations over all steps (accepted, rejected and the
+    /// spin-up's steady state), i.e. surface-balance evaluations.
+    pub newton_iterations: usize,
 }
 
 /// A slab of one material at one orientation, ready to march.
@@ -97,6 +100,8 @@ struct Work {
     /// the back node is fixed, and the conductances.
     built: Option<(u64, usize, bool)>,
     built_g: Vec<f64>,
+    /// Newton iterations done with this scratch.
+    newton: usize,
 }
 
 impl SlabModel {
@@ -469,6 +474,7 @@ impl SlabModel {
         let mut tb = new[n - 1];
         let mut converged = false;
         for iter in 0..120 {
+            w.newton += 1;
             // Residuals R = rhs − lhs; J = −∂R/∂T; solve J·δ = R.
             let (sf, ds) = balance::surface_fluxes(drive, eps, &self.settings.convection, t0);
             let (u0, ub) = (t0 - t_ref, tb - t_ref);
@@ -871,6 +877,7 @@ impl SlabModel {
             series,
             steps_accepted: accepted,
             steps_rejected: rejected,
+            newton_iterations: w.newton,
         })
     }
 
@@ -961,6 +968,7 @@ impl Work {
             g_inv_diag: vec![0.0; n],
             built: None,
             built_g: vec![0.0; n.saturating_sub(1)],
+            newton: 0,
         }
     }
 }
