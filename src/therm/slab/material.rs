@@ -6,20 +6,69 @@ use crate::therm::surface::SurfaceKind;
 
 use super::*;
 
-/// What the back face (z = L) of the slab sees.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// What the back face (z = L) of the slab sees: the one description of the
+/// back boundary, read from a material library as written there
+/// (docs/scene-format.md, "Materials"): `back = "insulated"`,
+/// `back = { air = { exposed_area = 1.0 } }`, `back = { deep_ground = {} }`
+/// or `back = { deep_ground = { temp_c = 12.0 } }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum BackBoundary {
-    /// No heat flow through the back face.
+    /// No heat flow through the back face (`back = "insulated"`).
+    #[default]
     Insulated,
     /// Back face exchanges with ambient air (convection and longwave to
-    /// surroundings at air temperature); `area_factor` is the exposed back
-    /// area per unit front area (DIRSIG's EXPOSED_AREA − 1 for a plate whose
-    /// both faces are exposed: use 1.0).
-    ExposedToAir { area_factor: f64 },
-    /// Back face held at a deep-ground temperature: `temp_k`, or the mean
-    /// air temperature of the forcing when `None`.
-    DeepGround { temp_k: Option<f64> },
+    /// surroundings at air temperature); `area_factor` (`exposed_area`, DIRSIG
+    /// EXPOSED_AREA) is the exposed back area per unit front area (1.0 for a
+    /// plate whose both faces are exposed; default 1).
+    #[serde(rename = "air")]
+    ExposedToAir {
+        #[serde(rename = "exposed_area", default = "one")]
+        area_factor: f64,
+    },
+    /// Back face held at a deep-ground temperature: `temp_k` (written in
+    /// °C as `temp_c`, range [`crate::bounds::material::DEEP_GROUND_TEMP`],
+    /// checked where it is read), or when absent the site's deep-ground
+    /// temperature (a render) or the mean air temperature of the forcing.
+    DeepGround {
+        #[serde(
+            rename = "temp_c",
+            default,
+            skip_serializing_if = "Option::is_none",
+            with = "celsius"
+        )]
+        temp_k: Option<f64>,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// `temp_c` as written ⇄ `temp_k` as modelled (T/K = t/°C + 273.15); the
+/// written value is range-checked here, so the message quotes it as written.
+mod celsius {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    use crate::bounds::material::DEEP_GROUND_TEMP;
+    use crate::therm::weather::ZERO_C_K as ZERO_CELSIUS_K;
+
+    pub fn serialize<S: Serializer>(temp_k: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match temp_k {
+            Some(k) => s.serialize_some(&(k - ZERO_CELSIUS_K)),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        match Option::<f64>::deserialize(d)? {
+            Some(c) => DEEP_GROUND_TEMP
+                .check(c)
+                .map(|c| Some(c + ZERO_CELSIUS_K))
+                .map_err(serde::de::Error::custom),
+            None => Ok(None),
+        }
+    }
 }
 
 /// One material's slab: thermal and surface properties (DIRSIG's

@@ -188,7 +188,7 @@ fn surface_only_newton_matches_the_full_system_newton() {
         slope_deg: 30.0,
         aspect_deg: 180.0,
     };
-    runs.extend(library.iter().map(|m| (m.slab(), south, None)));
+    runs.extend(library.iter().map(|m| (m.construction, south, None)));
     assert!(runs.len() >= 15);
     let fixed = ThermSettings {
         tol_k: None,
