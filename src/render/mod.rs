@@ -133,6 +133,13 @@ pub struct Stats {
     pub history_pixels_refined: u64,
     pub thermal_solves: u64,
     pub thermal_cache_hits: u64,
+    /// Over the distinct solves: accepted and rejected march steps, Newton
+    /// iterations, and the core-seconds spent solving (summed over
+    /// threads; the rest of `seconds.thermal` is keys and lookups).
+    pub thermal_steps: u64,
+    pub thermal_steps_rejected: u64,
+    pub thermal_newton_iterations: u64,
+    pub thermal_solve_core_s: f64,
     /// Samples whose band integral was evaluated (uniform pixels evaluate
     /// one of their n×n samples).
     pub radiometry_samples: u64,
@@ -905,6 +912,10 @@ fn solve_temperatures(
     let after = cond.cache.stats();
     stats.thermal_solves += after.misses - before.misses;
     stats.thermal_cache_hits += after.hits - before.hits;
+    stats.thermal_steps += after.steps - before.steps;
+    stats.thermal_steps_rejected += after.steps_rejected - before.steps_rejected;
+    stats.thermal_newton_iterations += after.newton_iterations - before.newton_iterations;
+    stats.thermal_solve_core_s += (after.solve_ns - before.solve_ns) as f64 * 1e-9;
     stats.seconds.thermal += t1.elapsed().as_secs_f64();
     Ok(())
 }

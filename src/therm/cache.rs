@@ -399,6 +399,13 @@ pub struct CacheStats {
     pub hits: u64,
     pub misses: u64,
     pub entries: u64,
+    /// Over all solves: accepted and rejected march steps, Newton
+    /// iterations (surface-balance evaluations), and the core time spent
+    /// solving, ns (a measurement, never part of an output).
+    pub steps: u64,
+    pub steps_rejected: u64,
+    pub newton_iterations: u64,
+    pub solve_ns: u64,
 }
 
 type Slot = Arc<OnceLock<Result<Arc<ThermSolution>, ThermError>>>;
@@ -416,6 +423,10 @@ pub struct ThermCache {
     meshes: Mutex<Vec<(MeshKey, Arc<Mesh>)>>,
     hits: AtomicU64,
     misses: AtomicU64,
+    steps: AtomicU64,
+    steps_rejected: AtomicU64,
+    newton: AtomicU64,
+    solve_ns: AtomicU64,
 }
 
 impl ThermCache {
@@ -442,6 +453,10 @@ impl ThermCache {
             meshes: Mutex::new(Vec::new()),
             hits: AtomicU64::new(0),
             misses: AtomicU64::new(0),
+            steps: AtomicU64::new(0),
+            steps_rejected: AtomicU64::new(0),
+            newton: AtomicU64::new(0),
+            solve_ns: AtomicU64::new(0),
         }
     }
 
@@ -743,7 +758,19 @@ impl ThermCache {
                 }
             }
         };
-        read(slot.get_or_init(|| self.solve_key(q, material, forcing)))
+        read(slot.get_or_init(|| {
+            let t0 = std::time::Instant::now();
+            let r = self.solve_key(q, material, forcing);
+            let ns = t0.elapsed().as_nanos().min(u128::from(u64::MAX)) as u64;
+            self.solve_ns.fetch_add(ns, Ordering::Relaxed);
+            if let Ok(s) = &r {
+                let add = |c: &AtomicU64, n: usize| c.fetch_add(n as u64, Ordering::Relaxed);
+                add(&self.steps, s.steps_accepted);
+                add(&self.steps_rejected, s.steps_rejected);
+                add(&self.newton, s.newton_iterations);
+            }
+            r
+        }))
     }
 
     /// The graded mesh of `material` under this cache's settings (built
@@ -823,6 +850,10 @@ impl ThermCache {
             hits: self.hits.load(Ordering::Relaxed),
             misses: self.misses.load(Ordering::Relaxed),
             entries,
+            steps: self.steps.load(Ordering::Relaxed),
+            steps_rejected: self.steps_rejected.load(Ordering::Relaxed),
+            newton_iterations: self.newton.load(Ordering::Relaxed),
+            solve_ns: self.solve_ns.load(Ordering::Relaxed),
         }
     }
 }
@@ -898,14 +929,9 @@ mod tests {
         let ta = cache.surface_temp_k(0, &m, a, None, 7, &f).unwrap();
         let tb = cache.surface_temp_k(0, &m, b, None, 7, &f).unwrap();
         assert_eq!(ta.to_bits(), tb.to_bits());
-        assert_eq!(
-            cache.stats(),
-            CacheStats {
-                hits: 1,
-                misses: 1,
-                entries: 1
-            }
-        );
+        let st = cache.stats();
+        assert_eq!((st.hits, st.misses, st.entries), (1, 1, 1));
+        assert!(st.steps > 0 && st.newton_iterations >= st.steps);
         // Equals a direct solve at the quantised orientation (30°, 180°).
         let direct = SlabModel::new(
             &m,

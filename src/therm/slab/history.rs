@@ -68,6 +68,52 @@ impl SunHistory {
         (1.0 - w) * self.flag(i0) + w * self.flag(i0 + 1)
     }
 
+    /// The sunlit fraction averaged over `[t0_s, t1_s]` (exactly: the
+    /// fraction is piecewise linear under the ramp rule, piecewise constant
+    /// under the nearest-sample rule, and each piece is integrated in
+    /// closed form); `t1_s <= t0_s` gives the fraction at `t0_s`.
+    ///
+    /// A backward-Euler step of the march takes this as the sunlit
+    /// fraction in force over the step: the absorbed direct-beam energy
+    /// of the step is then the exact integral of the history's, so a step
+    /// need not end where a shadow comes or goes, and the step control
+    /// alone decides how finely a transition is resolved.
+    pub fn mean_fraction(&self, t0_s: f64, t1_s: f64, ramp: bool) -> f64 {
+        if self.sunlit.is_empty() || self.interval_s <= 0 {
+            return 1.0;
+        }
+        if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) {
+            return if ramp {
+                self.sunlit_fraction_at(t0_s)
+            } else if self.sunlit_at(t0_s) {
+                1.0
+            } else {
+                0.0
+            };
+        }
+        let d = self.interval_s as f64;
+        // Sample units; under the nearest-sample rule, shifted by half a
+        // sample so that the constant pieces are [k, k + 1).
+        let shift = if ramp { 0.0 } else { 0.5 };
+        let xa = (t0_s - self.start_s as f64) / d + shift;
+        let xb = (t1_s - self.start_s as f64) / d + shift;
+        let mut k = xa.floor();
+        let mut sum = 0.0;
+        while k < xb {
+            let (u, v) = (xa.max(k), xb.min(k + 1.0));
+            let ki = k as i64;
+            let f0 = self.flag(ki);
+            if ramp {
+                let f1 = self.flag(ki + 1);
+                sum += (v - u) * (f0 + (0.5 * (u + v) - k) * (f1 - f0));
+            } else {
+                sum += (v - u) * f0;
+            }
+            k += 1.0;
+        }
+        (sum / (xb - xa)).clamp(0.0, 1.0)
+    }
+
     /// Times in the open interval (t0, t1) where the flag changes under the
     /// nearest-sample rule (half-way between two samples that disagree).
     pub fn switch_times(&self, t0: f64, t1: f64) -> Vec<f64> {
@@ -131,6 +177,12 @@ impl SunHistory {
         }
         Ok(())
     }
+}
+
+/// The sunlit fraction of an optional history averaged over `[t0_s, t1_s]`
+/// (no history: 1; see [`SunHistory::mean_fraction`]).
+pub fn mean_sun_fraction(shadow: Option<&SunHistory>, t0_s: f64, t1_s: f64, ramp: bool) -> f64 {
+    shadow.map_or(1.0, |h| h.mean_fraction(t0_s, t1_s, ramp))
 }
 
 /// The sunlit fraction of an optional history at `t_s` (no history: 1):

@@ -54,6 +54,9 @@ pub struct ThermSolution {
     /// Accepted and rejected internal steps.
     pub steps_accepted: usize,
     pub steps_rejected: usize,
+    /// Newton iterations over all steps (accepted, rejected and the
+    /// spin-up's steady state), i.e. surface-balance evaluations.
+    pub newton_iterations: usize,
 }
 
 /// A slab of one material at one orientation, ready to march.
@@ -97,6 +100,8 @@ struct Work {
     /// the back node is fixed, and the conductances.
     built: Option<(u64, usize, bool)>,
     built_g: Vec<f64>,
+    /// Newton iterations done with this scratch.
+    newton: usize,
 }
 
 impl SlabModel {
@@ -469,6 +474,7 @@ impl SlabModel {
         let mut tb = new[n - 1];
         let mut converged = false;
         for iter in 0..120 {
+            w.newton += 1;
             // Residuals R = rhs − lhs; J = −∂R/∂T; solve J·δ = R.
             let (sf, ds) = balance::surface_fluxes(drive, eps, &self.settings.convection, t0);
             let (u0, ub) = (t0 - t_ref, tb - t_ref);
@@ -718,18 +724,12 @@ impl SlabModel {
             temps[n - 1] = d;
         }
         let t_start = forcing[0].t_s;
-        let t_end = forcing[forcing.len() - 1].t_s;
-        // Breakpoints: every forcing sample and every sun/shadow switch.
-        let mut bps: Vec<f64> = forcing.iter().map(|f| f.t_s).collect();
-        if let Some(h) = shadow {
-            if self.settings.shadow_ramp {
-                bps.extend(h.ramp_kinks(t_start, t_end));
-            } else {
-                bps.extend(h.switch_times(t_start, t_end));
-            }
-            bps.sort_by(f64::total_cmp);
-            bps.dedup();
-        }
+        // Breakpoints: every forcing sample (where the interpolated forcing
+        // has a kink). Sun/shadow transitions are not breakpoints: a step
+        // takes the history's exact mean sunlit fraction over its span
+        // (`mean_sun_fraction`), and the step control resolves the
+        // transition like any other change of the drive.
+        let bps: Vec<f64> = forcing.iter().map(|f| f.t_s).collect();
         let mut w = Work::new(n);
         let mut g = vec![0.0; n - 1];
         let capacity_mm = self.water_capacity_mm();
@@ -765,13 +765,24 @@ impl SlabModel {
                 }
                 let t_new = if last { b } else { t + h };
                 let f = forcing_at(forcing, t_new);
-                let sunlit = sun_fraction(shadow, t + 0.5 * h, s.shadow_ramp);
+                let sunlit = mean_sun_fraction(shadow, t, t_new, s.shadow_ramp);
                 let mut drive = self.step_drive(&f, sunlit);
                 if capacity_mm > 0.0 {
                     wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, h);
                 }
                 self.conductances(&temps, &mut g);
                 new.copy_from_slice(&temps);
+                if prev_h.is_finite() {
+                    // Newton starts from the linear extrapolation of the
+                    // last accepted step (the implicit step's root does not
+                    // depend on the start; fewer iterations reach it).
+                    let r = h / prev_h;
+                    new[0] = (temps[0] + r * prev_inc[0]).max(1.0);
+                    new[n - 1] = (temps[n - 1] + r * prev_inc[n - 1]).max(1.0);
+                    if let Some(d) = deep {
+                        new[n - 1] = d;
+                    }
+                }
                 let ok = self.implicit_step(&temps, &mut new, h, &g, &drive, deep, &mut w);
                 if !ok {
                     if h <= s.min_step_s {
@@ -871,6 +882,7 @@ impl SlabModel {
             series,
             steps_accepted: accepted,
             steps_rejected: rejected,
+            newton_iterations: w.newton,
         })
     }
 
@@ -961,6 +973,7 @@ impl Work {
             g_inv_diag: vec![0.0; n],
             built: None,
             built_g: vec![0.0; n.saturating_sub(1)],
+            newton: 0,
         }
     }
 }

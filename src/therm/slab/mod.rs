@@ -27,17 +27,23 @@
 //! steps instead: the local error `h²/2·|T''|` is estimated from successive
 //! increments and kept below [`ThermSettings::tol_k`]; steps never exceed
 //! [`ThermSettings::step_s`] and never straddle a breakpoint (a forcing
-//! sample time, where the linearly interpolated forcing has a kink, or a
-//! sun/shadow switch). With `tol_k = None` the step is fixed at `step_s`
-//! (cut at breakpoints).
+//! sample time, where the linearly interpolated forcing has a kink). With
+//! `tol_k = None` the step is fixed at `step_s` (cut at breakpoints).
+//! Newton starts each step from the linear extrapolation of the last
+//! accepted step (same root, about 10 % fewer iterations).
 //!
 //! **Forcing between samples.** Each scalar field of
 //! [`Forcing`] is interpolated linearly in time; the sun vector is
 //! interpolated linearly and renormalised. Before the first / after the last
-//! sample the end values are held. A backward-Euler step ending at `t`
-//! evaluates the forcing at `t` and the sun/shadow flag at the step's
-//! midpoint (steps never straddle a flag switch, so this is the flag in
-//! force over the whole step).
+//! sample the end values are held. A backward-Euler step from `t` to `t'`
+//! evaluates the forcing at `t'` and takes as its sunlit fraction the
+//! history's exact mean over `[t, t']` ([`SunHistory::mean_fraction`]: the
+//! ramp, or the nearest-sample staircase, integrated piece by piece in
+//! closed form). The step's absorbed direct-beam energy is then the
+//! history's, wherever the step ends: sun/shadow transitions are not
+//! breakpoints (until issue 29 every ramp end was one, so a history with
+//! many short transitions cost many short steps), and the step control
+//! alone decides how finely a transition is resolved.
 //!
 //! **Spin-up.** The march starts from a steady state ([`SpinUpStart`]): by
 //! default the steady state under the *time-mean* surface drive of the whole
@@ -58,7 +64,7 @@ mod material;
 mod settings;
 
 pub use grid::Mesh;
-pub use history::{SunHistory, sun_fraction};
+pub use history::{SunHistory, mean_sun_fraction, sun_fraction};
 pub use interp::{forcing_at, validate_forcing};
 pub use march::{SlabModel, StepRecord, ThermSolution, solve_surface, update_store_mm};
 pub use material::{BackBoundary, SlabMaterial};
