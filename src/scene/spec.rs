@@ -54,7 +54,7 @@ pub struct Scene {
     pub objects: Vec<ObjectSpec>,
     /// Terrain meshed from DEMs (`[[terrain]]` tables).
     #[serde(rename = "terrain", default, skip_serializing_if = "Vec::is_empty")]
-    pub terrain: Vec<crate::scene::terrain::TerrainSpec>,
+    pub terrain: Vec<crate::scene::terrain::spec::TerrainSpec>,
     /// Where the files the scene refers to may lie (the path policy,
     /// docs/reliability.md): by default inside the scene file's folder tree.
     #[serde(default, skip_serializing_if = "FilesSpec::is_default")]

@@ -14,7 +14,7 @@
 
 use std::path::Path;
 
-use super::{Face, Mesh};
+use super::soup::{Face, Mesh};
 use crate::scene::error::{Location, SceneError};
 
 /// Keywords accepted and ignored (not geometry irsig uses).
@@ -56,7 +56,7 @@ const IGNORED: &[&str] = &[
 /// Reads and parses an OBJ file (faces not yet triangulated).
 pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
     let bytes = SceneError::read_bytes(path, crate::bounds::sizes::MAX_MESH_FILE_BYTES)?;
-    parse_obj(path, &super::decode_text(&bytes))
+    parse_obj(path, &super::text::decode_text(&bytes))
 }
 
 /// A named `o` object or `g` group and the faces written while it is
