@@ -130,6 +130,64 @@ pub fn inside_folder(folder: &Path, rel: &Path) -> Result<std::path::PathBuf, St
     Ok(file)
 }
 
+/// The path policy for files a scene refers to (docs/reliability.md, "Path
+/// policy"): `p`, relative to `folder` (the referring file's folder) or
+/// absolute, must lie in `folder`'s tree or in one of the `allow`ed folders
+/// (each relative to `folder` or absolute), judged on the lexically
+/// normalised path and, when the file exists, again on the canonical one
+/// (a symbolic link may not lead out). A `file:` URI is refused (write a
+/// path). Returns `folder.join(p)`, or why it is refused (nothing is read).
+pub fn within(
+    folder: &Path,
+    p: &Path,
+    allow: &[std::path::PathBuf],
+) -> Result<std::path::PathBuf, String> {
+    if p.to_string_lossy().starts_with("file:") {
+        return Err("is a `file:` URI: expected a path".into());
+    }
+    let base = std::path::absolute(folder_or_cwd(folder)).map_err(|e| e.to_string())?;
+    let roots: Vec<std::path::PathBuf> = std::iter::once(normalise(&base))
+        .chain(allow.iter().map(|a| normalise(&base.join(a))))
+        .collect();
+    let file = folder.join(p);
+    let lexical = normalise(&base.join(p));
+    if !roots.iter().any(|r| lexical.starts_with(r)) {
+        return Err(if p.is_absolute() {
+            "is an absolute path outside the allowed folders".into()
+        } else {
+            "climbs out of the allowed folders with `..`".into()
+        });
+    }
+    if let Ok(canonical) = file.canonicalize() {
+        let inside = roots
+            .iter()
+            .filter_map(|r| r.canonicalize().ok())
+            .any(|r| canonical.starts_with(r));
+        if !inside {
+            return Err("leads out of the allowed folders through a symbolic link".into());
+        }
+    }
+    Ok(file)
+}
+
+/// `p` with `.` dropped and each `..` taking off the component before it
+/// (lexically: symbolic links are not followed; `..` at the root stays at
+/// the root).
+fn normalise(p: &Path) -> std::path::PathBuf {
+    use std::path::Component;
+    let mut out = std::path::PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 fn folder_or_cwd(p: &Path) -> &Path {
     if p.as_os_str().is_empty() {
         Path::new(".")

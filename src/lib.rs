@@ -19,4 +19,5 @@ pub mod sensor;
 pub mod sun;
 pub mod therm;
 pub mod trace;
+pub mod units;
 pub mod version;

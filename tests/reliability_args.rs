@@ -149,7 +149,7 @@ fn therm_arguments_out_of_range_are_refused_not_panics() {
     // The library (and Python) name the argument, not the flag.
     let run = irsig::therm::series::FacetRun {
         material_name: "asphalt".into(),
-        material: irsig::therm::series::load_material(&mats, "asphalt").unwrap(),
+        material: irsig::scene::lookup::load_material(&mats, "asphalt").unwrap(),
         forcing: irsig::therm::series::ForcingSource::Weather {
             path: PathBuf::from(DATA).join("tmy3_723170_greensboro_jun18-22.csv"),
             typical_year: false,
@@ -489,7 +489,8 @@ fn devices_fifos_and_folders_are_refused_at_once() {
     // A scene naming a device as its material library.
     let scene = std::fs::read_to_string(root().join("scenes/plate/scene.toml"))
         .unwrap()
-        .replace("\"../materials.toml\"", "\"/dev/zero\"");
+        .replace("\"../materials.toml\"", "\"/dev/zero\"")
+        .replace("allow = [\"..\"]", "allow = [\"/\"]");
     let plate = d.path().join("plate");
     std::fs::create_dir(&plate).unwrap();
     std::fs::write(plate.join("scene.toml"), scene).unwrap();
@@ -522,6 +523,121 @@ fn devices_fifos_and_folders_are_refused_at_once() {
     );
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("character device"), "{err}");
+}
+
+/// Finding 3 for the scene's own files: a downloaded scene naming
+/// `/etc/passwd`, `../../..` or a `file:` URI as its weather, a material
+/// library or a mesh (or a library naming such an emissivity table) is
+/// refused before the file is opened, naming the scene file, its line and
+/// the key, and showing none of the file's bytes; `files.allow` lets a
+/// trusted scene read there. A symbolic link out of the folder counts as
+/// outside.
+#[test]
+fn scene_paths_stay_in_the_scenes_folder_unless_allowed() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path().join("s");
+    std::fs::create_dir_all(dir.join("obj")).unwrap();
+    for f in ["ground.obj", "plate.obj"] {
+        std::fs::copy(
+            root().join("scenes/plate/obj").join(f),
+            dir.join("obj").join(f),
+        )
+        .unwrap();
+    }
+    std::fs::copy(
+        root().join("scenes/materials.toml"),
+        dir.join("materials.toml"),
+    )
+    .unwrap();
+    let plate = std::fs::read_to_string(root().join("scenes/plate/scene.toml"))
+        .unwrap()
+        .replace("\"../materials.toml\"", "\"materials.toml\"")
+        .replace("[files]\nallow = [\"..\"]\n", "");
+    assert!(
+        !plate.contains("[files]"),
+        "the plate scene changed: update this test"
+    );
+    let secret = d.path().join("secret.csv");
+    std::fs::write(&secret, "SECRET-BYTES,1,2\n").unwrap();
+    std::os::unix::fs::symlink(&secret, dir.join("link.csv")).unwrap();
+    let check = |text: &str| {
+        let f = dir.join("scene.toml");
+        std::fs::write(&f, text).unwrap();
+        let (code, err) = irsig_within(&["check", f.to_str().unwrap()], Duration::from_secs(30));
+        (code, err)
+    };
+    let weather = |p: &str| {
+        let a = plate.find("[weather.constant]").unwrap();
+        let b = a + plate[a..].find("\n[sensor]").unwrap();
+        format!(
+            "{}[weather.file]\npath = \"{p}\"\nformat = \"csv\"\n{}",
+            &plate[..a],
+            &plate[b..]
+        )
+    };
+    // The plate's constant weather replaced by a file.
+    for (p, why) in [
+        ("/etc/passwd", "absolute path"),
+        (secret.to_str().unwrap(), "absolute path"),
+        ("../secret.csv", "climbs out"),
+        ("obj/../../secret.csv", "climbs out"),
+        ("file:///etc/passwd", "`file:` URI"),
+        ("link.csv", "symbolic link"),
+    ] {
+        let (code, err) = check(&weather(p));
+        assert_eq!(code, 1, "{p}: {err}");
+        assert!(
+            err.contains("scene.toml:") && err.contains(why) && err.contains("files.allow"),
+            "{p}: {err}"
+        );
+        assert!(
+            !err.contains("SECRET") && !err.contains("root:"),
+            "{p}: {err}"
+        );
+    }
+    // A material library and a mesh outside the folder.
+    let lib = plate.replace("\"materials.toml\"", "\"../secret.csv\"");
+    let (code, err) = check(&lib);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("material library") && err.contains("climbs out"),
+        "{err}"
+    );
+    let mesh = plate.replacen("\"obj/plate.obj\"", "\"/etc/passwd\"", 1);
+    assert_ne!(mesh, plate, "the plate scene changed: update this test");
+    let (code, err) = check(&mesh);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("mesh file") && err.contains("absolute path"),
+        "{err}"
+    );
+    // Allowed: the file is read (and refused as weather, naming its line).
+    let allowed = format!("{}\n[files]\nallow = [\"..\"]\n", weather("../secret.csv"));
+    let (code, err) = check(&allowed);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("secret.csv") && !err.contains("files.allow"),
+        "{err}"
+    );
+    // A library's emissivity table must lie in the library's folder.
+    let mats = std::fs::read_to_string(dir.join("materials.toml")).unwrap();
+    let at = mats.find("\nthermal_emissivity").unwrap() + 1;
+    let line_end = at + mats[at..].find('\n').unwrap();
+    let bad = format!(
+        "{}\nemissivity = {{ table_file = \"../secret.csv\" }}{}",
+        &mats[..line_end],
+        &mats[line_end..]
+    );
+    std::fs::write(dir.join("materials.toml"), bad).unwrap();
+    let (code, err) = check(&plate);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("materials.toml:")
+            && err.contains("emissivity table")
+            && err.contains("climbs out"),
+        "{err}"
+    );
+    assert!(!err.contains("SECRET"), "{err}");
 }
 
 /// From issue 32's small things: a TIFF (or anything not glTF) named
@@ -696,7 +812,7 @@ fn a_dem_with_absurd_heights_names_the_pixel() {
             .unwrap();
         assert!(ok.success());
         let scene = format!(
-            "materials = [\"{}\"]\n\
+            "materials = [\"{}\"]\n[files]\nallow = [\"/\"]\n\
              [site]\nlatitude_deg = {lat}\nlongitude_deg = {lon}\nelevation_m = 150.0\nutc_offset_h = -4.0\n\
              [time]\nlocal = 2001-08-08T14:00:00\n\
              [weather.constant]\nwind_m_s = 3.0\nair_min_c = 17.0\nair_max_c = 29.0\ndew_point_c = 14.0\n\

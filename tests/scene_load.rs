@@ -72,7 +72,7 @@ fn airfield_matches_the_paper_scene() {
     }
     // the vehicles carry an internal heat source
     let engine = s.material_index("vehicle_engine").unwrap();
-    assert!(s.materials[engine].internal_power_w_m2 > 0.0);
+    assert!(s.materials[engine].construction.internal_power_w_m2 > 0.0);
     assert!(s.tri_material.iter().any(|&m| m as usize == engine));
     // the weather record exists and is a TMY3 excerpt with its header
     let scene::WeatherSpec::File {

@@ -329,7 +329,7 @@ const ELEV: f64 = 150.0;
 /// `pose`, 40x30 pixels, one sample per pixel.
 fn scene_text(terrain: &str, pose: &str) -> String {
     format!(
-        "materials = [\"{}\"]\n\
+        "materials = [\"{}\"]\n[files]\nallow = [\"/\"]\n\
          [site]\nlatitude_deg = {LAT}\nlongitude_deg = {LON}\nelevation_m = {ELEV}\nutc_offset_h = -4.0\n\
          [time]\nlocal = 2001-08-08T14:00:00\n\
          [weather.constant]\nwind_m_s = 3.0\nair_min_c = 17.0\nair_max_c = 29.0\ndew_point_c = 14.0\n\

@@ -2,9 +2,10 @@
 //! default settings (`ThermSettings::default()`: default mesh and adaptive
 //! step). Every comparison: max |error| < 0.05 K over the stated window.
 
-use irsig::therm::balance::{Convection, Orientation, STEFAN_BOLTZMANN_W_M2K4};
+use irsig::therm::balance::{Convection, Orientation};
 use irsig::therm::forcing::Forcing;
 use irsig::therm::slab::{BackBoundary, SlabMaterial, SlabModel, ThermSettings};
+use irsig::units::STEFAN_BOLTZMANN_W_M2K4;
 
 const TOL_K: f64 = 0.05;
 

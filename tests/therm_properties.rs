@@ -2,11 +2,12 @@
 //! DIRSIG paper shows (Schott et al. 1992, Figs. 6-8): thermal mass,
 //! shadow history, wind.
 
-use irsig::therm::balance::{Convection, Orientation, STEFAN_BOLTZMANN_W_M2K4};
+use irsig::therm::balance::{Convection, Orientation};
 use irsig::therm::forcing::Forcing;
 use irsig::therm::slab::{
     BackBoundary, SlabMaterial, SlabModel, SpinUpStart, SunHistory, ThermSettings,
 };
+use irsig::units::STEFAN_BOLTZMANN_W_M2K4;
 use proptest::prelude::*;
 
 /// A synthetic clear day at 36° N on the equinox, repeated: sun from the

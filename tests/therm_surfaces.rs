@@ -33,7 +33,7 @@ fn airfield_forcing(from: &str, hours: f64, step_s: f64) -> Vec<Forcing> {
 fn material(name: &str) -> SlabMaterial {
     let lib = load_library(std::path::Path::new("scenes/materials.toml")).unwrap();
     let m = lib.iter().find(|m| m.name == name).unwrap();
-    irsig::render::prepare::slab_of(m)
+    m.construction
 }
 
 /// Hourly mean of `f(record)` over hour-ending stamps of a recorded

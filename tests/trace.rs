@@ -4,9 +4,9 @@
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
+use irsig::bench::crosscheck::{self, RayKind, RaySet, Report, Tolerances};
 use irsig::sensor::camera::Camera;
 use irsig::trace::bvh::BvhTracer;
-use irsig::trace::crosscheck::{self, RayKind, RaySet, Report, Tolerances};
 use irsig::trace::embree::EmbreeTracer;
 use irsig::trace::meshgen::{self, MeshBuilder, SplitMix};
 use irsig::trace::offset::offset_origin;
@@ -428,7 +428,7 @@ fn bad_geometry_is_an_error_or_a_counted_skip() {
 /// The classifier itself: a real disagreement is reported as unexplained.
 #[test]
 fn classifier_flags_real_disagreements() {
-    use irsig::trace::crosscheck::{Verdict, classify};
+    use irsig::bench::crosscheck::{Verdict, classify};
     let g = geometry(meshgen::mixed_scene());
     let ray = Ray::new(Vec3::new(0.0, 0.0, 50.0), -Vec3::Z);
     let tol = Tolerances::default();

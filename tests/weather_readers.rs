@@ -8,9 +8,9 @@ use std::path::Path;
 
 use chrono::{DateTime, Duration, Utc};
 use irsig::therm::weather::{
-    ReadOptions, STEFAN_BOLTZMANN, WeatherFormat, ZERO_C_K, read_weather_file,
-    read_weather_file_with,
+    ReadOptions, WeatherFormat, read_weather_file, read_weather_file_with,
 };
+use irsig::units::{STEFAN_BOLTZMANN_W_M2K4, ZERO_C_K};
 
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -165,7 +165,7 @@ fn epw_matches_pvlib_read_epw() {
             // Sky temperature from the infrared field: σT⁴ = L (to 1e-9 W/m²).
             let tk = m.sky_temp_k.unwrap();
             assert!(
-                (STEFAN_BOLTZMANN * tk.powi(4) - get(r, "ghi_infrared")).abs() < 1e-9,
+                (STEFAN_BOLTZMANN_W_M2K4 * tk.powi(4) - get(r, "ghi_infrared")).abs() < 1e-9,
                 "{t}"
             );
         }

@@ -8,7 +8,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use chrono::{DateTime, Duration, Utc};
-use irsig::therm::weather::{ReadOptions, WeatherHistory, YearSpan, ZERO_C_K, read_weather};
+use irsig::therm::weather::{ReadOptions, WeatherHistory, YearSpan, read_weather};
+use irsig::units::ZERO_C_K;
 
 fn wild(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -173,12 +174,23 @@ fn check_fails_on_unreadable_weather() {
     let p = wild("tmy3_723170_yearend.csv");
     let scene = common::airfield();
     let set = format!("weather.file.path=\"{}\"", p.display());
-    let (code, _, err) = common::irsig_out(&["check", scene.to_str().unwrap(), "--set", &set]);
+    // (files.allow: the corpus lies outside the scene's folders.)
+    let allow = "files.allow=[\"/\"]";
+    let (code, _, err) = common::irsig_out(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        allow,
+        "--set",
+        &set,
+    ]);
     assert_ne!(code, 0, "{err}");
     assert!(err.contains("typical_year = true"), "{err}");
     let (code, _, err) = common::irsig_out(&[
         "check",
         scene.to_str().unwrap(),
+        "--set",
+        allow,
         "--set",
         &set,
         "--set",
@@ -324,7 +336,7 @@ fn tenths(s: &irsig::therm::weather::WeatherSample) -> f64 {
 }
 /// Downwelling infrared back from the sky temperature, σT⁴.
 fn infrared(s: &irsig::therm::weather::WeatherSample) -> f64 {
-    irsig::therm::weather::STEFAN_BOLTZMANN * s.sky_temp_k.unwrap().powi(4)
+    irsig::units::STEFAN_BOLTZMANN_W_M2K4 * s.sky_temp_k.unwrap().powi(4)
 }
 
 fn read_ok(name: &str) -> irsig::therm::weather::WeatherFile {

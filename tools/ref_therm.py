@@ -82,7 +82,7 @@ CASES = [
         "material": {
             "density_kg_m3": 2100.0, "specific_heat_j_kgk": 920.0, "conductivity_w_mk": 0.75,
             "thickness_m": 0.3, "solar_absorptivity": 0.9, "thermal_emissivity": 0.93,
-            "back": {"deep_ground": {"temp_k": 290.0}},
+            "back": {"deep_ground": {"temp_c": 16.85}},
         },
         "slope_deg": 0.0, "aspect_deg": 0.0,
     },
@@ -91,7 +91,7 @@ CASES = [
         "material": {
             "density_kg_m3": 1600.0, "specific_heat_j_kgk": 1300.0, "conductivity_w_mk": 1.0,
             "thickness_m": 1.0, "solar_absorptivity": 0.78, "thermal_emissivity": 0.97,
-            "back": {"deep_ground": {"temp_k": None}},
+            "back": {"deep_ground": {}},
         },
         "slope_deg": 0.0, "aspect_deg": 0.0,
     },
@@ -100,7 +100,7 @@ CASES = [
         "material": {
             "density_kg_m3": 2700.0, "specific_heat_j_kgk": 900.0, "conductivity_w_mk": 200.0,
             "thickness_m": 0.0005, "solar_absorptivity": 0.5, "thermal_emissivity": 0.85,
-            "back": {"exposed_to_air": {"area_factor": 1.0}},
+            "back": {"air": {"exposed_area": 1.0}},
         },
         "slope_deg": 30.0, "aspect_deg": 200.0,
     },
@@ -232,8 +232,8 @@ class Slab:
         self.back = back
         self.deep = None
         if isinstance(back, dict) and "deep_ground" in back:
-            t = back["deep_ground"]["temp_k"]
-            self.deep = t if t is not None else float(np.mean(forcing.f["air_temp_k"]))
+            t = back["deep_ground"].get("temp_c")
+            self.deep = t + 273.15 if t is not None else float(np.mean(forcing.f["air_temp_k"]))
         self.N = nodes
 
     def surface(self, T, v, sunlit):
@@ -252,8 +252,8 @@ class Slab:
         return q, dconv - 4 * e * SIGMA * T ** 3
 
     def backflux(self, T, v):
-        if isinstance(self.back, dict) and "exposed_to_air" in self.back:
-            af = self.back["exposed_to_air"]["area_factor"]
+        if isinstance(self.back, dict) and "air" in self.back:
+            af = self.back["air"]["exposed_area"]
             e = self.m["thermal_emissivity"]
             dT = v["air_temp_k"] - T
             h, free = hconv(v["wind_speed_m_s"], dT)

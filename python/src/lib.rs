@@ -695,7 +695,7 @@ fn atmos_show(
     rel_azimuth_deg: f64,
     band: &str,
 ) -> PyResult<String> {
-    use irsig::radiometry::atmos_view::{AtmosGeometry, atmos_view};
+    use irsig::atmos::view::{AtmosGeometry, atmos_view};
     let g = AtmosGeometry {
         altitude_km,
         view_zenith_deg: zenith_deg,
@@ -743,9 +743,10 @@ fn therm(
     facet_height_m: f64,
     shadow: Option<&str>,
 ) -> PyResult<String> {
+    use irsig::scene::lookup::load_material;
     use irsig::therm::balance::{Convection, Orientation};
     use irsig::therm::series::{
-        FacetRun, ForcingSource, facet_series, load_material, parse_shadow_ranges, parse_time,
+        FacetRun, ForcingSource, facet_series, parse_shadow_ranges, parse_time,
     };
     use irsig::therm::slab::SpinUpStart;
     let build = || -> anyhow::Result<FacetRun> {

@@ -80,7 +80,8 @@ def test_weather_error_names_the_weather_file_and_line(tmp_path):
     lines[10] = lines[10].replace(",", ",x", 3)
     w = tmp_path / "w.csv"
     w.write_text("\n".join(lines) + "\n")
-    over = {**SMALL, "weather.file.path": str(w)}
+    # (files.allow: the copy lies outside the scene's folders, docs/reliability.md)
+    over = {**SMALL, "files.allow": '["/"]', "weather.file.path": str(w)}
     with pytest.raises(irsig.WeatherError) as e:
         irsig.render(irsig.Scene.load(AIRFIELD, overrides=over))
     assert isinstance(e.value, irsig.IrsigError)

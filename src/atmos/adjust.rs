@@ -56,7 +56,7 @@ use crate::radiometry::{
     brightness_temp_k, planck_band_integral_w_m2_sr, planck_radiance_w_m2_sr_um,
 };
 
-use crate::therm::balance::STEFAN_BOLTZMANN_W_M2K4 as SIGMA_W_M2_K4;
+use crate::units::STEFAN_BOLTZMANN_W_M2K4 as SIGMA_W_M2_K4;
 
 /// Water-vapour scale height of the path weighting, km.
 pub const VAPOUR_SCALE_HEIGHT_KM: f64 = 2.0;

@@ -67,6 +67,7 @@
 pub mod adjust;
 pub mod standard;
 pub mod table;
+pub mod view;
 
 use std::path::{Path, PathBuf};
 

@@ -27,6 +27,7 @@
 //! since the models' upper-air profiles (tropopause height, ozone) belong to
 //! their latitude.
 
+use crate::units::ZERO_C_K;
 use serde::Serialize;
 
 /// Surface values of one standard atmosphere.
@@ -158,11 +159,11 @@ impl Choice {
         format!(
             "auto: 24-h mean air {:.1} °C, vapour pressure {:.0} Pa, latitude {:.1}° → {} \
              (surface {:.1} °C, {:.0} Pa; d² {:.2}{next})",
-            self.mean_air_temp_k - 273.15,
+            self.mean_air_temp_k - ZERO_C_K,
             self.mean_vapour_pressure_pa,
             self.latitude_deg,
             s.name,
-            s.surface_temp_k - 273.15,
+            s.surface_temp_k - ZERO_C_K,
             s.surface_vapour_pressure_pa(),
             self.candidates[0].distance2,
         )

@@ -3,8 +3,10 @@
 //! stage times against the pure-Embree ray floor ([`speed`]) and run time
 //! against error, knob by knob ([`accuracy`]). Each takes plain-data
 //! options and returns rows (serde-serialisable); [`report`] writes
-//! accuracy's files. A harness above `render` and `output` (it renders and
-//! times the writing), as `batch` is.
+//! accuracy's files. The Embree-vs-obvhs cross-check ([`crosscheck`], and
+//! [`crosscheck_file`] for a scene or mesh file: `irsig crosscheck`) lives
+//! here too. A harness above `render` and `output` (it renders and times
+//! the writing), as `batch` is.
 
 use std::time::Instant;
 
@@ -16,6 +18,8 @@ use crate::trace::offset::offset_origin;
 use crate::trace::{Geometry, Hit, Ray, Tracer};
 
 pub mod accuracy;
+pub mod crosscheck;
+pub mod crosscheck_file;
 pub mod rays;
 pub mod report;
 pub mod speed;

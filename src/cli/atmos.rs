@@ -1,12 +1,12 @@
 //! `irsig atmos`: list the shipped atmosphere tables and show what a scene
 //! would use (τ, path and sky radiance, band-integrated and spectral;
-//! [`crate::radiometry::atmos_view`]).
+//! [`crate::atmos::view`]).
 
 use anyhow::Context;
 use clap::{Args as ClapArgs, Subcommand};
 
 use crate::atmos::list_builtin;
-use crate::radiometry::atmos_view::{AtmosGeometry, atmos_view};
+use crate::atmos::view::{AtmosGeometry, atmos_view};
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {

@@ -1,10 +1,10 @@
 //! `irsig crosscheck <scene.toml | mesh.obj>`: traces primary, specular and
 //! solar-history rays with Embree and obvhs and reports the differences
-//! ([`crate::trace::crosscheck_file`]).
+//! ([`crate::bench::crosscheck_file`]).
 
 use std::path::PathBuf;
 
-use crate::trace::crosscheck_file::{MeshView, crosscheck_file};
+use crate::bench::crosscheck_file::{MeshView, crosscheck_file};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {

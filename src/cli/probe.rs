@@ -14,6 +14,7 @@ use chrono::Duration;
 use crate::radiometry::RadianceTerms;
 use crate::render::probe::{PixelProbe, SurfaceReport, case_name, probe_scene};
 use crate::trace::Backend;
+use crate::units::ZERO_C_K;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -131,7 +132,7 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
         o,
         "{pad}surface temperature {:.3} K ({:.2} °C); {} thermal steps ({} rejected)",
         th.surface_temp_k,
-        th.surface_temp_k - 273.15,
+        th.surface_temp_k - ZERO_C_K,
         th.steps_accepted,
         th.steps_rejected
     );

@@ -33,12 +33,14 @@ use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 
+use crate::scene::lookup::load_material;
 use crate::therm::aero::SurfaceLayer;
 use crate::therm::balance::{Convection, Orientation};
 use crate::therm::series::{
-    FacetRun, ForcingSource, ThermRow, facet_series, load_material, parse_shadow_ranges, parse_time,
+    FacetRun, ForcingSource, ThermRow, facet_series, parse_shadow_ranges, parse_time,
 };
 use crate::therm::slab::SpinUpStart;
+use crate::units::ZERO_C_K;
 
 /// `--convection`.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -279,7 +281,7 @@ fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::R
             r.rec.water_store_mm,
             r.rec.sky_view,
             r.rec.sunlit_fraction,
-            r.rec.surface_temp_k - 273.15,
+            r.rec.surface_temp_k - ZERO_C_K,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
         writeln!(

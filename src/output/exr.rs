@@ -23,6 +23,7 @@ use exr::prelude::{
 };
 
 use super::{OutputError, OutputSet, Plane, Planes};
+pub use crate::scene::spec::ExrCompression;
 
 /// The UINT value of "no surface" in `truth.material` and `truth.facet`
 /// (the planes' -1).
@@ -141,94 +142,15 @@ impl exr::image::write::samples::SamplesWriter for PlaneWriter<'_, '_> {
     }
 }
 
-/// The compression of an EXR's pixel blocks (OpenEXR Technical
-/// Introduction, "Data Compression"). Only the options that are lossless
-/// for irsig's 32-bit float and UINT channels are offered: PXR24 rounds
-/// float channels to 24 bits, B44/B44A are lossy for half floats (and
-/// leave 32-bit channels uncompressed), DWAA/DWAB are lossy — all refused.
-/// The default is chosen by measurement (BENCHMARKS.md, "EXR compression").
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum ExrCompression {
-    /// Uncompressed.
-    None,
-    /// Run-length encoding, one scan line per block.
-    Rle,
-    /// zlib (deflate) of one scan line per block (OpenEXR's ZIPS), at
-    /// [`super::exr_zip::ZLIB_LEVEL`]: the default, the fastest to write of
-    /// all (2048² airfield, 2 threads: 0.52 s for a file 0.22 of the
-    /// samples; `none` 0.55 s; BENCHMARKS.md, "EXR compression").
-    #[default]
-    Zips,
-    /// zlib of 16 scan lines per block (OpenEXR's ZIP).
-    Zip,
-    /// Wavelet + Huffman (PIZ), 32 scan lines per block.
-    Piz,
-}
-
-impl ExrCompression {
-    /// Every option, in the order the help lists them.
-    pub const ALL: [ExrCompression; 5] = [
-        ExrCompression::None,
-        ExrCompression::Rle,
-        ExrCompression::Zips,
-        ExrCompression::Zip,
-        ExrCompression::Piz,
-    ];
-
-    /// The option's name on the command line and in the scene.
-    pub fn name(self) -> &'static str {
-        match self {
-            ExrCompression::None => "none",
-            ExrCompression::Rle => "rle",
-            ExrCompression::Zips => "zips",
-            ExrCompression::Zip => "zip",
-            ExrCompression::Piz => "piz",
-        }
-    }
-
-    /// The exr crate's compression.
-    fn exr(self) -> exr::compression::Compression {
-        use exr::compression::Compression as C;
-        match self {
-            ExrCompression::None => C::Uncompressed,
-            ExrCompression::Rle => C::RLE,
-            ExrCompression::Zips => C::ZIP1,
-            ExrCompression::Zip => C::ZIP16,
-            ExrCompression::Piz => C::PIZ,
-        }
-    }
-}
-
-impl std::fmt::Display for ExrCompression {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for ExrCompression {
-    type Err = String;
-
-    /// Parses a name of [`ExrCompression::ALL`]; the error lists them (and
-    /// says why the lossy OpenEXR options are not among them).
-    fn from_str(s: &str) -> Result<Self, String> {
-        let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
-        Self::ALL
-            .into_iter()
-            .find(|c| c.name() == s)
-            .ok_or_else(|| {
-                let why = if ["pxr24", "b44", "b44a", "dwaa", "dwab"].contains(&s) {
-                    " (lossy for irsig's 32-bit float planes)"
-                } else {
-                    ""
-                };
-                format!(
-                    "unknown EXR compression {s:?}{why}; expected one of {}",
-                    names.join(", ")
-                )
-            })
+/// The exr crate's compression for `c`.
+fn exr_compression(c: ExrCompression) -> exr::compression::Compression {
+    use exr::compression::Compression as C;
+    match c {
+        ExrCompression::None => C::Uncompressed,
+        ExrCompression::Rle => C::RLE,
+        ExrCompression::Zips => C::ZIP1,
+        ExrCompression::Zip => C::ZIP16,
+        ExrCompression::Piz => C::PIZ,
     }
 }
 
@@ -306,7 +228,7 @@ pub fn write_exr_planes(
     ));
     layer_attrs.other = other;
     let encoding = Encoding {
-        compression: compression.exr(),
+        compression: exr_compression(compression),
         blocks: Blocks::ScanLines,
         line_order: LineOrder::Increasing,
     };

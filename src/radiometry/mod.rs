@@ -6,7 +6,6 @@
 // Negated float comparisons (`!(x > 0.0)`) are deliberate: they also reject NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod atmos_view;
 pub mod band_coeffs;
 pub mod emissivity;
 pub mod equations;

@@ -17,6 +17,7 @@ use crate::scene::spec::AtmosphereModel;
 use crate::sun::Site;
 use crate::therm::forcing::Forcing;
 use crate::therm::weather::WeatherHistory;
+use crate::units::ZERO_C_K;
 
 /// Hours of weather before the scene's time that `model = "auto"` averages.
 pub const AUTO_WINDOW_H: i64 = 24;
@@ -164,7 +165,7 @@ impl AtmosphereReport {
                     "followed the weather: ΔT {:+.2} K (air {:.2} °C), path optical depth × {:.3} \
                      (vapour pressure {:.0} Pa), sky optical depth × {:.3}{}",
                     a.delta_t_k,
-                    self.air_temp_k - 273.15,
+                    self.air_temp_k - ZERO_C_K,
                     a.vapour_scale,
                     self.vapour_pressure_pa,
                     a.sky_scale,
@@ -174,7 +175,7 @@ impl AtmosphereReport {
                     "sky irradiance: thermal model {:.1} W/m² (T_sky {:.2} °C); table as computed {:.1}, \
                      temperature-shifted {:.1}, used {:.1} W/m²",
                     f.thermal_w_m2,
-                    self.thermal_sky_temp_k - 273.15,
+                    self.thermal_sky_temp_k - ZERO_C_K,
                     f.table_w_m2,
                     f.shifted_w_m2,
                     f.fitted_w_m2
@@ -187,7 +188,7 @@ impl AtmosphereReport {
                 } else {
                     "follow_weather = false"
                 },
-                self.thermal_sky_temp_k - 273.15
+                self.thermal_sky_temp_k - ZERO_C_K
             )),
         }
         v

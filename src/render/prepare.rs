@@ -128,15 +128,10 @@ pub struct Conditions {
     pub atmosphere_report: AtmosphereReport,
 }
 
-/// The thermal slab of a scene material (see [`Material::slab`]).
-pub fn slab_of(m: &Material) -> SlabMaterial {
-    m.slab()
-}
-
 /// The spectral emissivity model of a scene material.
 pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
     Ok(match &m.emissivity {
-        SceneEmissivity::Constant => Emissivity::Constant(m.thermal_emissivity),
+        SceneEmissivity::Constant => Emissivity::Constant(m.construction.thermal_emissivity),
         SceneEmissivity::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
         SceneEmissivity::Table(t) => {
             // The scene stores values by wavelength then angle; the
@@ -298,7 +293,7 @@ pub fn derive_static(
             (geometry, tracer, sky_blocked)
         }
     };
-    let slabs: Vec<SlabMaterial> = scene.materials.iter().map(slab_of).collect();
+    let slabs: Vec<SlabMaterial> = scene.materials.iter().map(|m| m.construction).collect();
     let emissivity = scene
         .materials
         .iter()

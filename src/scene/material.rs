@@ -12,7 +12,8 @@ use super::error::{Location, SceneError};
 use super::tomlsrc::{Seg, TomlSource};
 use crate::bounds::{Bound, material as M};
 use crate::therm::aero::Canopy;
-use crate::therm::slab::{BackBoundary as SlabBack, SlabMaterial};
+pub use crate::therm::slab::BackBoundary;
+use crate::therm::slab::SlabMaterial;
 use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
 
 /// A material library file.
@@ -98,35 +99,6 @@ pub enum KindSpec {
     Water,
 }
 
-/// Back-face boundary of the slab.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum BackBoundary {
-    /// No heat flow through the back face (`back = "insulated"`).
-    #[default]
-    Insulated,
-    /// The back face exchanges heat with the ambient air (thin plates,
-    /// skins, roofs): `back = { air = { exposed_area = 1.0 } }`.
-    Air {
-        /// Back area in contact with air per unit front area (DIRSIG
-        /// EXPOSED_AREA), dimensionless, (0, 10].
-        #[serde(default = "one")]
-        exposed_area: f64,
-    },
-    /// The back node is held at a deep-ground temperature:
-    /// `back = { deep_ground = {} }` or `{ deep_ground = { temp_c = 12.0 } }`.
-    DeepGround {
-        /// Fixed temperature at depth, °C; absent: the mean air temperature
-        /// of the history (the solver decides).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        temp_c: Option<f64>,
-    },
-}
-
-fn one() -> f64 {
-    1.0
-}
-
 /// Emissivity model as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
@@ -167,61 +139,28 @@ pub struct EmissivityTable {
     pub values: Vec<f64>,
 }
 
-/// A material ready for the model (name, properties, resolved emissivity).
+/// A material ready for the model: the one model description of a material,
+/// built in one place ([`load_library`]) from its `[material.NAME]` table.
+/// It carries the thermal construction the heat-flow model marches (with the
+/// surface's solar absorptivity and thermal emissivity, its back boundary,
+/// internal power and surface kind) and the optics the radiometry uses.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Material {
     pub name: String,
     pub description: Option<String>,
-    pub density_kg_m3: f64,
-    pub specific_heat_j_kgk: f64,
-    pub conductivity_w_mk: f64,
-    pub thickness_m: f64,
-    pub solar_absorptivity: f64,
-    pub thermal_emissivity: f64,
-    pub back: BackBoundary,
-    pub internal_power_w_m2: f64,
+    /// The thermal construction (today one homogeneous slab): what
+    /// `therm` solves, exactly as the scene gave it (a deep-ground back face
+    /// without `temp_c` takes the site's deep-ground temperature at render time).
+    pub construction: SlabMaterial,
+    /// Fraction of the reflectance that is specular, [0, 1].
     pub specularity: f64,
+    /// Directional spectral emissivity model of the radiometry.
     pub emissivity: Emissivity,
-    /// Surface type and its energy-balance parameters.
-    pub surface: SurfaceKind,
     /// The library file that defined it.
     pub library: PathBuf,
 }
 
 impl Material {
-    /// The thermal slab of this material: the one place where the thermal
-    /// model's description ([`SlabMaterial`]) is derived from the scene's.
-    pub fn slab(&self) -> SlabMaterial {
-        SlabMaterial {
-            density_kg_m3: self.density_kg_m3,
-            specific_heat_j_kgk: self.specific_heat_j_kgk,
-            conductivity_w_mk: self.conductivity_w_mk,
-            thickness_m: self.thickness_m,
-            solar_absorptivity: self.solar_absorptivity,
-            thermal_emissivity: self.thermal_emissivity,
-            back: match &self.back {
-                BackBoundary::Insulated => SlabBack::Insulated,
-                BackBoundary::Air { exposed_area } => SlabBack::ExposedToAir {
-                    area_factor: *exposed_area,
-                },
-                BackBoundary::DeepGround { temp_c } => SlabBack::DeepGround {
-                    temp_k: temp_c.map(|c| c + 273.15),
-                },
-            },
-            internal_power_w_m2: self.internal_power_w_m2,
-            ground_albedo: None,
-            surface: self.surface,
-        }
-    }
-
-    /// Thermal diffusivity k/(ρc), m²/s.
-    pub fn diffusivity_m2_s(&self) -> f64 {
-        self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)
-    }
-    /// Areal heat capacity ρ·c·L, J/(m²·K).
-    pub fn heat_capacity_j_m2k(&self) -> f64 {
-        self.density_kg_m3 * self.specific_heat_j_kgk * self.thickness_m
-    }
     /// Whether any of its reflectance is specular.
     pub fn is_specular(&self) -> bool {
         self.specularity > 0.0
@@ -312,20 +251,11 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
         ] {
             c.bound(&p(b.key), &b, v)?;
         }
-        match &m.back {
-            BackBoundary::Insulated => {}
-            BackBoundary::Air { exposed_area } => {
-                let mut bp = p("back").to_vec();
-                bp.extend([Seg::Key("air".into()), Seg::Key("exposed_area".into())]);
-                c.bound(&bp, &M::EXPOSED_AREA, *exposed_area)?;
-            }
-            BackBoundary::DeepGround { temp_c } => {
-                if let Some(t) = temp_c {
-                    let mut bp = p("back").to_vec();
-                    bp.extend([Seg::Key("deep_ground".into()), Seg::Key("temp_c".into())]);
-                    c.bound(&bp, &M::DEEP_GROUND_TEMP, *t)?;
-                }
-            }
+        // (`deep_ground.temp_c` is range-checked as it is read, in °C.)
+        if let BackBoundary::ExposedToAir { area_factor } = m.back {
+            let mut bp = p("back").to_vec();
+            bp.extend([Seg::Key("air".into()), Seg::Key("exposed_area".into())]);
+            c.bound(&bp, &M::EXPOSED_AREA, area_factor)?;
         }
         let emissivity = match &m.emissivity {
             EmissivitySpec::Constant => Emissivity::Constant,
@@ -341,7 +271,20 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
                 Emissivity::Fresnel { n: *n, k: *k }
             }
             EmissivitySpec::TableFile(f) => {
-                let file = path.parent().unwrap_or(Path::new("")).join(f);
+                // The path policy: a library reads files in its own folder tree.
+                let folder = path.parent().unwrap_or(Path::new(""));
+                let file = crate::files::within(folder, f, &[]).map_err(|why| {
+                    let mut at = p("emissivity").to_vec();
+                    at.push(Seg::Key("table_file".into()));
+                    c.src.invalid(
+                        &at,
+                        format!(
+                            "emissivity table `{}` {why}: a material library reads files in its \
+                             own folder tree",
+                            f.display()
+                        ),
+                    )
+                })?;
                 Emissivity::Table(read_emissivity_table(&file)?)
             }
         };
@@ -349,17 +292,20 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
         out.push(Material {
             name: name.clone(),
             description: m.description.clone(),
-            density_kg_m3: m.density_kg_m3,
-            specific_heat_j_kgk: m.specific_heat_j_kgk,
-            conductivity_w_mk: m.conductivity_w_mk,
-            thickness_m: m.thickness_m,
-            solar_absorptivity: m.solar_absorptivity,
-            thermal_emissivity: m.thermal_emissivity,
-            back: m.back.clone(),
-            internal_power_w_m2: m.internal_power_w_m2,
+            construction: SlabMaterial {
+                density_kg_m3: m.density_kg_m3,
+                specific_heat_j_kgk: m.specific_heat_j_kgk,
+                conductivity_w_mk: m.conductivity_w_mk,
+                thickness_m: m.thickness_m,
+                solar_absorptivity: m.solar_absorptivity,
+                thermal_emissivity: m.thermal_emissivity,
+                back: m.back,
+                internal_power_w_m2: m.internal_power_w_m2,
+                ground_albedo: None,
+                surface,
+            },
             specularity: m.specularity,
             emissivity,
-            surface,
             library: path.to_path_buf(),
         });
     }

@@ -14,8 +14,10 @@ pub mod camera;
 pub mod error;
 pub mod frame;
 pub mod georef;
+pub mod lookup;
 pub mod material;
 pub mod mesh;
+mod paths;
 pub mod spec;
 pub mod summary;
 pub mod terrain;
@@ -285,7 +287,7 @@ pub fn load_edited(
 
 fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> {
     let mut scene: Scene = src.parse()?;
-    site_from_weather(path, &src, &mut scene)?;
+    site_from_weather(&src, &mut scene)?;
     validate(&src, &scene)?;
     let camera = camera_geometry(&scene.sensor)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
@@ -293,30 +295,10 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     let local_camera = camera::camera_geometry_at(&scene.sensor, origin)
         .map_err(|m| src.invalid(&[key("sensor"), key("pose")], m))?;
 
-    // Referenced files must exist: report them at their scene-file key.
-    let must_exist = |p: &Path, at: &[Seg], what: &str| -> Result<PathBuf, SceneError> {
-        let r = resolve(path, p);
-        if r.is_file() {
-            Ok(r)
-        } else if let Some(kind) = crate::files::not_regular(&r) {
-            Err(src.invalid(
-                at,
-                format!(
-                    "{what} `{}` is {kind} ({}): expected a regular file",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        } else {
-            Err(src.invalid(
-                at,
-                format!(
-                    "{what} `{}` not found (looked for {})",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        }
+    // Referenced files: inside the path policy, existing, regular; each
+    // refusal reported at its scene-file key.
+    let must_exist = |p: &Path, at: &[Seg], what: &str| {
+        paths::referenced_file(&src, &scene.files.allow, p, at, what)
     };
 
     // Materials: later libraries override earlier ones of the same name.
@@ -530,7 +512,7 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         }
     }
     for (ti, t) in scene.terrain.iter().enumerate() {
-        let mesh = terrain::load(&src, ti, t, &scene.site, &|name, at| {
+        let mesh = terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
             by_name
                 .get(name)
                 .copied()
@@ -867,7 +849,7 @@ pub fn parse_kernel(file: &Path, text: &str) -> Result<PsfKernel, SceneError> {
 /// Fills a site latitude/longitude left out of the scene with the weather
 /// file's station (TMY2/TMY3/EPW/PSM3/PVGIS headers); an error when the
 /// weather gives none.
-fn site_from_weather(path: &Path, src: &TomlSource, scene: &mut Scene) -> Result<(), SceneError> {
+fn site_from_weather(src: &TomlSource, scene: &mut Scene) -> Result<(), SceneError> {
     let site = &mut scene.site;
     if !(site.latitude_deg.is_nan() || site.longitude_deg.is_nan()) {
         return Ok(());
@@ -879,7 +861,14 @@ fn site_from_weather(path: &Path, src: &TomlSource, scene: &mut Scene) -> Result
             typical_year,
             ..
         } => {
-            crate::therm::weather::read_station(&resolve(path, w), *typical_year).map_err(|e| {
+            let file = paths::referenced_file(
+                src,
+                &scene.files.allow,
+                w,
+                &[key("weather"), key("file"), key("path")],
+                "weather file",
+            )?;
+            crate::therm::weather::read_station(&file, *typical_year).map_err(|e| {
                 src.invalid(
                     &at,
                     format!("site.latitude_deg/longitude_deg left out, and {e}"),

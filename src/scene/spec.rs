@@ -7,6 +7,24 @@ use std::path::PathBuf;
 use chrono::{NaiveDateTime, TimeZone};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+/// `[files]`: the path policy's allowances.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilesSpec {
+    /// Folders outside the scene file's folder tree from which the scene may
+    /// read files (relative to the scene file, or absolute), e.g. `[".."]`
+    /// for a material library beside the scene's folder; `["/"]` allows
+    /// any path (a scene you trust).
+    #[serde(default)]
+    pub allow: Vec<PathBuf>,
+}
+
+impl FilesSpec {
+    fn is_default(&self) -> bool {
+        self.allow.is_empty()
+    }
+}
+
 /// A whole scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -37,6 +55,10 @@ pub struct Scene {
     /// Terrain meshed from DEMs (`[[terrain]]` tables).
     #[serde(rename = "terrain", default, skip_serializing_if = "Vec::is_empty")]
     pub terrain: Vec<crate::scene::terrain::TerrainSpec>,
+    /// Where the files the scene refers to may lie (the path policy,
+    /// docs/reliability.md): by default inside the scene file's folder tree.
+    #[serde(default, skip_serializing_if = "FilesSpec::is_default")]
+    pub files: FilesSpec,
 }
 
 /// `[site]`.
@@ -732,7 +754,7 @@ pub struct OutputOptions {
     /// The EXR's lossless compression: none, rle, zips (default), zip,
     /// piz; a command's `--exr-compression` overrides it.
     #[serde(default)]
-    pub exr_compression: crate::output::exr::ExrCompression,
+    pub exr_compression: ExrCompression,
 }
 
 /// `[render]`: accuracy/speed knobs.
@@ -868,4 +890,83 @@ pub enum TracerKind {
     #[default]
     Embree,
     Bvh,
+}
+
+/// The compression of an EXR's pixel blocks (OpenEXR Technical
+/// Introduction, "Data Compression"). Only the options that are lossless
+/// for irsig's 32-bit float and UINT channels are offered: PXR24 rounds
+/// float channels to 24 bits, B44/B44A are lossy for half floats (and
+/// leave 32-bit channels uncompressed), DWAA/DWAB are lossy — all refused.
+/// The default is chosen by measurement (BENCHMARKS.md, "EXR compression").
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum ExrCompression {
+    /// Uncompressed.
+    None,
+    /// Run-length encoding, one scan line per block.
+    Rle,
+    /// zlib (deflate) of one scan line per block (OpenEXR's ZIPS), at
+    /// `output::exr_zip::ZLIB_LEVEL`: the default, the fastest to write of
+    /// all (2048² airfield, 2 threads: 0.52 s for a file 0.22 of the
+    /// samples; `none` 0.55 s; BENCHMARKS.md, "EXR compression").
+    #[default]
+    Zips,
+    /// zlib of 16 scan lines per block (OpenEXR's ZIP).
+    Zip,
+    /// Wavelet + Huffman (PIZ), 32 scan lines per block.
+    Piz,
+}
+
+impl ExrCompression {
+    /// Every option, in the order the help lists them.
+    pub const ALL: [ExrCompression; 5] = [
+        ExrCompression::None,
+        ExrCompression::Rle,
+        ExrCompression::Zips,
+        ExrCompression::Zip,
+        ExrCompression::Piz,
+    ];
+
+    /// The option's name on the command line and in the scene.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExrCompression::None => "none",
+            ExrCompression::Rle => "rle",
+            ExrCompression::Zips => "zips",
+            ExrCompression::Zip => "zip",
+            ExrCompression::Piz => "piz",
+        }
+    }
+}
+
+impl std::fmt::Display for ExrCompression {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ExrCompression {
+    type Err = String;
+
+    /// Parses a name of [`ExrCompression::ALL`]; the error lists them (and
+    /// says why the lossy OpenEXR options are not among them).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                let why = if ["pxr24", "b44", "b44a", "dwaa", "dwab"].contains(&s) {
+                    " (lossy for irsig's 32-bit float planes)"
+                } else {
+                    ""
+                };
+                format!(
+                    "unknown EXR compression {s:?}{why}; expected one of {}",
+                    names.join(", ")
+                )
+            })
+    }
 }

@@ -156,7 +156,7 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
             name: m.name.clone(),
             triangles: n,
             specularity: m.specularity,
-            internal_power_w_m2: m.internal_power_w_m2,
+            internal_power_w_m2: m.construction.internal_power_w_m2,
             library: m.library.clone(),
         })
         .collect();
@@ -169,7 +169,7 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
             .collect()
     };
     let specular_materials = used(&|m| m.is_specular());
-    let heated_materials = used(&|m| m.internal_power_w_m2 != 0.0);
+    let heated_materials = used(&|m| m.construction.internal_power_w_m2 != 0.0);
     let (lo, hi) = s.bounds_m();
     let ground_z = sc.sensor.pose.target_m()[2];
     let band_um = s.response.support_um();

@@ -48,7 +48,7 @@ pub const EPSILON_WATER: f64 = 0.622;
 pub const CP_WATER_J_KGK: f64 = 4179.0;
 /// Density of liquid water, kg/m³ (used for mm of water ↔ kg/m²).
 pub const RHO_WATER_KG_M3: f64 = 1000.0;
-const ZERO_C_K: f64 = 273.15;
+use crate::units::ZERO_C_K;
 
 /// Saturation vapour pressure over liquid water, Pa (FAO-56 eq. 11, the
 /// Tetens form): `e°(T) = 610.8·exp(17.27·T/(T + 237.3))`, T in °C.

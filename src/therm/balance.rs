@@ -25,9 +25,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::aero::{Exchange, SurfaceLayer};
-
-/// Stefan–Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018, exact in SI 2019).
-pub const STEFAN_BOLTZMANN_W_M2K4: f64 = 5.670_374_419e-8;
+use crate::units::STEFAN_BOLTZMANN_W_M2K4;
 
 /// Solar albedo of the ground seen by tilted facets when a material gives none.
 pub const DEFAULT_GROUND_ALBEDO: f64 = 0.2;

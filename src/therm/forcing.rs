@@ -25,8 +25,9 @@
 use chrono::{DateTime, Duration, Timelike, Utc};
 use serde::{Deserialize, Serialize};
 
-use super::weather::{STEFAN_BOLTZMANN, WeatherError, WeatherHistory, WeatherSample, ZERO_C_K};
+use super::weather::{WeatherError, WeatherHistory, WeatherSample};
 use crate::sun::{Site, SpaOptions, solar_position_with, validate_site};
+use crate::units::{STEFAN_BOLTZMANN_W_M2K4, ZERO_C_K};
 
 /// Everything the surface energy balance needs at one instant, for an
 /// unshadowed horizontal reference; the solver applies orientation and the
@@ -678,7 +679,7 @@ fn step_cloud(
 
 /// σT⁴ of a sky temperature, W/m² (downwelling longwave), for reports.
 pub fn sky_longwave_w_m2(sky_temp_k: f64) -> f64 {
-    STEFAN_BOLTZMANN * sky_temp_k.powi(4)
+    STEFAN_BOLTZMANN_W_M2K4 * sky_temp_k.powi(4)
 }
 
 #[cfg(test)]
@@ -717,7 +718,7 @@ mod tests {
         assert!((estimate_sky_temp_k(273.15, 268.15, 1.0, 14.0, 95_000.0) - 273.15).abs() < 1e-12);
         // Downwelling longwave of that clear sky: ε·σ·T⁴ = 0.7743·σ·293.15⁴ ≈ 325.8 W/m².
         let lw = sky_longwave_w_m2(274.9901977574314);
-        assert!((lw - 0.7743 * STEFAN_BOLTZMANN * 293.15f64.powi(4)).abs() < 1e-9);
+        assert!((lw - 0.7743 * STEFAN_BOLTZMANN_W_M2K4 * 293.15f64.powi(4)).abs() < 1e-9);
     }
 
     /// The clear-sky-index cloud estimate inverts the published Kasten &

@@ -87,25 +87,6 @@ pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
     crate::sun::report::parse_time(s).map_err(anyhow::Error::msg)
 }
 
-/// The slab of material `name` in a material library (the scene format).
-pub fn load_material(path: &Path, name: &str) -> anyhow::Result<SlabMaterial> {
-    let lib = crate::scene::material::load_library(path)?;
-    match lib.iter().find(|m| m.name == name) {
-        Some(m) => Ok(m.slab()),
-        None => bail!(
-            "{}: no material `{name}`{}; the library defines: {}",
-            path.display(),
-            crate::scene::error::closest(name, lib.iter().map(|m| m.name.as_str()))
-                .map(|s| format!(" (did you mean `{s}`?)"))
-                .unwrap_or_default(),
-            lib.iter()
-                .map(|m| m.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
-}
-
 /// Where the forcing comes from.
 #[derive(Clone, Debug)]
 pub enum ForcingSource {

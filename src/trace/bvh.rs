@@ -2,7 +2,7 @@
 //! obvhs's Möller–Trumbore triangle test, one ray at a time. It has no
 //! packets and its triangle test is not watertight (shared edges can be
 //! missed or resolved to the neighbour at equal `t`); the cross-check
-//! ([`super::crosscheck`]) tells such ties from real disagreements.
+//! ([`crate::bench::crosscheck`]) tells such ties from real disagreements.
 
 use std::sync::Arc;
 use std::time::Duration;

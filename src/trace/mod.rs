@@ -1,8 +1,9 @@
 //! The ray tracer submodel: a [`Tracer`] trait with two interchangeable
 //! backends — Embree through FFI ([`embree`], the default, 16-wide packets)
 //! and obvhs ([`bvh`], a pure-Rust fallback) — plus robust secondary-ray
-//! origins ([`offset`]), generated test meshes ([`meshgen`]) and the backend
-//! cross-check ([`crosscheck`]).
+//! origins ([`offset`]) and generated test meshes ([`meshgen`]). The backend
+//! cross-check is a harness above the scene and the sensor
+//! ([`crate::bench::crosscheck`]).
 //!
 //! Geometry is one world-space triangle soup ([`Geometry`]), validated once:
 //! non-finite vertices and out-of-range indices are errors, zero-area
@@ -10,8 +11,6 @@
 //! index of the triangle in the caller's input.
 
 pub mod bvh;
-pub mod crosscheck;
-pub mod crosscheck_file;
 pub mod embree;
 pub mod meshgen;
 pub mod offset;

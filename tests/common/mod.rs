@@ -158,7 +158,7 @@ pub fn wild_mesh_key(rel: &str) -> String {
 /// lines after the pose table.
 pub fn nadir_scene_head(width_px: u32, fov_deg: f64, altitude_m: f64, extra: &str) -> String {
     format!(
-        "materials = [\"{}\"]\n\
+        "materials = [\"{}\"]\n[files]\nallow = [\"/\"]\n\
          [site]\nlatitude_deg = 43.0\nlongitude_deg = -77.0\nutc_offset_h = -4.0\n\
          [time]\nlocal = 2001-08-08T12:00:00\n\
          [weather.constant]\nwind_m_s = 1.0\nair_min_c = 15.0\nair_max_c = 25.0\ndew_point_c = 10.0\n\

@@ -6,7 +6,8 @@
 use std::path::Path;
 
 use irsig::bounds::args;
-use irsig::therm::series::{FacetRun, ForcingSource, facet_series, load_material, parse_time};
+use irsig::scene::lookup::load_material;
+use irsig::therm::series::{FacetRun, ForcingSource, facet_series, parse_time};
 use proptest::prelude::*;
 
 use crate::mutate::{INTERESTING, campaign};

@@ -330,13 +330,13 @@ fn scene_ok(s: &irsig::scene::LoadedScene, text: &str, renders: &AtomicU32) -> R
     use irsig::bounds::material as M;
     for m in &s.materials {
         for (b, v) in [
-            (M::DENSITY, m.density_kg_m3),
-            (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
-            (M::CONDUCTIVITY, m.conductivity_w_mk),
-            (M::THICKNESS, m.thickness_m),
-            (M::SOLAR_ABSORPTIVITY, m.solar_absorptivity),
-            (M::THERMAL_EMISSIVITY, m.thermal_emissivity),
-            (M::INTERNAL_POWER, m.internal_power_w_m2),
+            (M::DENSITY, m.construction.density_kg_m3),
+            (M::SPECIFIC_HEAT, m.construction.specific_heat_j_kgk),
+            (M::CONDUCTIVITY, m.construction.conductivity_w_mk),
+            (M::THICKNESS, m.construction.thickness_m),
+            (M::SOLAR_ABSORPTIVITY, m.construction.solar_absorptivity),
+            (M::THERMAL_EMISSIVITY, m.construction.thermal_emissivity),
+            (M::INTERNAL_POWER, m.construction.internal_power_w_m2),
         ] {
             in_bound(&b, v, &m.name)?;
         }
@@ -499,16 +499,20 @@ fn material_library() {
                 use irsig::bounds::material as M;
                 for m in &ms {
                     for (b, v) in [
-                        (M::DENSITY, m.density_kg_m3),
-                        (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
-                        (M::CONDUCTIVITY, m.conductivity_w_mk),
-                        (M::THICKNESS, m.thickness_m),
-                        (M::INTERNAL_POWER, m.internal_power_w_m2),
+                        (M::DENSITY, m.construction.density_kg_m3),
+                        (M::SPECIFIC_HEAT, m.construction.specific_heat_j_kgk),
+                        (M::CONDUCTIVITY, m.construction.conductivity_w_mk),
+                        (M::THICKNESS, m.construction.thickness_m),
+                        (M::INTERNAL_POWER, m.construction.internal_power_w_m2),
                         (M::SPECULARITY, m.specularity),
                     ] {
                         in_bound(&b, v, &m.name)?;
                     }
-                    require!(m.slab().validate().is_ok(), "{}: slab refused", m.name);
+                    require!(
+                        m.construction.validate().is_ok(),
+                        "{}: slab refused",
+                        m.name
+                    );
                 }
             }
             Err(e) => {
@@ -795,7 +799,7 @@ fn dem_geotiff() {
             std::fs::write(&dem, &b).unwrap();
             let (lat, lon) = sites[k];
             let text = format!(
-                "materials = [\"{}\"]\n[site]\nlatitude_deg = {lat}\nlongitude_deg = {lon}\n\
+                "materials = [\"{}\"]\n[files]\nallow = [\"/\"]\n[site]\nlatitude_deg = {lat}\nlongitude_deg = {lon}\n\
                  elevation_m = 150.0\nutc_offset_h = -4.0\n[time]\nlocal = 2001-08-08T14:00:00\n\
                  [weather.constant]\nwind_m_s = 3.0\nair_min_c = 17.0\nair_max_c = 29.0\n\
                  dew_point_c = 14.0\n[sensor]\nwidth_px = 8\nheight_px = 8\nfov_h_deg = 30.0\n\

@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
-use irsig::trace::crosscheck::{self, RayKind, RaySet, Report, Tolerances};
+use irsig::bench::crosscheck::{self, RayKind, RaySet, Report, Tolerances};
 use irsig::trace::meshgen::{self, MeshBuilder, SplitMix};
 use irsig::trace::offset::offset_origin;
 use irsig::trace::{self, Backend, Geometry, Hit, Ray, Tracer};

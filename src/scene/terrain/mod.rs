@@ -382,6 +382,7 @@ pub(crate) fn load(
     i: usize,
     t: &TerrainSpec,
     site: &Site,
+    allow: &[PathBuf],
     material: &MaterialId,
 ) -> Result<TerrainMesh, SceneError> {
     let at = |k: &[&str]| {
@@ -389,29 +390,8 @@ pub(crate) fn load(
         p.extend(k.iter().map(|s| Seg::Key(s.to_string())));
         p
     };
-    let must_exist = |p: &Path, key: &[&str], what: &str| -> Result<PathBuf, SceneError> {
-        let r = super::resolve(&src.path, p);
-        if r.is_file() {
-            Ok(r)
-        } else if let Some(kind) = crate::files::not_regular(&r) {
-            Err(src.invalid(
-                &at(key),
-                format!(
-                    "{what} `{}` is {kind} ({}): expected a regular file",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        } else {
-            Err(src.invalid(
-                &at(key),
-                format!(
-                    "{what} `{}` not found (looked for {})",
-                    p.display(),
-                    r.display()
-                ),
-            ))
-        }
+    let must_exist = |p: &Path, key: &[&str], what: &str| {
+        super::paths::referenced_file(src, allow, p, &at(key), what)
     };
     let dem_file = must_exist(&t.file, &["file"], "DEM file")?;
     let zone = |e| raster::with_site_zone(e, site.latitude_deg, site.longitude_deg);

@@ -36,6 +36,7 @@ use chrono::{DateTime, Datelike, Duration, FixedOffset, NaiveDate, NaiveDateTime
 use serde::{Deserialize, Serialize};
 
 use crate::bounds::{self, Bound};
+use crate::units::{STEFAN_BOLTZMANN_W_M2K4, ZERO_C_K};
 use thiserror::Error;
 
 pub mod constant;
@@ -54,8 +55,6 @@ pub use pvgis::parse_pvgis_csv;
 pub use tmy2::parse_tmy2;
 pub use tmy3::parse_tmy3;
 
-/// 0 °C in kelvin.
-pub const ZERO_C_K: f64 = 273.15;
 /// Largest allowed spacing between consecutive records by default, seconds.
 pub const DEFAULT_MAX_GAP_S: f64 = 3.0 * 3600.0;
 
@@ -490,7 +489,7 @@ pub fn rh_percent_from_dew_point(air_temp_c: f64, dew_point_c: f64) -> f64 {
 /// (W/m²): T = (L/σ)^¼ (Stefan–Boltzmann), as EnergyPlus derives it from the
 /// EPW "horizontal infrared radiation intensity" field.
 pub fn sky_temp_k_from_irradiance(lw_down_w_m2: f64) -> f64 {
-    (lw_down_w_m2 / STEFAN_BOLTZMANN).powf(0.25)
+    (lw_down_w_m2 / STEFAN_BOLTZMANN_W_M2K4).powf(0.25)
 }
 
 /// Pressure of the standard atmosphere at a station's elevation, hPa: what
@@ -499,9 +498,6 @@ pub fn sky_temp_k_from_irradiance(lw_down_w_m2: f64) -> f64 {
 pub fn standard_pressure_hpa(elevation_m: f64) -> f64 {
     crate::therm::forcing::pressure_pa_from_altitude(elevation_m) / 100.0
 }
-
-/// Stefan–Boltzmann constant, W m⁻² K⁻⁴ (CODATA 2018, exact in SI).
-pub const STEFAN_BOLTZMANN: f64 = 5.670374419e-8;
 
 // ---------------------------------------------------------------------------
 // Reading

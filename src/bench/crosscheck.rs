@@ -14,8 +14,8 @@
 use glam::Vec3;
 use serde::Serialize;
 
-use super::offset::offset_origin;
-use super::{Geometry, Hit, Ray, Tracer};
+use crate::trace::offset::offset_origin;
+use crate::trace::{Geometry, Hit, Ray, Tracer};
 
 /// Tolerances of the classification.
 #[derive(Clone, Copy, Debug, Serialize)]

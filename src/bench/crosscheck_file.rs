@@ -8,11 +8,11 @@ use std::sync::Arc;
 use anyhow::Context;
 use glam::{DVec3, Vec3};
 
-use super::bvh::BvhTracer;
 use super::crosscheck::{self, Report, Tolerances};
-use super::embree::EmbreeTracer;
-use super::{Geometry, QueryMode};
 use crate::sensor::camera::Camera;
+use crate::trace::bvh::BvhTracer;
+use crate::trace::embree::EmbreeTracer;
+use crate::trace::{Geometry, QueryMode};
 
 /// The camera and sun directions of a mesh input (a scene has its own).
 #[derive(Clone, Copy, Debug)]

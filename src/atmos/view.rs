@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::{Band, SpectralGrid, SpectralResponse};
-use crate::atmos::Atmosphere;
+use super::Atmosphere;
+use crate::radiometry::{Band, SpectralGrid, SpectralResponse};
 
 /// A viewing and sun geometry.
 #[derive(Clone, Copy, Debug, Serialize)]
