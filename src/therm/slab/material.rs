@@ -51,7 +51,7 @@ mod celsius {
     use serde::{Deserialize, Deserializer, Serializer};
 
     use crate::bounds::material::DEEP_GROUND_TEMP;
-    use crate::therm::weather::ZERO_C_K as ZERO_CELSIUS_K;
+    use crate::units::ZERO_C_K as ZERO_CELSIUS_K;
 
     pub fn serialize<S: Serializer>(temp_k: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
         match temp_k {
