@@ -48,8 +48,18 @@ pub struct FramePlanes<'a> {
     rows_filled: u32,
 }
 
+/// The values of one output pixel (every pixel-made plane) and the
+/// number of samples evaluated.
+pub type PixelValues = ([f32; NP], usize);
+
+/// A pixel of [`FramePlanes::fill_rows`]: (maker, x, row in the band,
+/// worker's memo) → its values.
+pub type PixelFn<'f> = dyn Fn(&PixelMaker, usize, usize, &mut pixel::EvalMemo) -> anyhow::Result<PixelValues>
+    + Sync
+    + 'f;
+
 /// What [`PixelMaker::pixel`] needs beside the samples.
-struct PixelMaker<'a> {
+pub struct PixelMaker<'a> {
     st: &'a Static,
     interval_h: f64,
     lut: ApparentTempLut,
@@ -87,6 +97,31 @@ impl<'a> FramePlanes<'a> {
     ) -> anyhow::Result<u64> {
         let (sw, n, w) = (sample_width as usize, n as usize, self.width as usize);
         let rows = band.len() / (sw * n);
+        let per_row = (w * n * n) as u64;
+        self.fill_rows(row0, rows, &|| done(per_row), &|maker, x, r, memo| {
+            if n == 1 {
+                maker.pixel(ctx, &[&band[r * sw + x]], 1, memo)
+            } else {
+                let px: SmallVec<[&Sample; 16]> = (0..n)
+                    .flat_map(|j| (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i]))
+                    .collect();
+                maker.pixel(ctx, &px, n, memo)
+            }
+        })
+    }
+
+    /// Fills output rows `row0..row0 + rows` (the next ones), rows in
+    /// parallel, pixel `x` of row `row0 + r` with `pixel(maker, x, r,
+    /// memo)`'s values (a worker's memo); `row_done` is called after each
+    /// row. Returns the sum of the evaluated-sample counts.
+    pub fn fill_rows(
+        &mut self,
+        row0: u32,
+        rows: usize,
+        row_done: &(dyn Fn() + Sync),
+        pixel: &PixelFn,
+    ) -> anyhow::Result<u64> {
+        let w = self.width as usize;
         // Bands come in order and fill whole rows.
         anyhow::ensure!(
             row0 == self.rows_filled && (row0 as usize + rows) <= self.height as usize,
@@ -109,29 +144,25 @@ impl<'a> FramePlanes<'a> {
             .map(|(r, mut out)| -> anyhow::Result<u64> {
                 super::cancel::check()?;
                 let mut evaluated = 0u64;
-                let mut px: Vec<&Sample> = Vec::with_capacity(n * n);
                 let mut memo = pixel::EvalMemo::default();
                 for x in 0..w {
-                    let (v, e) = if n == 1 {
-                        maker.pixel(ctx, &[&band[r * sw + x]], 1, &mut memo)?
-                    } else {
-                        px.clear();
-                        px.extend((0..n).flat_map(|j| {
-                            (0..n).map(move |i| &band[(r * n + j) * sw + x * n + i])
-                        }));
-                        maker.pixel(ctx, &px, n, &mut memo)?
-                    };
+                    let (v, e) = pixel(maker, x, r, &mut memo)?;
                     for (plane, v) in out.iter_mut().zip(v) {
                         plane[x] = v;
                     }
                     evaluated += e as u64;
                 }
-                done((w * n * n) as u64);
+                row_done();
                 Ok(evaluated)
             })
             .collect::<anyhow::Result<Vec<u64>>>()?;
         self.rows_filled += rows as u32;
         Ok(evaluated.iter().sum())
+    }
+
+    /// What makes a pixel's values (see [`PixelMaker::pixel`]).
+    pub fn maker(&self) -> &PixelMaker<'a> {
+        &self.maker
     }
 
     /// The finished planes: the per-pixel planes, then the sensor model on
@@ -230,13 +261,13 @@ impl<'a> FramePlanes<'a> {
 impl PixelMaker<'_> {
     /// Every pixel-made [`PLANES`] value of one output pixel from its n×n
     /// samples (row-major); also the number of samples evaluated.
-    fn pixel(
+    pub fn pixel(
         &self,
         ctx: &RadiometryContext,
         px: &[&Sample],
         n: usize,
         memo: &mut pixel::EvalMemo,
-    ) -> anyhow::Result<([f32; NP], usize)> {
+    ) -> anyhow::Result<PixelValues> {
         let c = (n / 2) * n + n / 2;
         let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
         let results: SmallVec<[SampleResult; 1]> = if uniform {

@@ -15,6 +15,7 @@
 //! Everything is deterministic: results depend on pixel, key and seed only,
 //! never on thread scheduling.
 
+pub mod adaptive;
 pub mod assemble;
 pub mod atmosphere;
 pub mod cancel;
@@ -131,6 +132,13 @@ pub struct Stats {
     /// refined to every one of their n×n samples.
     pub history_pixels_corners: u64,
     pub history_pixels_refined: u64,
+    /// Adaptive sampling (`render.sampling = "adaptive"`): output pixels
+    /// that kept their one coarse sample, pixels refined to every sample of
+    /// their grid, and that grid's side (`render.supersample`; 0 for a
+    /// uniform render).
+    pub adaptive_pixels_coarse: u64,
+    pub adaptive_pixels_refined: u64,
+    pub adaptive_refined_density: u32,
     pub thermal_solves: u64,
     pub thermal_cache_hits: u64,
     /// Over the distinct solves: accepted and rejected march steps, Newton
@@ -222,6 +230,32 @@ fn trace_block(
     pixels: &[(u32, u32)],
     c: &Counters,
 ) -> Vec<Sample> {
+    let mut samples = trace_geometry(st, cam, pixels, c);
+    // Solar histories: of every surface point, or (adaptive) of the
+    // corner samples of each pixel first, then of the other samples only
+    // in pixels whose corners differ.
+    let n = st.scene.scene.render.supersample.max(1);
+    let uniform = st.scene.scene.render.sampling == crate::scene::spec::Sampling::Uniform;
+    if st.scene.scene.render.adaptive_histories && uniform && n >= 3 && BLOCK.is_multiple_of(n) {
+        adaptive_histories(st, cond, pixels, n, &mut samples, c);
+    } else {
+        let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+        for s in samples.iter_mut() {
+            if let Some(surf) = s.surface.as_mut() {
+                targets.push(surf);
+            }
+            if let Some((_, Some(bg))) = s.bounce.as_mut() {
+                targets.push(bg);
+            }
+        }
+        trace_histories(st, cond, &mut targets, c);
+    }
+    samples
+}
+
+/// Steps 1-2 for a list of (supersampled) pixels: primary rays and
+/// specular bounces, no histories yet.
+fn trace_geometry(st: &Static, cam: &Camera, pixels: &[(u32, u32)], c: &Counters) -> Vec<Sample> {
     let tracer = st.tracer.as_ref();
     let rays: Vec<Ray> = pixels
         .iter()
@@ -268,25 +302,6 @@ fn trace_block(
     add(&c.specular, bounce_rays.len());
     for ((r, h), &i) in bounce_rays.iter().zip(&bhits).zip(&bounce_of) {
         samples[i].bounce = Some((r.dir, h.as_ref().map(|h| surface_of(st, r, h))));
-    }
-
-    // Solar histories: of every surface point, or (adaptive) of the
-    // corner samples of each pixel first, then of the other samples only
-    // in pixels whose corners differ.
-    let n = st.scene.scene.render.supersample.max(1);
-    if st.scene.scene.render.adaptive_histories && n >= 3 && BLOCK.is_multiple_of(n) {
-        adaptive_histories(st, cond, pixels, n, &mut samples, c);
-    } else {
-        let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
-        for s in samples.iter_mut() {
-            if let Some(surf) = s.surface.as_mut() {
-                targets.push(surf);
-            }
-            if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                targets.push(bg);
-            }
-        }
-        trace_histories(st, cond, &mut targets, c);
     }
     samples
 }
@@ -1040,8 +1055,15 @@ pub fn render(st: &Static, cond: &Conditions) -> anyhow::Result<Frame> {
 
 /// [`render`] with a progress callback. The frame is rendered band by band
 /// (trace, temperatures, then radiometry straight into the plane rows; see
-/// [`assemble`]): only [`Static::keep_samples`] keeps the samples.
+/// [`assemble`]): only [`Static::keep_samples`] keeps the samples. With
+/// `render.sampling = "adaptive"`, [`adaptive::render_adaptive`] renders it
+/// (and keeps no samples).
 pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyhow::Result<Frame> {
+    if st.scene.scene.render.sampling == crate::scene::spec::Sampling::Adaptive
+        && st.scene.scene.render.supersample > 1
+    {
+        return adaptive::render_adaptive(st, cond, progress);
+    }
     let mut stats = Stats {
         spectral_bins: st.band.len(),
         ..Default::default()

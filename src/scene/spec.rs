@@ -773,6 +773,20 @@ pub struct RenderOptions {
     /// dividing 16 (4, 8, 16); otherwise every sample is traced.
     #[serde(default)]
     pub adaptive_histories: bool,
+    /// Where samples go: `"uniform"`, `supersample`² per pixel, or
+    /// `"adaptive"`: one sample per pixel first (the grid sample nearest
+    /// its centre), then all `supersample`² samples (that one reused) in
+    /// the pixels whose coarse sample differs from one of its 8 neighbours'
+    /// in being a surface or not, material, plane, sunlit flag, specular
+    /// background, or surface temperature by more than
+    /// `refine_threshold_k` ([`crate::render::adaptive`]).
+    #[serde(default)]
+    pub sampling: Sampling,
+    /// Adaptive sampling: the surface-temperature difference between
+    /// neighbouring coarse samples above which both pixels are refined, K
+    /// (0.001-100).
+    #[serde(default = "d_refine_threshold")]
+    pub refine_threshold_k: f64,
     /// Hours of history before the image time (spin-up), (0, 240].
     #[serde(default = "d_history_hours")]
     pub history_hours: f64,
@@ -813,6 +827,18 @@ fn d_shadow_interval() -> f64 {
 fn d_history_hours() -> f64 {
     48.0
 }
+fn d_refine_threshold() -> f64 {
+    0.05
+}
+
+/// `render.sampling`: `"uniform"` (default) or `"adaptive"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Sampling {
+    #[default]
+    Uniform,
+    Adaptive,
+}
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -825,6 +851,8 @@ impl Default for RenderOptions {
             shadow_resolution_min: None,
             shadow_key_recent_h: None,
             adaptive_histories: false,
+            sampling: Sampling::default(),
+            refine_threshold_k: d_refine_threshold(),
             history_hours: d_history_hours(),
             tracer: TracerKind::default(),
             max_memory_mib: None,

@@ -346,6 +346,14 @@ pub(super) fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         " minutes",
     )?;
     c.range(
+        &q("refine_threshold_k"),
+        "refine_threshold_k",
+        r.refine_threshold_k,
+        0.001,
+        100.0,
+        " K",
+    )?;
+    c.range(
         &q("thermal_tol_k"),
         "thermal_tol_k",
         r.thermal_tol_k,
