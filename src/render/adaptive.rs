@@ -197,20 +197,7 @@ fn refine_pixel(
     let stride = (n / 4).max(1);
     let on_sub =
         |(x, y): (u32, u32)| x % n % stride == n / 2 % stride && y % n % stride == n / 2 % stride;
-    {
-        let mut targets: Vec<&mut Surface> = Vec::new();
-        for (s, &p) in samples.iter_mut().zip(px) {
-            if on_sub(p)
-                && let Some(surf) = s.surface.as_mut()
-            {
-                targets.push(surf);
-            }
-            if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                targets.push(bg);
-            }
-        }
-        trace_histories(st, cond, &mut targets, c);
-    }
+    super::trace_sample_histories(st, cond, &mut samples, |i| on_sub(px[i]), c);
     // The donors: the sub-grid samples and the coarse one, with their
     // grid positions.
     let mut donors: Vec<((u32, u32), &Surface)> = coarse

@@ -239,18 +239,33 @@ fn trace_block(
     if st.scene.scene.render.adaptive_histories && uniform && n >= 3 && BLOCK.is_multiple_of(n) {
         adaptive_histories(st, cond, pixels, n, &mut samples, c);
     } else {
-        let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
-        for s in samples.iter_mut() {
-            if let Some(surf) = s.surface.as_mut() {
-                targets.push(surf);
-            }
-            if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                targets.push(bg);
-            }
-        }
-        trace_histories(st, cond, &mut targets, c);
+        trace_sample_histories(st, cond, &mut samples, |_| true, c);
     }
     samples
+}
+
+/// Traces the sun/shadow histories of the surface points of the samples
+/// `pick` selects (by index) and of every specular-bounce background point
+/// (each needs its own), in sample order.
+fn trace_sample_histories(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    pick: impl Fn(usize) -> bool,
+    c: &Counters,
+) {
+    let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+    for (i, s) in samples.iter_mut().enumerate() {
+        if pick(i)
+            && let Some(surf) = s.surface.as_mut()
+        {
+            targets.push(surf);
+        }
+        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+            targets.push(bg);
+        }
+    }
+    trace_histories(st, cond, &mut targets, c);
 }
 
 /// Steps 1-2 for a list of (supersampled) pixels: primary rays and
@@ -333,20 +348,7 @@ fn adaptive_histories(
         let (x, y) = pixels[i];
         (x % n == 0 || x % n == n - 1) && (y % n == 0 || y % n == n - 1)
     };
-    {
-        let mut targets: Vec<&mut Surface> = Vec::new();
-        for (i, s) in samples.iter_mut().enumerate() {
-            if corner(i)
-                && let Some(surf) = s.surface.as_mut()
-            {
-                targets.push(surf);
-            }
-            if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                targets.push(bg);
-            }
-        }
-        trace_histories(st, cond, &mut targets, c);
-    }
+    trace_sample_histories(st, cond, samples, corner, c);
     let npix = per_row * per_row;
     // Each pixel's first corner sample with a surface.
     let mut first: Vec<Option<usize>> = vec![None; npix];
