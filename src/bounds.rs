@@ -80,82 +80,6 @@ pub mod time {
     pub const YEAR: Bound = Bound::new("year", 1900.0, 2200.0, "");
 }
 
-/// Material library keys (`[material.NAME]`, docs/scene-format.md). The
-/// ranges span real materials: density from aerogels (~1 kg/m³) to osmium
-/// (22 590 kg/m³); specific heat from lead/gold (~129 J/(kg·K)) to water
-/// and wet organics (4 180) with margin; conductivity from aerogel/still
-/// air (0.013-0.026 W/(m·K)) to diamond (2 200); thickness from a 10 µm
-/// foil to a 10 m ground column. Values outside (mutated libraries with
-/// conductivities of 1e30 or thicknesses of 1e-12 m) produced surface
-/// temperatures in the thousands of kelvin and are refused.
-pub mod material {
-    use super::Bound;
-    pub const DENSITY: Bound = Bound::new("density_kg_m3", 1.0, 25_000.0, "kg/m³");
-    pub const SPECIFIC_HEAT: Bound = Bound::new("specific_heat_j_kgk", 100.0, 15_000.0, "J/(kg·K)");
-    pub const CONDUCTIVITY: Bound = Bound::new("conductivity_w_mk", 0.005, 2_500.0, "W/(m·K)");
-    pub const THICKNESS: Bound = Bound::new("thickness_m", 1e-5, 10.0, "m");
-    pub const SOLAR_ABSORPTIVITY: Bound = Bound::new("solar_absorptivity", 0.0, 1.0, "");
-    pub const THERMAL_EMISSIVITY: Bound = Bound::new("thermal_emissivity", 0.0, 1.0, "");
-    /// Internal heat source: up to about a solar constant either way
-    /// (engines, heated buildings, cooled skins).
-    pub const INTERNAL_POWER: Bound = Bound::new("internal_power_w_m2", -1_000.0, 1_000.0, "W/m²");
-    pub const SPECULARITY: Bound = Bound::new("specularity", 0.0, 1.0, "");
-    pub const EXPOSED_AREA: Bound = Bound::new("exposed_area", 1e-6, 10.0, "");
-    pub const DEEP_GROUND_TEMP: Bound = Bound::new("temp_c", -90.0, 100.0, "°C");
-    pub const FRESNEL_N: Bound = Bound::new("n", 1e-6, 1e4, "");
-    pub const FRESNEL_K: Bound = Bound::new("k", 0.0, 1e4, "");
-    pub const WATER_CAPACITY: Bound = Bound::new("water_capacity_mm", 0.0, 50.0, "mm");
-    pub const SOLID_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-5, 0.5, "m");
-    pub const CANOPY_HEIGHT: Bound = Bound::new("canopy_height_m", 0.01, 30.0, "m");
-    pub const LAI: Bound = Bound::new("lai", 0.1, 10.0, "m²/m²");
-    pub const SOIL_MOISTURE: Bound = Bound::new("soil_moisture", 0.0, 1.0, "");
-    pub const MIN_STOMATAL_RESISTANCE: Bound =
-        Bound::new("min_stomatal_resistance_s_m", 10.0, 1000.0, "s/m");
-    /// Lower end: the minimum resistance of the same material.
-    pub const MAX_STOMATAL_RESISTANCE: Bound =
-        Bound::new("max_stomatal_resistance_s_m", 10.0, 1e5, "s/m");
-    pub const RADIATION_LIMIT: Bound = Bound::new("radiation_limit_w_m2", 1.0, 1000.0, "W/m²");
-    pub const VPD_COEFF: Bound = Bound::new("vpd_coeff", 0.0, 200.0, "(kg/kg)⁻¹");
-    pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
-    pub const SHORTWAVE_SURFACE_FRACTION: Bound =
-        Bound::new("shortwave_surface_fraction", 0.0, 1.0, "");
-    pub const EDDY_DIFFUSIVITY: Bound = Bound::new("eddy_diffusivity_m2_s", 0.0, 1.0, "m²/s");
-    /// Lower end: the eddy diffusivity of the same material.
-    pub const CONVECTIVE_DIFFUSIVITY: Bound =
-        Bound::new("convective_diffusivity_m2_s", 0.0, 10.0, "m²/s");
-    pub const WATER_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-6, 0.1, "m");
-
-    /// Every material bound, in the order docs/scene-format.md lists them.
-    pub const ALL: &[Bound] = &[
-        DENSITY,
-        SPECIFIC_HEAT,
-        CONDUCTIVITY,
-        THICKNESS,
-        SOLAR_ABSORPTIVITY,
-        THERMAL_EMISSIVITY,
-        INTERNAL_POWER,
-        SPECULARITY,
-        EXPOSED_AREA,
-        DEEP_GROUND_TEMP,
-        FRESNEL_N,
-        FRESNEL_K,
-        WATER_CAPACITY,
-        SOLID_ROUGHNESS,
-        WATER_ROUGHNESS,
-        CANOPY_HEIGHT,
-        LAI,
-        SOIL_MOISTURE,
-        MIN_STOMATAL_RESISTANCE,
-        MAX_STOMATAL_RESISTANCE,
-        RADIATION_LIMIT,
-        VPD_COEFF,
-        EXTINCTION,
-        SHORTWAVE_SURFACE_FRACTION,
-        EDDY_DIFFUSIVITY,
-        CONVECTIVE_DIFFUSIVITY,
-    ];
-}
-
 /// Weather record fields (docs/weather-format.md), after unit conversion.
 pub mod weather {
     use super::Bound;
@@ -418,10 +342,100 @@ pub mod sizes {
     pub const MAX_WEATHER_FILE_BYTES: u64 = 512 << 20;
 }
 
+// --- Keys described beside their fields (issue 31) --------------------------
+
+/// One key of an input table, described once, beside the field it fills
+/// (the material keys: `therm::slab::keys`, `therm::surface::keys`,
+/// `scene::material::keys`): where it is written, its unit, default and
+/// range as the docs list them, and what it means. The material-key table
+/// of docs/scene-format.md is generated from these rows
+/// (`tests/bounds_docs.rs`; `IRSIG_BLESS=1` rewrites it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Key {
+    /// The path inside the table as written: `["thickness_m"]`,
+    /// `["back", "air", "exposed_area"]`.
+    pub path: &'static [&'static str],
+    /// Unit as the docs print it (empty: dimensionless or not a number).
+    pub unit: &'static str,
+    /// The default as the docs print it (`required`, `0`, `"insulated"`).
+    pub default: &'static str,
+    /// The range of a number (its `key` is the path's last segment).
+    pub range: Option<Bound>,
+    /// `true`: the reader of the whole table checks the value as written
+    /// against `range`; `false`: the code that builds the value checks it
+    /// (after defaults, with per-kind ranges or a lower end taken from
+    /// another key).
+    pub as_written: bool,
+    /// What it means, one line (the docs' last column).
+    pub meaning: &'static str,
+}
+
+impl Key {
+    /// A key that is not a number (or has no range).
+    pub const fn text(
+        path: &'static [&'static str],
+        unit: &'static str,
+        default: &'static str,
+        meaning: &'static str,
+    ) -> Self {
+        Self {
+            path,
+            unit,
+            default,
+            range: None,
+            as_written: false,
+            meaning,
+        }
+    }
+
+    /// A number in `range`, checked as written.
+    pub const fn number(
+        path: &'static [&'static str],
+        default: &'static str,
+        range: Bound,
+        meaning: &'static str,
+    ) -> Self {
+        Self {
+            path,
+            unit: range.unit,
+            default,
+            range: Some(range),
+            as_written: true,
+            meaning,
+        }
+    }
+
+    /// The same key, its range checked where its value is built.
+    pub const fn checked_where_built(self) -> Self {
+        Self {
+            as_written: false,
+            ..self
+        }
+    }
+}
+
+/// A key's value refused: where inside its table (the key path; empty: the
+/// table itself) and why. The reader that knows the file turns it into
+/// `file:line:col: message`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeyError {
+    pub path: Vec<&'static str>,
+    pub msg: String,
+}
+
+impl KeyError {
+    /// The error of a value outside its range, at `path`.
+    pub fn range(path: &'static [&'static str], b: &Bound, v: f64) -> Result<f64, Self> {
+        b.check(v).map_err(|msg| Self {
+            path: path.to_vec(),
+            msg,
+        })
+    }
+}
+
 /// Every bound the docs must list, with the doc file that lists it.
 pub fn documented() -> Vec<(&'static str, Bound)> {
     let mut v: Vec<(&str, Bound)> = Vec::new();
-    v.extend(material::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.extend(data::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.push(("docs/scene-format.md", time::YEAR));
     v.push(("docs/scene-format.md", render::MAX_MEMORY));
@@ -439,14 +453,15 @@ mod tests {
 
     #[test]
     fn check_names_key_value_and_range() {
-        let e = material::CONDUCTIVITY.check(1e30).unwrap_err();
+        const CONDUCTIVITY: Bound = Bound::new("conductivity_w_mk", 0.005, 2_500.0, "W/(m·K)");
+        let e = CONDUCTIVITY.check(1e30).unwrap_err();
         assert_eq!(
             e,
             "`conductivity_w_mk` = 1e30 is out of range: \
              expected 0.005 <= conductivity_w_mk <= 2500 W/(m·K)"
         );
-        assert!(material::CONDUCTIVITY.check(f64::NAN).is_err());
-        assert_eq!(material::CONDUCTIVITY.check(0.005), Ok(0.005));
-        assert_eq!(material::CONDUCTIVITY.check(2500.0), Ok(2500.0));
+        assert!(CONDUCTIVITY.check(f64::NAN).is_err());
+        assert_eq!(CONDUCTIVITY.check(0.005), Ok(0.005));
+        assert_eq!(CONDUCTIVITY.check(2500.0), Ok(2500.0));
     }
 }

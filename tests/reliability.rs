@@ -216,8 +216,9 @@ fn absurd_materials_are_refused_with_key_value_and_range() {
         let e = irsig::scene::material::load_library(&path)
             .unwrap_err()
             .to_string();
-        let b = irsig::bounds::material::ALL
+        let b = irsig::scene::material::library_keys()
             .iter()
+            .filter_map(|k| k.range)
             .find(|b| b.key == key)
             .unwrap();
         assert!(e.contains(&format!("m.toml:{line}:")), "{key}: {e}");

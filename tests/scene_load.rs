@@ -459,6 +459,54 @@ fn out_of_range_material_value_names_the_library_line() {
     );
 }
 
+/// A material table is read by three parts (construction, surface kind,
+/// optics), each taking its own keys: errors in any part keep the key's
+/// file:line:col, and an unknown key is matched against every part's keys.
+#[test]
+fn material_parts_report_errors_at_the_key() {
+    let cases = [
+        (
+            "specularity = \"shiny\"",
+            "invalid type: string \"shiny\", expected f64",
+        ),
+        (
+            "specularty = 0.5",
+            "unknown field `specularty`, expected one of ",
+        ),
+        (
+            "emissivity = { fresnel = { n = 0.0, k = 0.1 } }",
+            "`n` = 0 is out of range: expected 1e-6 <= n <= 10000",
+        ),
+        (
+            "lai = 2.0",
+            "`lai` does not apply to kind = \"solid\" (it is a parameter of vegetation)",
+        ),
+        (
+            "back = { air = { exposed_area = 20.0 } }",
+            "`exposed_area` = 20 is out of range: expected 1e-6 <= exposed_area <= 10",
+        ),
+        (
+            "back = { deep_ground = { temp_c = 200.0 } }",
+            "`temp_c` = 200 is out of range: expected -90 <= temp_c <= 100 °C",
+        ),
+    ];
+    for (line, want) in cases {
+        let mats = format!("{MATS}{line}\n");
+        let f = Fixture::new(SCENE, &mats, OBJ);
+        let e = f.err();
+        let written = std::fs::read_to_string(f.dir.path().join("mats.toml")).unwrap();
+        let n = written.lines().position(|l| l == line).unwrap() + 1;
+        assert!(e.starts_with(&format!("D/mats.toml:{n}:")), "{line}: {e}");
+        assert!(e.contains(want), "{line}: {e}");
+    }
+    let f = Fixture::new(SCENE, &format!("{MATS}specularty = 0.5\n"), OBJ);
+    assert!(
+        f.err().ends_with("; did you mean `specularity`?"),
+        "{}",
+        f.err()
+    );
+}
+
 #[test]
 fn undefined_material_names_obj_line_and_libraries() {
     let f = Fixture::new(SCENE, MATS, &OBJ.replace("usemtl grass", "usemtl gras"));

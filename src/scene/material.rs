@@ -2,54 +2,97 @@
 //! DIRSIG's MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
 //! VISIBLE_EMISSIVITY, THERMAL_EMISSIVITY, EXPOSED_AREA, SPECULARITY and
 //! internal power). Library files hold `[material.NAME]` tables.
+//!
+//! A table's keys are described once, by the part of the material they
+//! fill: the thermal construction ([`SlabMaterial`], rows in
+//! [`crate::therm::slab::keys`]), its surface kind
+//! ([`SurfaceSpec`], rows in [`crate::therm::surface::keys`]) and the
+//! optics ([`OpticsSpec`], rows in [`keys`] here). Each part deserialises
+//! itself from the same table (serde on the type itself, reading only its
+//! own keys, so a type, unknown-key or missing-key error keeps its
+//! file:line:col), and every numeric row marked `as_written` is checked
+//! against its range on the value as written. Nothing here names a
+//! construction key: a new one is its field and its row in
+//! `therm/slab/material.rs`, then the physics that reads it.
 
 use std::collections::BTreeMap;
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
-use serde::{Deserialize, Serialize};
+use serde::de::{self, DeserializeOwned, DeserializeSeed, IntoDeserializer, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize};
 
 use super::error::{Location, SceneError};
 use super::tomlsrc::{Seg, TomlSource};
-use crate::bounds::{Bound, material as M};
-use crate::therm::aero::Canopy;
+use crate::bounds::{Bound, Key, KeyError};
 pub use crate::therm::slab::BackBoundary;
 use crate::therm::slab::SlabMaterial;
-use crate::therm::surface::{DEFAULT_SOLID_ROUGHNESS_M, SurfaceKind, WaterBody};
+pub use crate::therm::surface::{KindSpec, SurfaceSpec, surface_defaults};
 
-/// A material library file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialLibrary {
-    /// Materials by name.
-    pub material: BTreeMap<String, MaterialSpec>,
+/// The keys of a `[material.NAME]` table that the scene reads itself: the
+/// description and the optics, one row each (with the construction's and
+/// the surface's rows in [`library_keys`]).
+pub mod keys {
+    use crate::bounds::{Bound, Key};
+    pub use crate::therm::slab::keys::*;
+    pub use crate::therm::surface::keys::*;
+
+    pub const SPECULARITY: Bound = Bound::new("specularity", 0.0, 1.0, "");
+    pub const FRESNEL_N: Bound = Bound::new("n", 1e-6, 1e4, "");
+    pub const FRESNEL_K: Bound = Bound::new("k", 0.0, 1e4, "");
+
+    /// The description and optics keys, in the order the docs list them.
+    pub const OPTICS: &[Key] = &[
+        Key::number(
+            &["specularity"],
+            "0",
+            SPECULARITY,
+            "specular fraction of the reflectance (0 diffuse, 1 mirror)",
+        ),
+        Key::text(
+            &["emissivity"],
+            "",
+            "`\"constant\"`",
+            "`\"constant\"` (ε = thermal_emissivity), `{ table_file = \"e.csv\" }`, \
+             `{ fresnel = { n = 1.5, k = 0.02 } }` (smooth surface, ε(θ) = 1 − R_Fresnel(θ; n + ik))",
+        ),
+        Key::number(
+            &["emissivity", "fresnel", "n"],
+            "",
+            FRESNEL_N,
+            "in `emissivity = { fresnel = { n, k } }`",
+        ),
+        Key::number(
+            &["emissivity", "fresnel", "k"],
+            "",
+            FRESNEL_K,
+            "in `emissivity = { fresnel = { n, k } }`",
+        ),
+    ];
+
+    /// `description`, free text.
+    pub const DESCRIPTION: Key = Key::text(&["description"], "text", "none", "");
 }
 
-/// One `[material.NAME]` table as written.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Every key of a `[material.NAME]` table, in the order
+/// docs/scene-format.md lists them (the table there is generated from these
+/// rows by `tests/bounds_docs.rs`).
+pub fn library_keys() -> Vec<Key> {
+    let mut v = vec![keys::DESCRIPTION];
+    v.extend_from_slice(crate::therm::slab::keys::CONSTRUCTION);
+    v.extend_from_slice(keys::OPTICS);
+    v.extend_from_slice(crate::therm::surface::keys::SURFACE);
+    v
+}
+
+/// The description and optics of one `[material.NAME]` table as written.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct MaterialSpec {
+pub struct OpticsSpec {
     /// Free text (what it is, where the values come from).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub description: Option<String>,
-    /// Mass density ρ, kg/m³ (> 0).
-    pub density_kg_m3: f64,
-    /// Specific heat c, J/(kg·K) (> 0).
-    pub specific_heat_j_kgk: f64,
-    /// Thermal conductivity k, W/(m·K) (> 0).
-    pub conductivity_w_mk: f64,
-    /// Slab thickness L, m (> 0).
-    pub thickness_m: f64,
-    /// Solar (0.3-3 µm) absorptivity α_s, [0, 1] (DIRSIG VISIBLE_EMISSIVITY).
-    pub solar_absorptivity: f64,
-    /// Hemispherical thermal-infrared emissivity ε, [0, 1], used by the
-    /// thermal model (and by the radiometry when `emissivity = "constant"`).
-    pub thermal_emissivity: f64,
-    /// Back-face boundary condition of the slab.
-    #[serde(default)]
-    pub back: BackBoundary,
-    /// Internal heat source, W per m² of facet (>= 0 typical; any finite).
-    #[serde(default)]
-    pub internal_power_w_m2: f64,
     /// Fraction of the reflectance that is specular, [0, 1] (0 diffuse,
     /// 1 mirror-like).
     #[serde(default)]
@@ -57,46 +100,177 @@ pub struct MaterialSpec {
     /// Directional spectral emissivity model for the radiometry.
     #[serde(default)]
     pub emissivity: EmissivitySpec,
-    /// What the surface is for the energy balance (default `solid`).
-    #[serde(default)]
-    pub kind: KindSpec,
-    /// Solid: water held before runoff, mm (default 0: never wet).
-    pub water_capacity_mm: Option<f64>,
-    /// Solid and water: roughness length for momentum, m.
-    pub roughness_m: Option<f64>,
-    /// Vegetation: canopy height, m (required).
-    pub canopy_height_m: Option<f64>,
-    /// Vegetation: leaf area index (required).
-    pub lai: Option<f64>,
-    /// Vegetation: relative available soil water 0 (wilting) … 1 (field
-    /// capacity) (required).
-    pub soil_moisture: Option<f64>,
-    /// Vegetation: minimum stomatal resistance per unit LAI, s/m.
-    pub min_stomatal_resistance_s_m: Option<f64>,
-    /// Vegetation: cuticular (largest) resistance, s/m.
-    pub max_stomatal_resistance_s_m: Option<f64>,
-    /// Vegetation: the radiation parameter R_gl of the Jarvis F₁, W/m².
-    pub radiation_limit_w_m2: Option<f64>,
-    /// Vegetation: the vapour-deficit parameter h_s of F₂, (kg/kg)⁻¹.
-    pub vpd_coeff: Option<f64>,
-    /// Water: Beer-Lambert extinction coefficient, 1/m (required).
-    pub extinction_per_m: Option<f64>,
-    /// Water: fraction of absorbed shortwave absorbed at the surface.
-    pub shortwave_surface_fraction: Option<f64>,
-    /// Water: eddy diffusivity of a stable column, m²/s.
-    pub eddy_diffusivity_m2_s: Option<f64>,
-    /// Water: diffusivity of a convectively unstable column, m²/s.
-    pub convective_diffusivity_m2_s: Option<f64>,
 }
 
-/// `kind = "solid" | "vegetation" | "water"`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum KindSpec {
-    #[default]
-    Solid,
-    Vegetation,
-    Water,
+// --- One table, three parts ---------------------------------------------
+
+/// A part of a material, read from the `[material.NAME]` table by its own
+/// `Deserialize` (only the keys it owns; the others' are skipped).
+trait Part: DeserializeOwned {
+    /// The table keys this part reads: its fields.
+    fn keys() -> Vec<&'static str> {
+        fields_of::<Self>().to_vec()
+    }
+}
+
+impl Part for SlabMaterial {
+    fn keys() -> Vec<&'static str> {
+        let not = SlabMaterial::NOT_LIBRARY_KEYS;
+        fields_of::<Self>()
+            .iter()
+            .copied()
+            .filter(|k| !not.contains(k))
+            .collect()
+    }
+}
+impl Part for SurfaceSpec {}
+impl Part for OpticsSpec {}
+
+/// Every key a material table may hold (for the unknown-key message and
+/// its "did you mean").
+fn all_keys() -> &'static [&'static str] {
+    static ALL: OnceLock<Vec<&'static str>> = OnceLock::new();
+    ALL.get_or_init(|| {
+        [
+            SlabMaterial::keys(),
+            SurfaceSpec::keys(),
+            OpticsSpec::keys(),
+        ]
+        .concat()
+    })
+}
+
+/// The field names a derived `Deserialize` of a struct asks for.
+fn fields_of<T: DeserializeOwned>() -> &'static [&'static str] {
+    match T::deserialize(FieldNames) {
+        Err(Fields(f)) => f,
+        Ok(_) => &[],
+    }
+}
+
+#[derive(Debug)]
+struct Fields(&'static [&'static str]);
+
+impl std::fmt::Display for Fields {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "fields {:?}", self.0)
+    }
+}
+impl std::error::Error for Fields {}
+impl de::Error for Fields {
+    fn custom<T: std::fmt::Display>(_: T) -> Self {
+        Fields(&[])
+    }
+}
+
+/// A deserializer that only answers which fields a struct has.
+struct FieldNames;
+
+impl<'de> Deserializer<'de> for FieldNames {
+    type Error = Fields;
+    fn deserialize_any<V: Visitor<'de>>(self, _: V) -> Result<V::Value, Fields> {
+        Err(Fields(&[]))
+    }
+    fn deserialize_struct<V: Visitor<'de>>(
+        self,
+        _: &'static str,
+        fields: &'static [&'static str],
+        _: V,
+    ) -> Result<V::Value, Fields> {
+        Err(Fields(fields))
+    }
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
+        bytes byte_buf option unit unit_struct newtype_struct seq tuple
+        tuple_struct map enum identifier ignored_any
+    }
+}
+
+/// A material library file read as one part of each material.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, bound = "T: Part")]
+struct Library<T> {
+    material: BTreeMap<String, Table<T>>,
+}
+
+/// One `[material.NAME]` table read as the part `T`.
+struct Table<T>(T);
+
+impl<'de, T: Part> Deserialize<'de> for Table<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V<T>(PhantomData<T>);
+        impl<'de, T: Part> Visitor<'de> for V<T> {
+            type Value = Table<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a material table")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Table<T>, A::Error> {
+                let own = OwnKeys {
+                    map,
+                    own: T::keys(),
+                };
+                T::deserialize(de::value::MapAccessDeserializer::new(own)).map(Table)
+            }
+        }
+        d.deserialize_map(V(PhantomData))
+    }
+}
+
+/// The table's entries that belong to one part; the other parts' keys are
+/// skipped, a key of no part is refused (at the key) listing every key.
+struct OwnKeys<A> {
+    map: A,
+    own: Vec<&'static str>,
+}
+
+impl<'de, A: MapAccess<'de>> MapAccess<'de> for OwnKeys<A> {
+    type Error = A::Error;
+    fn next_key_seed<K: DeserializeSeed<'de>>(
+        &mut self,
+        seed: K,
+    ) -> Result<Option<K::Value>, A::Error> {
+        let mut seed = Some(seed);
+        loop {
+            let route = Route {
+                seed: &mut seed,
+                own: &self.own,
+            };
+            match self.map.next_key_seed(route)? {
+                None => return Ok(None),
+                Some(Some(k)) => return Ok(Some(k)),
+                Some(None) => {
+                    self.map.next_value::<de::IgnoredAny>()?;
+                }
+            }
+        }
+    }
+    fn next_value_seed<V: DeserializeSeed<'de>>(&mut self, seed: V) -> Result<V::Value, A::Error> {
+        self.map.next_value_seed(seed)
+    }
+}
+
+/// Reads one key: the part's own (`Some`, handed to the part's field
+/// visitor), another part's (`None`, skipped) or an unknown one (an error).
+struct Route<'a, K> {
+    seed: &'a mut Option<K>,
+    own: &'a [&'static str],
+}
+
+impl<'de, K: DeserializeSeed<'de>> DeserializeSeed<'de> for Route<'_, K> {
+    type Value = Option<K::Value>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        let key = String::deserialize(d)?;
+        if !self.own.contains(&key.as_str()) {
+            return if all_keys().contains(&key.as_str()) {
+                Ok(None)
+            } else {
+                Err(de::Error::unknown_field(&key, all_keys()))
+            };
+        }
+        let seed = self.seed.take().expect("one key per call");
+        seed.deserialize(IntoDeserializer::<D::Error>::into_deserializer(key))
+            .map(Some)
+    }
 }
 
 /// Emissivity model as written.
@@ -228,56 +402,45 @@ pub fn load_library_text(path: &Path, text: String) -> Result<Vec<Material>, Sce
 }
 
 fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, SceneError> {
-    let lib: MaterialLibrary = src.parse()?;
+    // Each part reads its own keys of every table; the first pass refuses
+    // keys of no part.
+    let slabs: Library<SlabMaterial> = src.parse()?;
+    let surfaces: Library<SurfaceSpec> = src.parse()?;
+    let optics: Library<OpticsSpec> = src.parse()?;
+    let written: toml::Table = src.parse()?;
+    let rows = library_keys();
     let c = Check { src: &src };
-    let mut out = Vec::with_capacity(lib.material.len());
-    for (name, m) in lib.material {
-        let p = |k: &'static str| {
-            [
-                Seg::Key("material".into()),
-                Seg::Key(name.clone()),
-                Seg::Key(k.into()),
-            ]
+    let mut out = Vec::with_capacity(slabs.material.len());
+    let parts = slabs
+        .material
+        .into_iter()
+        .zip(surfaces.material.into_values())
+        .zip(optics.material.into_values());
+    for (((name, Table(slab)), Table(surface)), Table(o)) in parts {
+        let at = |path: &[&str]| -> Vec<Seg> {
+            [Seg::Key("material".into()), Seg::Key(name.clone())]
+                .into_iter()
+                .chain(path.iter().map(|k| Seg::Key(k.to_string())))
+                .collect()
         };
-        for (b, v) in [
-            (M::DENSITY, m.density_kg_m3),
-            (M::SPECIFIC_HEAT, m.specific_heat_j_kgk),
-            (M::CONDUCTIVITY, m.conductivity_w_mk),
-            (M::THICKNESS, m.thickness_m),
-            (M::SOLAR_ABSORPTIVITY, m.solar_absorptivity),
-            (M::THERMAL_EMISSIVITY, m.thermal_emissivity),
-            (M::INTERNAL_POWER, m.internal_power_w_m2),
-            (M::SPECULARITY, m.specularity),
-        ] {
-            c.bound(&p(b.key), &b, v)?;
+        let key_err = |e: KeyError| c.src.invalid(&at(&e.path), e.msg);
+        // Every number with a range, as written.
+        let table = written.get("material").and_then(|m| m.get(name.as_str()));
+        for row in rows.iter().filter(|r| r.as_written) {
+            let (Some(b), Some(v)) = (row.range, table.and_then(|t| written_number(t, row))) else {
+                continue;
+            };
+            c.bound(&at(row.path), &b, v)?;
         }
-        // (`deep_ground.temp_c` is range-checked as it is read, in °C.)
-        if let BackBoundary::ExposedToAir { area_factor } = m.back {
-            let mut bp = p("back").to_vec();
-            bp.extend([Seg::Key("air".into()), Seg::Key("exposed_area".into())]);
-            c.bound(&bp, &M::EXPOSED_AREA, area_factor)?;
-        }
-        let emissivity = match &m.emissivity {
+        let emissivity = match &o.emissivity {
             EmissivitySpec::Constant => Emissivity::Constant,
-            EmissivitySpec::Fresnel { n, k } => {
-                let mut bp = p("emissivity").to_vec();
-                bp.push(Seg::Key("fresnel".into()));
-                let mut np = bp.clone();
-                np.push(Seg::Key("n".into()));
-                c.bound(&np, &M::FRESNEL_N, *n)?;
-                let mut kp = bp;
-                kp.push(Seg::Key("k".into()));
-                c.bound(&kp, &M::FRESNEL_K, *k)?;
-                Emissivity::Fresnel { n: *n, k: *k }
-            }
+            EmissivitySpec::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
             EmissivitySpec::TableFile(f) => {
                 // The path policy: a library reads files in its own folder tree.
                 let folder = path.parent().unwrap_or(Path::new(""));
                 let file = crate::files::within(folder, f, &[]).map_err(|why| {
-                    let mut at = p("emissivity").to_vec();
-                    at.push(Seg::Key("table_file".into()));
                     c.src.invalid(
-                        &at,
+                        &at(&["emissivity", "table_file"]),
                         format!(
                             "emissivity table `{}` {why}: a material library reads files in its \
                              own folder tree",
@@ -288,23 +451,12 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
                 Emissivity::Table(read_emissivity_table(&file)?)
             }
         };
-        let surface = surface_kind(&c, &name, &m)?;
+        let surface = surface.build().map_err(key_err)?;
         out.push(Material {
             name: name.clone(),
-            description: m.description.clone(),
-            construction: SlabMaterial {
-                density_kg_m3: m.density_kg_m3,
-                specific_heat_j_kgk: m.specific_heat_j_kgk,
-                conductivity_w_mk: m.conductivity_w_mk,
-                thickness_m: m.thickness_m,
-                solar_absorptivity: m.solar_absorptivity,
-                thermal_emissivity: m.thermal_emissivity,
-                back: m.back,
-                internal_power_w_m2: m.internal_power_w_m2,
-                ground_albedo: None,
-                surface,
-            },
-            specularity: m.specularity,
+            description: o.description,
+            construction: SlabMaterial { surface, ..slab },
+            specularity: o.specularity,
             emissivity,
             library: path.to_path_buf(),
         });
@@ -312,186 +464,18 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
     Ok(out)
 }
 
-/// Defaults of the optional surface parameters, with their sources.
-pub mod surface_defaults {
-    /// Jarvis/Noah R_gl for grass and crops, W/m² (Noilhan & Planton 1989;
-    /// Noah VEGPARM "grassland" 100).
-    pub const RADIATION_LIMIT_W_M2: f64 = 100.0;
-    /// Noah's cuticular resistance r_s,max, s/m (Chen et al. 1996).
-    pub const MAX_STOMATAL_RESISTANCE_S_M: f64 = 5000.0;
-    /// Noah's h_s for grass and crops, (kg/kg)⁻¹ (Noah VEGPARM 36.35).
-    pub const VPD_COEFF: f64 = 36.35;
-    /// FAO-56's bulk stomatal resistance of a well-illuminated leaf, s/m
-    /// (FAO-56 eq. 5: r_l = 100 s/m).
-    pub const MIN_STOMATAL_RESISTANCE_S_M: f64 = 100.0;
-    /// Near-infrared share of absorbed sunlight taken by a water skin
-    /// (Henderson-Sellers 1986; Hostetler & Bartlein 1990: 0.4).
-    pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
-    /// Eddy diffusivity of a stably stratified small pond, m²/s (1e-6-1e-4
-    /// in small lakes, Hondzo & Stefan 1993): 2e-5.
-    pub const EDDY_DIFFUSIVITY_M2_S: f64 = 1.0e-4;
-    /// Convective overturning, m²/s: fast enough to mix a 1 m column in
-    /// minutes.
-    pub const CONVECTIVE_DIFFUSIVITY_M2_S: f64 = 1.0e-2;
-    /// Roughness length of a water surface at light winds, m (Charnock
-    /// z₀ = 0.011·u*²/g ≈ 1e-4 m at u* = 0.3 m/s; Garratt 1992, Table A6).
-    pub const WATER_ROUGHNESS_M: f64 = 2.0e-4;
-}
-
-/// The surface kind of one `[material.NAME]` table: checks that the keys
-/// its kind needs are there and in range, and that no key of another kind
-/// is given.
-fn surface_kind(c: &Check, name: &str, m: &MaterialSpec) -> Result<SurfaceKind, SceneError> {
-    use surface_defaults as d;
-    let p = |k: &str| {
-        [
-            Seg::Key("material".into()),
-            Seg::Key(name.to_string()),
-            Seg::Key(k.into()),
-        ]
-    };
-    let kind_name = match m.kind {
-        KindSpec::Solid => "solid",
-        KindSpec::Vegetation => "vegetation",
-        KindSpec::Water => "water",
-    };
-    let all: [(&str, Option<f64>, &[KindSpec]); 13] = [
-        ("water_capacity_mm", m.water_capacity_mm, &[KindSpec::Solid]),
-        (
-            "roughness_m",
-            m.roughness_m,
-            &[KindSpec::Solid, KindSpec::Water],
-        ),
-        (
-            "canopy_height_m",
-            m.canopy_height_m,
-            &[KindSpec::Vegetation],
-        ),
-        ("lai", m.lai, &[KindSpec::Vegetation]),
-        ("soil_moisture", m.soil_moisture, &[KindSpec::Vegetation]),
-        (
-            "min_stomatal_resistance_s_m",
-            m.min_stomatal_resistance_s_m,
-            &[KindSpec::Vegetation],
-        ),
-        (
-            "max_stomatal_resistance_s_m",
-            m.max_stomatal_resistance_s_m,
-            &[KindSpec::Vegetation],
-        ),
-        (
-            "radiation_limit_w_m2",
-            m.radiation_limit_w_m2,
-            &[KindSpec::Vegetation],
-        ),
-        ("vpd_coeff", m.vpd_coeff, &[KindSpec::Vegetation]),
-        ("extinction_per_m", m.extinction_per_m, &[KindSpec::Water]),
-        (
-            "shortwave_surface_fraction",
-            m.shortwave_surface_fraction,
-            &[KindSpec::Water],
-        ),
-        (
-            "eddy_diffusivity_m2_s",
-            m.eddy_diffusivity_m2_s,
-            &[KindSpec::Water],
-        ),
-        (
-            "convective_diffusivity_m2_s",
-            m.convective_diffusivity_m2_s,
-            &[KindSpec::Water],
-        ),
-    ];
-    for (key, v, kinds) in all {
-        if v.is_some() && !kinds.contains(&m.kind) {
-            return Err(c.src.invalid(
-                &p(key),
-                format!(
-                    "`{key}` does not apply to kind = \"{kind_name}\" (it is a parameter of {})",
-                    kinds
-                        .iter()
-                        .map(|k| format!("{k:?}").to_lowercase())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-        }
+/// The number at `row`'s path in a material table as written (an integer
+/// read as a number), if it is there.
+fn written_number(table: &toml::Value, row: &Key) -> Option<f64> {
+    let mut v = table;
+    for k in row.path {
+        v = v.get(k)?;
     }
-    let need = |key: &str, v: Option<f64>| {
-        v.ok_or_else(|| {
-            c.src.invalid(
-                &[Seg::Key("material".into()), Seg::Key(name.to_string())],
-                format!("kind = \"{kind_name}\" needs `{key}` (see docs/scene-format.md, \"Surface kinds\")"),
-            )
-        })
-    };
-    let range = |b: Bound, v: f64| c.bound(&p(b.key), &b, v);
-    // a range whose lower end is another key of the same material
-    let above = |b: Bound, v: f64, lo: f64| c.bound(&p(b.key), &Bound { lo, ..b }, v);
-    Ok(match m.kind {
-        KindSpec::Solid => {
-            let cap = m.water_capacity_mm.unwrap_or(0.0);
-            range(M::WATER_CAPACITY, cap)?;
-            let z0 = m.roughness_m.unwrap_or(DEFAULT_SOLID_ROUGHNESS_M);
-            range(M::SOLID_ROUGHNESS, z0)?;
-            SurfaceKind::Solid {
-                water_capacity_mm: cap,
-                roughness_m: z0,
-            }
-        }
-        KindSpec::Vegetation => {
-            let height_m = need("canopy_height_m", m.canopy_height_m)?;
-            range(M::CANOPY_HEIGHT, height_m)?;
-            let lai = need("lai", m.lai)?;
-            range(M::LAI, lai)?;
-            let soil_moisture = need("soil_moisture", m.soil_moisture)?;
-            range(M::SOIL_MOISTURE, soil_moisture)?;
-            let rmin = m
-                .min_stomatal_resistance_s_m
-                .unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
-            range(M::MIN_STOMATAL_RESISTANCE, rmin)?;
-            let rmax = m
-                .max_stomatal_resistance_s_m
-                .unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
-            above(M::MAX_STOMATAL_RESISTANCE, rmax, rmin)?;
-            let rgl = m.radiation_limit_w_m2.unwrap_or(d::RADIATION_LIMIT_W_M2);
-            range(M::RADIATION_LIMIT, rgl)?;
-            let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
-            range(M::VPD_COEFF, hs)?;
-            SurfaceKind::Vegetation(Canopy {
-                height_m,
-                lai,
-                min_resistance_s_m: rmin,
-                max_resistance_s_m: rmax,
-                radiation_limit_w_m2: rgl,
-                vpd_coeff: hs,
-                soil_moisture,
-            })
-        }
-        KindSpec::Water => {
-            let eta = need("extinction_per_m", m.extinction_per_m)?;
-            range(M::EXTINCTION, eta)?;
-            let beta = m
-                .shortwave_surface_fraction
-                .unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
-            range(M::SHORTWAVE_SURFACE_FRACTION, beta)?;
-            let ke = m.eddy_diffusivity_m2_s.unwrap_or(d::EDDY_DIFFUSIVITY_M2_S);
-            range(M::EDDY_DIFFUSIVITY, ke)?;
-            let kc = m
-                .convective_diffusivity_m2_s
-                .unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
-            above(M::CONVECTIVE_DIFFUSIVITY, kc, ke)?;
-            let z0 = m.roughness_m.unwrap_or(d::WATER_ROUGHNESS_M);
-            range(M::WATER_ROUGHNESS, z0)?;
-            SurfaceKind::Water(WaterBody {
-                surface_fraction: beta,
-                extinction_per_m: eta,
-                eddy_diffusivity_m2_s: ke,
-                convective_diffusivity_m2_s: kc,
-                roughness_m: z0,
-            })
-        }
-    })
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
 }
 
 /// Splits a CSV data line into numbers; `Err(column)` (1-based) on a bad field.

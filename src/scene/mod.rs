@@ -34,7 +34,7 @@ pub use camera::{Camera, camera_geometry};
 pub use error::{Location, SceneError};
 pub use frame::LocalFrame;
 pub use material::{
-    BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, MaterialSpec,
+    BackBoundary, Emissivity, EmissivitySpec, EmissivityTable, Material, OpticsSpec,
 };
 pub use spec::*;
 

@@ -27,6 +27,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::aero::{Canopy, Roughness};
+use crate::bounds::{Bound, KeyError};
 
 /// Surface type and its parameters (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -221,6 +222,356 @@ pub fn mixing_conductances(
             water.eddy_diffusivity_m2_s
         };
         out[i] = (conductivity_w_mk + rho_c_j_m3k * k_eddy) / dz;
+    }
+}
+
+/// `kind = "solid" | "vegetation" | "water"` in a material library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum KindSpec {
+    #[default]
+    Solid,
+    Vegetation,
+    Water,
+}
+
+impl KindSpec {
+    fn name(self) -> &'static str {
+        match self {
+            KindSpec::Solid => "solid",
+            KindSpec::Vegetation => "vegetation",
+            KindSpec::Water => "water",
+        }
+    }
+}
+
+/// Defaults of the optional surface parameters, with their sources.
+pub mod surface_defaults {
+    /// Jarvis/Noah R_gl for grass and crops, W/m² (Noilhan & Planton 1989;
+    /// Noah VEGPARM "grassland" 100).
+    pub const RADIATION_LIMIT_W_M2: f64 = 100.0;
+    /// Noah's cuticular resistance r_s,max, s/m (Chen et al. 1996).
+    pub const MAX_STOMATAL_RESISTANCE_S_M: f64 = 5000.0;
+    /// Noah's h_s for grass and crops, (kg/kg)⁻¹ (Noah VEGPARM 36.35).
+    pub const VPD_COEFF: f64 = 36.35;
+    /// FAO-56's bulk stomatal resistance of a well-illuminated leaf, s/m
+    /// (FAO-56 eq. 5: r_l = 100 s/m).
+    pub const MIN_STOMATAL_RESISTANCE_S_M: f64 = 100.0;
+    /// Near-infrared share of absorbed sunlight taken by a water skin
+    /// (Henderson-Sellers 1986; Hostetler & Bartlein 1990: 0.4).
+    pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
+    /// Eddy diffusivity of a stably stratified small pond, m²/s (1e-6-1e-4
+    /// in small lakes, Hondzo & Stefan 1993): 2e-5.
+    pub const EDDY_DIFFUSIVITY_M2_S: f64 = 1.0e-4;
+    /// Convective overturning, m²/s: fast enough to mix a 1 m column in
+    /// minutes.
+    pub const CONVECTIVE_DIFFUSIVITY_M2_S: f64 = 1.0e-2;
+    /// Roughness length of a water surface at light winds, m (Charnock
+    /// z₀ = 0.011·u*²/g ≈ 1e-4 m at u* = 0.3 m/s; Garratt 1992, Table A6).
+    pub const WATER_ROUGHNESS_M: f64 = 2.0e-4;
+}
+
+/// The surface keys of a `[material.NAME]` table, one row each, beside
+/// [`SurfaceSpec`]'s fields (docs/scene-format.md's table is generated from
+/// them). Their ranges are checked where [`SurfaceSpec::build`] builds the
+/// surface: after the defaults, per kind, and for two of them with the
+/// lower end another key of the same material.
+pub mod keys {
+    use crate::bounds::{Bound, Key};
+
+    pub const WATER_CAPACITY: Bound = Bound::new("water_capacity_mm", 0.0, 50.0, "mm");
+    pub const SOLID_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-5, 0.5, "m");
+    pub const CANOPY_HEIGHT: Bound = Bound::new("canopy_height_m", 0.01, 30.0, "m");
+    pub const LAI: Bound = Bound::new("lai", 0.1, 10.0, "m²/m²");
+    pub const SOIL_MOISTURE: Bound = Bound::new("soil_moisture", 0.0, 1.0, "");
+    pub const MIN_STOMATAL_RESISTANCE: Bound =
+        Bound::new("min_stomatal_resistance_s_m", 10.0, 1000.0, "s/m");
+    /// Lower end: the minimum resistance of the same material.
+    pub const MAX_STOMATAL_RESISTANCE: Bound =
+        Bound::new("max_stomatal_resistance_s_m", 10.0, 1e5, "s/m");
+    pub const RADIATION_LIMIT: Bound = Bound::new("radiation_limit_w_m2", 1.0, 1000.0, "W/m²");
+    pub const VPD_COEFF: Bound = Bound::new("vpd_coeff", 0.0, 200.0, "(kg/kg)⁻¹");
+    pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
+    pub const SHORTWAVE_SURFACE_FRACTION: Bound =
+        Bound::new("shortwave_surface_fraction", 0.0, 1.0, "");
+    pub const EDDY_DIFFUSIVITY: Bound = Bound::new("eddy_diffusivity_m2_s", 0.0, 1.0, "m²/s");
+    /// Lower end: the eddy diffusivity of the same material.
+    pub const CONVECTIVE_DIFFUSIVITY: Bound =
+        Bound::new("convective_diffusivity_m2_s", 0.0, 10.0, "m²/s");
+    pub const WATER_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-6, 0.1, "m");
+
+    const fn row(
+        p: &'static [&'static str],
+        default: &'static str,
+        b: Bound,
+        m: &'static str,
+    ) -> Key {
+        Key::number(p, default, b, m).checked_where_built()
+    }
+
+    /// Every surface key, in the order the docs list them.
+    pub const SURFACE: &[Key] = &[
+        Key::text(
+            &["kind"],
+            "",
+            "`\"solid\"`",
+            "`\"solid\"`, `\"vegetation\"`, `\"water\"`: the keys below ([energy-balance.md](energy-balance.md))",
+        ),
+        row(
+            &["water_capacity_mm"],
+            "0",
+            WATER_CAPACITY,
+            "solid: water held before runoff",
+        ),
+        row(
+            &["roughness_m"],
+            "0.005",
+            SOLID_ROUGHNESS,
+            "solid: roughness length for momentum",
+        ),
+        row(
+            &["roughness_m"],
+            "2e-4",
+            WATER_ROUGHNESS,
+            "water: roughness length for momentum",
+        ),
+        row(
+            &["canopy_height_m"],
+            "required (vegetation)",
+            CANOPY_HEIGHT,
+            "",
+        ),
+        row(&["lai"], "required (vegetation)", LAI, "leaf area index"),
+        row(
+            &["soil_moisture"],
+            "required (vegetation)",
+            SOIL_MOISTURE,
+            "0 wilting … 1 field capacity",
+        ),
+        row(
+            &["min_stomatal_resistance_s_m"],
+            "100",
+            MIN_STOMATAL_RESISTANCE,
+            "",
+        ),
+        row(
+            &["max_stomatal_resistance_s_m"],
+            "5000",
+            MAX_STOMATAL_RESISTANCE,
+            "and >= `min_stomatal_resistance_s_m`",
+        ),
+        row(
+            &["radiation_limit_w_m2"],
+            "100",
+            RADIATION_LIMIT,
+            "Jarvis R_gl",
+        ),
+        row(&["vpd_coeff"], "36.35", VPD_COEFF, "Jarvis h_s"),
+        row(
+            &["extinction_per_m"],
+            "required (water)",
+            EXTINCTION,
+            "Beer-Lambert",
+        ),
+        row(
+            &["shortwave_surface_fraction"],
+            "0.4",
+            SHORTWAVE_SURFACE_FRACTION,
+            "water",
+        ),
+        row(
+            &["eddy_diffusivity_m2_s"],
+            "1e-4",
+            EDDY_DIFFUSIVITY,
+            "water, stable column",
+        ),
+        row(
+            &["convective_diffusivity_m2_s"],
+            "1e-2",
+            CONVECTIVE_DIFFUSIVITY,
+            "water, unstable column; and >= `eddy_diffusivity_m2_s`",
+        ),
+    ];
+}
+
+/// The surface keys of a `[material.NAME]` table as written: `kind` and
+/// the parameters of each kind, all optional here; [`SurfaceSpec::build`]
+/// fills the defaults and checks what the kind needs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSpec {
+    /// What the surface is for the energy balance (default `solid`).
+    #[serde(default)]
+    pub kind: KindSpec,
+    /// Solid: water held before runoff, mm (default 0: never wet).
+    pub water_capacity_mm: Option<f64>,
+    /// Solid and water: roughness length for momentum, m.
+    pub roughness_m: Option<f64>,
+    /// Vegetation: canopy height, m (required).
+    pub canopy_height_m: Option<f64>,
+    /// Vegetation: leaf area index (required).
+    pub lai: Option<f64>,
+    /// Vegetation: relative available soil water 0 (wilting) … 1 (field
+    /// capacity) (required).
+    pub soil_moisture: Option<f64>,
+    /// Vegetation: minimum stomatal resistance per unit LAI, s/m.
+    pub min_stomatal_resistance_s_m: Option<f64>,
+    /// Vegetation: cuticular (largest) resistance, s/m.
+    pub max_stomatal_resistance_s_m: Option<f64>,
+    /// Vegetation: the radiation parameter R_gl of the Jarvis F₁, W/m².
+    pub radiation_limit_w_m2: Option<f64>,
+    /// Vegetation: the vapour-deficit parameter h_s of F₂, (kg/kg)⁻¹.
+    pub vpd_coeff: Option<f64>,
+    /// Water: Beer-Lambert extinction coefficient, 1/m (required).
+    pub extinction_per_m: Option<f64>,
+    /// Water: fraction of absorbed shortwave absorbed at the surface.
+    pub shortwave_surface_fraction: Option<f64>,
+    /// Water: eddy diffusivity of a stable column, m²/s.
+    pub eddy_diffusivity_m2_s: Option<f64>,
+    /// Water: diffusivity of a convectively unstable column, m²/s.
+    pub convective_diffusivity_m2_s: Option<f64>,
+}
+
+impl SurfaceSpec {
+    /// The surface kind: checks that the keys its kind needs are there and
+    /// in range, and that no key of another kind is given; an error names
+    /// the key (or, for a missing one, the table).
+    pub fn build(&self) -> Result<SurfaceKind, KeyError> {
+        use KindSpec::{Solid, Vegetation, Water};
+        use keys as K;
+        use surface_defaults as d;
+        let m = self;
+        let kind_name = m.kind.name();
+        let all: [(&'static str, Option<f64>, &[KindSpec]); 13] = [
+            ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
+            ("roughness_m", m.roughness_m, &[Solid, Water]),
+            ("canopy_height_m", m.canopy_height_m, &[Vegetation]),
+            ("lai", m.lai, &[Vegetation]),
+            ("soil_moisture", m.soil_moisture, &[Vegetation]),
+            (
+                "min_stomatal_resistance_s_m",
+                m.min_stomatal_resistance_s_m,
+                &[Vegetation],
+            ),
+            (
+                "max_stomatal_resistance_s_m",
+                m.max_stomatal_resistance_s_m,
+                &[Vegetation],
+            ),
+            (
+                "radiation_limit_w_m2",
+                m.radiation_limit_w_m2,
+                &[Vegetation],
+            ),
+            ("vpd_coeff", m.vpd_coeff, &[Vegetation]),
+            ("extinction_per_m", m.extinction_per_m, &[Water]),
+            (
+                "shortwave_surface_fraction",
+                m.shortwave_surface_fraction,
+                &[Water],
+            ),
+            ("eddy_diffusivity_m2_s", m.eddy_diffusivity_m2_s, &[Water]),
+            (
+                "convective_diffusivity_m2_s",
+                m.convective_diffusivity_m2_s,
+                &[Water],
+            ),
+        ];
+        for (key, v, kinds) in all {
+            if v.is_some() && !kinds.contains(&m.kind) {
+                return Err(KeyError {
+                    path: vec![key],
+                    msg: format!(
+                        "`{key}` does not apply to kind = \"{kind_name}\" (it is a parameter of {})",
+                        kinds
+                            .iter()
+                            .map(|k| k.name())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                });
+            }
+        }
+        let need = |key: &str, v: Option<f64>| {
+            v.ok_or_else(|| KeyError {
+                path: vec![],
+                msg: format!(
+                    "kind = \"{kind_name}\" needs `{key}` (see docs/scene-format.md, \"Surface kinds\")"
+                ),
+            })
+        };
+        let range = |b: Bound, v: f64| {
+            b.check(v).map_err(|msg| KeyError {
+                path: vec![b.key],
+                msg,
+            })
+        };
+        // a range whose lower end is another key of the same material
+        let above = |b: Bound, v: f64, lo: f64| range(Bound { lo, ..b }, v);
+        Ok(match m.kind {
+            Solid => {
+                let cap = m.water_capacity_mm.unwrap_or(0.0);
+                range(K::WATER_CAPACITY, cap)?;
+                let z0 = m.roughness_m.unwrap_or(DEFAULT_SOLID_ROUGHNESS_M);
+                range(K::SOLID_ROUGHNESS, z0)?;
+                SurfaceKind::Solid {
+                    water_capacity_mm: cap,
+                    roughness_m: z0,
+                }
+            }
+            Vegetation => {
+                let height_m = need("canopy_height_m", m.canopy_height_m)?;
+                range(K::CANOPY_HEIGHT, height_m)?;
+                let lai = need("lai", m.lai)?;
+                range(K::LAI, lai)?;
+                let soil_moisture = need("soil_moisture", m.soil_moisture)?;
+                range(K::SOIL_MOISTURE, soil_moisture)?;
+                let rmin = m
+                    .min_stomatal_resistance_s_m
+                    .unwrap_or(d::MIN_STOMATAL_RESISTANCE_S_M);
+                range(K::MIN_STOMATAL_RESISTANCE, rmin)?;
+                let rmax = m
+                    .max_stomatal_resistance_s_m
+                    .unwrap_or(d::MAX_STOMATAL_RESISTANCE_S_M);
+                above(K::MAX_STOMATAL_RESISTANCE, rmax, rmin)?;
+                let rgl = m.radiation_limit_w_m2.unwrap_or(d::RADIATION_LIMIT_W_M2);
+                range(K::RADIATION_LIMIT, rgl)?;
+                let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
+                range(K::VPD_COEFF, hs)?;
+                SurfaceKind::Vegetation(Canopy {
+                    height_m,
+                    lai,
+                    min_resistance_s_m: rmin,
+                    max_resistance_s_m: rmax,
+                    radiation_limit_w_m2: rgl,
+                    vpd_coeff: hs,
+                    soil_moisture,
+                })
+            }
+            Water => {
+                let eta = need("extinction_per_m", m.extinction_per_m)?;
+                range(K::EXTINCTION, eta)?;
+                let beta = m
+                    .shortwave_surface_fraction
+                    .unwrap_or(d::SHORTWAVE_SURFACE_FRACTION);
+                range(K::SHORTWAVE_SURFACE_FRACTION, beta)?;
+                let ke = m.eddy_diffusivity_m2_s.unwrap_or(d::EDDY_DIFFUSIVITY_M2_S);
+                range(K::EDDY_DIFFUSIVITY, ke)?;
+                let kc = m
+                    .convective_diffusivity_m2_s
+                    .unwrap_or(d::CONVECTIVE_DIFFUSIVITY_M2_S);
+                above(K::CONVECTIVE_DIFFUSIVITY, kc, ke)?;
+                let z0 = m.roughness_m.unwrap_or(d::WATER_ROUGHNESS_M);
+                range(K::WATER_ROUGHNESS, z0)?;
+                SurfaceKind::Water(WaterBody {
+                    surface_fraction: beta,
+                    extinction_per_m: eta,
+                    eddy_diffusivity_m2_s: ke,
+                    convective_diffusivity_m2_s: kc,
+                    roughness_m: z0,
+                })
+            }
+        })
     }
 }
 

@@ -327,7 +327,7 @@ fn render_budget() -> u32 {
 /// Accepted scene: materials inside their bounds, finite camera; some are
 /// rendered small (8x8, no supersampling) and every plane is checked.
 fn scene_ok(s: &irsig::scene::LoadedScene, text: &str, renders: &AtomicU32) -> R {
-    use irsig::bounds::material as M;
+    use irsig::scene::material::keys as M;
     for m in &s.materials {
         for (b, v) in [
             (M::DENSITY, m.construction.density_kg_m3),
@@ -496,7 +496,7 @@ fn material_library() {
         match irsig::scene::material::load_library_text(&path, t) {
             Ok(ms) => {
                 tally.ok();
-                use irsig::bounds::material as M;
+                use irsig::scene::material::keys as M;
                 for m in &ms {
                     for (b, v) in [
                         (M::DENSITY, m.construction.density_kg_m3),

@@ -8,8 +8,8 @@
 
 use std::path::{Path, PathBuf};
 
-use irsig::bounds::material as M;
 use irsig::render::pixel::SURFACE_PLANES;
+use irsig::scene::material::keys as M;
 
 /// The plate scene and its materials copied into `tmp`, the concrete of the
 /// ground (most pixels) with `key = value`.

@@ -27,7 +27,7 @@ pub enum BackBoundary {
         area_factor: f64,
     },
     /// Back face held at a deep-ground temperature: `temp_k` (written in
-    /// °C as `temp_c`, range [`crate::bounds::material::DEEP_GROUND_TEMP`],
+    /// °C as `temp_c`, range [`keys::DEEP_GROUND_TEMP`],
     /// checked where it is read), or when absent the site's deep-ground
     /// temperature (a render) or the mean air temperature of the forcing.
     DeepGround {
@@ -50,7 +50,7 @@ fn one() -> f64 {
 mod celsius {
     use serde::{Deserialize, Deserializer, Serializer};
 
-    use crate::bounds::material::DEEP_GROUND_TEMP;
+    use super::keys::DEEP_GROUND_TEMP;
     use crate::units::ZERO_C_K as ZERO_CELSIUS_K;
 
     pub fn serialize<S: Serializer>(temp_k: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
@@ -71,10 +71,113 @@ mod celsius {
     }
 }
 
+/// The keys of a `[material.NAME]` table that fill [`SlabMaterial`], one
+/// row each, beside the fields: the material library reader
+/// (`scene::material`) checks every value as written against its range,
+/// and docs/scene-format.md's table of material keys is generated from
+/// these rows. Adding a key to the construction is its field on
+/// [`SlabMaterial`] and its row here, then the physics that reads it
+/// (ARCHITECTURE.md, "a material key"). The ranges span real materials:
+/// density from aerogels (~1 kg/m³) to osmium (22 590 kg/m³); specific
+/// heat from lead/gold (~129 J/(kg·K)) to water and wet organics (4 180)
+/// with margin; conductivity from aerogel/still air (0.013-0.026 W/(m·K))
+/// to diamond (2 200); thickness from a 10 µm foil to a 10 m ground
+/// column. Values outside (mutated libraries with conductivities of 1e30
+/// or thicknesses of 1e-12 m) produced surface temperatures in the
+/// thousands of kelvin and are refused.
+pub mod keys {
+    use crate::bounds::{Bound, Key};
+
+    pub const DENSITY: Bound = Bound::new("density_kg_m3", 1.0, 25_000.0, "kg/m³");
+    pub const SPECIFIC_HEAT: Bound = Bound::new("specific_heat_j_kgk", 100.0, 15_000.0, "J/(kg·K)");
+    pub const CONDUCTIVITY: Bound = Bound::new("conductivity_w_mk", 0.005, 2_500.0, "W/(m·K)");
+    pub const THICKNESS: Bound = Bound::new("thickness_m", 1e-5, 10.0, "m");
+    pub const SOLAR_ABSORPTIVITY: Bound = Bound::new("solar_absorptivity", 0.0, 1.0, "");
+    pub const THERMAL_EMISSIVITY: Bound = Bound::new("thermal_emissivity", 0.0, 1.0, "");
+    /// Internal heat source: up to about a solar constant either way
+    /// (engines, heated buildings, cooled skins).
+    pub const INTERNAL_POWER: Bound = Bound::new("internal_power_w_m2", -1_000.0, 1_000.0, "W/m²");
+    pub const EXPOSED_AREA: Bound = Bound::new("exposed_area", 1e-6, 10.0, "");
+    pub const DEEP_GROUND_TEMP: Bound = Bound::new("temp_c", -90.0, 100.0, "°C");
+
+    /// Every key of the construction, in the order the docs list them.
+    pub const CONSTRUCTION: &[Key] = &[
+        Key::number(
+            &["density_kg_m3"],
+            "required",
+            DENSITY,
+            "ρ (aerogels ~1 to osmium 22 590)",
+        ),
+        Key::number(
+            &["specific_heat_j_kgk"],
+            "required",
+            SPECIFIC_HEAT,
+            "c (lead/gold ~129 to water 4 180, with margin)",
+        ),
+        Key::number(
+            &["conductivity_w_mk"],
+            "required",
+            CONDUCTIVITY,
+            "k (aerogel/still air ~0.013-0.026 to diamond 2 200)",
+        ),
+        Key::number(
+            &["thickness_m"],
+            "required",
+            THICKNESS,
+            "slab thickness L (a 10 µm foil to a 10 m ground column)",
+        ),
+        Key::number(
+            &["solar_absorptivity"],
+            "required",
+            SOLAR_ABSORPTIVITY,
+            "α_s, 0.3-3 µm (DIRSIG VISIBLE_EMISSIVITY)",
+        ),
+        Key::number(
+            &["thermal_emissivity"],
+            "required",
+            THERMAL_EMISSIVITY,
+            "hemispherical ε used by the thermal model",
+        ),
+        Key::text(
+            &["back"],
+            "",
+            "`\"insulated\"`",
+            "`\"insulated\"`, `{ air = { exposed_area = 1.0 } }` (back face exchanges heat with \
+             air; exposed_area = back area per front area, DIRSIG EXPOSED_AREA), \
+             `{ deep_ground = {} }` or `{ deep_ground = { temp_c = 12.0 } }` (back node at a \
+             fixed deep temperature, °C; default: the mean air temperature of the 72 h before \
+             the image time, or of the history if longer)",
+        ),
+        Key::number(
+            &["back", "air", "exposed_area"],
+            "1",
+            EXPOSED_AREA,
+            "in `back = { air = { exposed_area } }`",
+        ),
+        // checked as it is read, in °C (`celsius`), so the message quotes it as written
+        Key::number(
+            &["back", "deep_ground", "temp_c"],
+            "mean air",
+            DEEP_GROUND_TEMP,
+            "in `back = { deep_ground = { temp_c } }`",
+        ),
+        Key::number(
+            &["internal_power_w_m2"],
+            "0",
+            INTERNAL_POWER,
+            "internal heat source per facet area (up to about a solar constant either way)",
+        ),
+    ];
+}
+
 /// One material's slab: thermal and surface properties (DIRSIG's
 /// MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
 /// VISIBLE_EMISSIVITY → `solar_absorptivity`, THERMAL_EMISSIVITY,
-/// EXPOSED_AREA → [`BackBoundary::ExposedToAir`], internal power).
+/// EXPOSED_AREA → [`BackBoundary::ExposedToAir`], internal power). It reads
+/// itself from a `[material.NAME]` table (serde, the keys its fields name;
+/// their rows in [`keys`]); [`SlabMaterial::NOT_LIBRARY_KEYS`] are set by
+/// the model, and `surface` is built from the table's surface keys
+/// (`therm::surface::SurfaceSpec`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlabMaterial {
@@ -84,6 +187,7 @@ pub struct SlabMaterial {
     pub thickness_m: f64,
     pub solar_absorptivity: f64,
     pub thermal_emissivity: f64,
+    #[serde(default)]
     pub back: BackBoundary,
     /// Internal heat delivered at the surface node, W/m² (docs/models.md, "Thermal model").
     #[serde(default)]
@@ -97,6 +201,11 @@ pub struct SlabMaterial {
 }
 
 impl SlabMaterial {
+    /// Fields that are not keys of a material library: the ground albedo
+    /// (the scene's, set at render time) and the surface kind (built from
+    /// the table's `kind` and surface keys).
+    pub const NOT_LIBRARY_KEYS: &[&str] = &["ground_albedo", "surface"];
+
     /// Thermal diffusivity κ = k/(ρc), m²/s.
     pub fn diffusivity_m2_s(&self) -> f64 {
         self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)

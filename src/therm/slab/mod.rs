@@ -67,5 +67,5 @@ pub use grid::Mesh;
 pub use history::{SunHistory, mean_sun_fraction, sun_fraction};
 pub use interp::{forcing_at, validate_forcing};
 pub use march::{SlabModel, StepRecord, ThermSolution, solve_surface, update_store_mm};
-pub use material::{BackBoundary, SlabMaterial};
+pub use material::{BackBoundary, SlabMaterial, keys};
 pub use settings::{SpinUpStart, ThermError, ThermSettings};
