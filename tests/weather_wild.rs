@@ -406,7 +406,7 @@ fn psm3_matches_pvlib() {
 #[test]
 fn pvgis_csv_matches_pvlib() {
     let f = read_ok("pvgis_tmy_45N_8E_jan1-3.csv");
-    assert_eq!(f.format, irsig::weather::WeatherFormat::PvgisCsv);
+    assert_eq!(f.format, irsig::weather::WeatherFormat::Pvgis);
     assert_eq!(station(&f), (45.0, 8.0, 0.0));
     let rows = reference("pvgis_tmy_45N_8E_pvlib.csv");
     assert_eq!(rows.len(), 72);

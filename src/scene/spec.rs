@@ -424,23 +424,8 @@ pub enum WeatherSpec {
     Constant(ConstantWeather),
 }
 
-/// Weather file formats (readers in `weather`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WeatherFormat {
-    /// irsig's plain CSV (see docs/scene-format.md).
-    Csv,
-    /// NREL TMY3 CSV (also SolarAnywhere's TMY3 format).
-    Tmy3,
-    /// EnergyPlus EPW (also PVGIS's EPW).
-    Epw,
-    /// NREL TMY2.
-    Tmy2,
-    /// NSRDB PSM3/PSM4 CSV.
-    Psm3,
-    /// PVGIS TMY CSV.
-    Pvgis,
-}
+/// Weather file formats: the weather layer's own type (its readers).
+pub use crate::weather::WeatherFormat;
 
 /// Constant weather (`[weather.constant]`): the weather layer's own type.
 pub use crate::weather::ConstantWeather;

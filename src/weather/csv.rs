@@ -173,7 +173,7 @@ pub fn parse_plain_csv(
     }
     Ok(WeatherFile {
         history: assemble(raws, file, opts, false)?,
-        format: WeatherFormat::PlainCsv,
+        format: WeatherFormat::Csv,
         station: None,
     })
 }

@@ -235,20 +235,24 @@ impl YearSpan {
     }
 }
 
-/// Which reader read a file.
+/// A weather file format: which reader reads a file, and what a scene's
+/// `[weather.file] format` names (`"csv"`, `"tmy3"`, …; the one type for
+/// both, issue 31).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WeatherFormat {
-    PlainCsv,
+    /// irsig's plain CSV (docs/weather-format.md).
+    Csv,
     /// NREL TMY3, and SolarAnywhere's "TMY3 format".
     Tmy3,
-    Tmy2,
     /// EnergyPlus EPW (also PVGIS's EPW output).
     Epw,
+    /// NREL TMY2.
+    Tmy2,
     /// NSRDB PSM3/PSM4 CSV.
     Psm3,
     /// PVGIS TMY CSV.
-    PvgisCsv,
+    Pvgis,
 }
 
 /// The formats [`read_weather`] recognises, for error messages.
@@ -581,7 +585,7 @@ pub fn detect_format(text: &str, epw_name: bool) -> Result<WeatherFormat, (usize
         .iter()
         .any(|x| x.starts_with("Latitude (decimal degrees):"))
     {
-        return Ok(WeatherFormat::PvgisCsv);
+        return Ok(WeatherFormat::Pvgis);
     }
     let t = text.trim_start();
     let looks = |what: &str| {
@@ -609,13 +613,13 @@ pub fn detect_format(text: &str, epw_name: bool) -> Result<WeatherFormat, (usize
         .enumerate()
         .find(|(_, x)| !x.trim().is_empty() && !x.trim_start().starts_with('#'))
     else {
-        return Ok(WeatherFormat::PlainCsv); // the reader reports "no header"
+        return Ok(WeatherFormat::Csv); // the reader reports "no header"
     };
     if split_csv(header)
         .iter()
         .any(|x| x.trim().eq_ignore_ascii_case("time"))
     {
-        return Ok(WeatherFormat::PlainCsv);
+        return Ok(WeatherFormat::Csv);
     }
     let shown: String = header.chars().take(60).collect();
     Err((

@@ -129,7 +129,7 @@ pub fn parse_pvgis_csv(
     let utc = FixedOffset::east_opt(0).unwrap();
     Ok(WeatherFile {
         history: place(raws, utc, file, opts, false)?,
-        format: WeatherFormat::PvgisCsv,
+        format: WeatherFormat::Pvgis,
         station: Some(station),
     })
 }

@@ -58,8 +58,8 @@ impl WeatherText {
             Ok(WeatherFormat::Tmy3) => parse_tmy3(text, &file, opts),
             Ok(WeatherFormat::Tmy2) => parse_tmy2(text, &file, opts),
             Ok(WeatherFormat::Psm3) => parse_psm3(text, &file, opts),
-            Ok(WeatherFormat::PvgisCsv) => parse_pvgis_csv(text, &file, opts),
-            Ok(WeatherFormat::PlainCsv) => parse_plain_csv(text, &file, opts),
+            Ok(WeatherFormat::Pvgis) => parse_pvgis_csv(text, &file, opts),
+            Ok(WeatherFormat::Csv) => parse_plain_csv(text, &file, opts),
             Err((line, what)) => Err(WeatherError::Malformed {
                 file,
                 line,
