@@ -433,6 +433,56 @@ impl KeyError {
     }
 }
 
+/// Scene keys whose range is checked on the value as written, one row each
+/// (key path in the scene TOML, range): `scene::validate` walks this table,
+/// and docs/scene-format.md lists every row (`tests/bounds_docs.rs`).
+/// Issue 31 moves the scene's literal range checks here table by table; the
+/// checks that depend on other keys (poses, terrain extents, quantisation
+/// limits) are still written out in `scene/validate.rs`.
+pub mod scene_keys {
+    use super::Bound;
+    /// (path in the scene TOML, range).
+    pub type Row = (&'static [&'static str], Bound);
+    pub const ALL: &[Row] = &[
+        (
+            &["site", "latitude_deg"],
+            Bound::new("latitude_deg", -90.0, 90.0, "degrees"),
+        ),
+        (
+            &["site", "longitude_deg"],
+            Bound::new("longitude_deg", -180.0, 180.0, "degrees"),
+        ),
+        (
+            &["site", "elevation_m"],
+            Bound::new("elevation_m", -500.0, 9000.0, "m"),
+        ),
+        (
+            &["site", "utc_offset_h"],
+            Bound::new("utc_offset_h", -14.0, 14.0, "hours"),
+        ),
+        (
+            &["atmosphere", "visibility_km"],
+            Bound::new("visibility_km", 0.05, 1000.0, "km"),
+        ),
+        (
+            &["sensor", "width_px"],
+            Bound::new("width_px", 1.0, 65536.0, "pixels"),
+        ),
+        (
+            &["sensor", "height_px"],
+            Bound::new("height_px", 1.0, 65536.0, "pixels"),
+        ),
+        (
+            &["sensor", "fov_h_deg"],
+            Bound::new("fov_h_deg", 1e-6, 170.0, "degrees"),
+        ),
+        (
+            &["sensor", "fov_v_deg"],
+            Bound::new("fov_v_deg", 1e-6, 170.0, "degrees"),
+        ),
+    ];
+}
+
 /// Every bound the docs must list, with the doc file that lists it.
 pub fn documented() -> Vec<(&'static str, Bound)> {
     let mut v: Vec<(&str, Bound)> = Vec::new();
@@ -440,6 +490,11 @@ pub fn documented() -> Vec<(&'static str, Bound)> {
     v.push(("docs/scene-format.md", time::YEAR));
     v.push(("docs/scene-format.md", render::MAX_MEMORY));
     v.extend(terrain::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
+    v.extend(
+        scene_keys::ALL
+            .iter()
+            .map(|(_, b)| ("docs/scene-format.md", *b)),
+    );
     v.extend(weather::ALL.iter().map(|b| ("docs/weather-format.md", *b)));
     v.extend(args::ALL.iter().map(|a| ("docs/reliability.md", a.bound)));
     v.extend(atmos_table::ALL.iter().map(|b| ("docs/reliability.md", *b)));

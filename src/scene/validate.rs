@@ -12,38 +12,13 @@ use super::{
 pub(super) fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     let c = Check { src };
     let p = |a: &[&str]| a.iter().map(|k| key(k)).collect::<Vec<_>>();
-    c.range(
-        &p(&["site", "latitude_deg"]),
-        "latitude_deg",
-        s.site.latitude_deg,
-        -90.0,
-        90.0,
-        " degrees",
-    )?;
-    c.range(
-        &p(&["site", "longitude_deg"]),
-        "longitude_deg",
-        s.site.longitude_deg,
-        -180.0,
-        180.0,
-        " degrees",
-    )?;
-    c.range(
-        &p(&["site", "elevation_m"]),
-        "elevation_m",
-        s.site.elevation_m,
-        -500.0,
-        9000.0,
-        " m",
-    )?;
-    c.range(
-        &p(&["site", "utc_offset_h"]),
-        "utc_offset_h",
-        s.site.utc_offset_h,
-        -14.0,
-        14.0,
-        " hours",
-    )?;
+    // The keys of `bounds::scene_keys`, on the values as written.
+    let written: toml::Table = src.parse()?;
+    for (path, b) in crate::bounds::scene_keys::ALL {
+        if let Some(v) = number_at(&written, path) {
+            c.bound(&p(path), b, v)?;
+        }
+    }
     if s.objects.is_empty() && s.terrain.is_empty() {
         return Err(SceneError::Invalid {
             loc: Location::file(&src.path),
@@ -124,49 +99,7 @@ pub(super) fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
             " Pa",
         )?;
     }
-    c.range(
-        &p(&["atmosphere", "visibility_km"]),
-        "visibility_km",
-        s.atmosphere.visibility_km,
-        0.05,
-        1000.0,
-        " km",
-    )?;
     let sn = &s.sensor;
-    c.range(
-        &p(&["sensor", "width_px"]),
-        "width_px",
-        sn.width_px as f64,
-        1.0,
-        65536.0,
-        " pixels",
-    )?;
-    c.range(
-        &p(&["sensor", "height_px"]),
-        "height_px",
-        sn.height_px as f64,
-        1.0,
-        65536.0,
-        " pixels",
-    )?;
-    c.range(
-        &p(&["sensor", "fov_h_deg"]),
-        "fov_h_deg",
-        sn.fov_h_deg,
-        1e-6,
-        170.0,
-        " degrees",
-    )?;
-    if let Some(v) = sn.fov_v_deg {
-        c.range(
-            &p(&["sensor", "fov_v_deg"]),
-            "fov_v_deg",
-            v,
-            1e-6,
-            170.0,
-            " degrees",
-        )?;
-    }
     // View zenith (up to `vz_max`), azimuth and target of the altitude and
     // slant-range poses, under `sensor.pose.<pose>`.
     let view_angles_and_target =
@@ -398,4 +331,19 @@ pub(super) fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
         " hours",
     )?;
     Ok(())
+}
+
+/// The number at `path` in the file as written (an integer read as a
+/// number), if it is there.
+fn number_at(table: &toml::Table, path: &[&str]) -> Option<f64> {
+    let (first, rest) = path.split_first()?;
+    let mut v = table.get(*first)?;
+    for k in rest {
+        v = v.get(k)?;
+    }
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
 }
