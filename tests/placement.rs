@@ -62,10 +62,8 @@ fn cube() -> Mesh {
 #[test]
 fn heights_are_exact_on_planes_and_missing_off_the_terrain() {
     // A plane z = 2 + 0.1 x − 0.05 y is reproduced exactly by the mesh.
-    let g = Ground::new(
-        &[terrain(20, 5.0, |x, y| 2.0 + 0.1 * x - 0.05 * y)],
-        [0.0; 3],
-    );
+    let t = [terrain(20, 5.0, |x, y| 2.0 + 0.1 * x - 0.05 * y)];
+    let g = Ground::new(&t, [0.0; 3]);
     for (x, y) in [(0.0, 0.0), (37.3, 61.9), (100.0, 100.0), (12.5, 87.5)] {
         let (z, n) = g.at(x, y).unwrap();
         assert!(
@@ -78,9 +76,26 @@ fn heights_are_exact_on_planes_and_missing_off_the_terrain() {
     assert_eq!(g.at(-0.1, 50.0), None);
     assert_eq!(g.at(50.0, 100.1), None);
     // The frame's origin is taken off.
-    let g2 = Ground::new(&[terrain(4, 10.0, |_, _| 7.0)], [10.0, 10.0, 5.0]);
+    let t2 = [terrain(4, 10.0, |_, _| 7.0)];
+    let g2 = Ground::new(&t2, [10.0, 10.0, 5.0]);
     assert!((g2.at(0.0, 0.0).unwrap().0 - 2.0).abs() < 1e-12);
     assert_eq!(g2.at(-10.5, 0.0), None);
+}
+
+/// Two overlapping terrains: the higher one is the ground; none: no ground.
+#[test]
+fn overlapping_terrains_give_the_highest_and_none_gives_nothing() {
+    let t = [
+        terrain(4, 10.0, |_, _| 1.0),
+        terrain(2, 10.0, |x, _| 3.0 + 0.01 * x),
+    ];
+    let g = Ground::new(&t, [0.0; 3]);
+    assert!((g.at(5.0, 5.0).unwrap().0 - 3.05).abs() < 1e-12);
+    assert!((g.at(35.0, 5.0).unwrap().0 - 1.0).abs() < 1e-12);
+    let none: [TerrainMesh; 0] = [];
+    let g = Ground::new(&none, [0.0; 3]);
+    assert_eq!(g.at(0.0, 0.0), None);
+    assert_eq!(g.under([0.0, 0.0], [1.0, 1.0]), Err([0.5, 0.5]));
 }
 
 #[test]
@@ -88,7 +103,8 @@ fn the_lowest_point_under_a_footprint_is_exact() {
     // A ridge z = |x − 50| sampled every 10 m; the box [42, 61] × [0, 5]
     // reaches down to the vertex at x = 50 (z = 0) ... and a box off the
     // vertices, [52, 58], has its minimum on its edge x = 52: z = 2.
-    let g = Ground::new(&[terrain(10, 10.0, |x, _| (x - 50.0).abs())], [0.0; 3]);
+    let t = [terrain(10, 10.0, |x, _| (x - 50.0).abs())];
+    let g = Ground::new(&t, [0.0; 3]);
     let u = g.under([42.0, 0.0], [61.0, 5.0]).unwrap();
     assert!(u.min_z_m.abs() < 1e-12, "{u:?}");
     let u = g.under([52.0, 3.0], [58.0, 7.0]).unwrap();
@@ -107,7 +123,8 @@ fn a_hole_under_the_footprint_is_found() {
     // Remove cell (4, 4)'s two triangles: a 10 m hole at [40, 50]².
     let cell = 4 * 10 + 4;
     t.triangles.drain(2 * cell..2 * cell + 2);
-    let g = Ground::new(&[t], [0.0; 3]);
+    let t = [t];
+    let g = Ground::new(&t, [0.0; 3]);
     let e = g.under([35.0, 35.0], [55.0, 55.0]).unwrap_err();
     assert!(
         (40.0..=50.0).contains(&e[0]) && (40.0..=50.0).contains(&e[1]),
@@ -119,7 +136,8 @@ fn a_hole_under_the_footprint_is_found() {
 #[test]
 fn stands_on_base_origin_and_slope() {
     let slope = 0.2;
-    let g = Ground::new(&[terrain(20, 5.0, |x, _| slope * x)], [0.0; 3]);
+    let t = [terrain(20, 5.0, |x, _| slope * x)];
+    let g = Ground::new(&t, [0.0; 3]);
     let m = cube();
     let at = |x: f64, y: f64, z: f64| DAffine3::from_translation(DVec3::new(x, y, z));
     let up = |xf: &DAffine3| {

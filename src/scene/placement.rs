@@ -38,14 +38,20 @@ use crate::scene::terrain::TerrainMesh;
 use crate::scene::tomlsrc::{Seg, TomlSource};
 
 /// The terrain triangles of a scene, binned on an x-y grid for vertical
-/// look-ups, in the tracer's local frame (double precision).
-pub struct Ground {
-    tris: Vec<[DVec3; 3]>,
+/// look-ups, in the tracer's local frame (double precision). It borrows
+/// the terrain meshes and keeps 4 bytes per triangle and bin it meets.
+pub struct Ground<'a> {
+    meshes: &'a [TerrainMesh],
+    /// Triangle k of all meshes together lies in the mesh m with
+    /// `first[m] <= k < first[m + 1]`.
+    first: Vec<usize>,
+    origin: DVec3,
     lo: [f64; 2],
     hi: [f64; 2],
     cell_m: f64,
     n: [usize; 2],
-    /// CSR: the triangles of bin b are `items[start[b]..start[b + 1]]`.
+    /// CSR: the triangles of bin b are `items[start[b]..start[b + 1]]`
+    /// (those facing up: seen from above, counter-clockwise).
     start: Vec<u32>,
     items: Vec<u32>,
 }
@@ -58,46 +64,59 @@ pub struct Under {
     pub normal: DVec3,
 }
 
-impl Ground {
+impl<'a> Ground<'a> {
     /// The ground of the terrain meshes (world coordinates) in the frame
     /// whose origin is `origin_m`.
-    pub fn new(meshes: &[TerrainMesh], origin_m: [f64; 3]) -> Ground {
-        let o = DVec3::from(origin_m);
-        let tris: Vec<[DVec3; 3]> = meshes
-            .iter()
-            .flat_map(|m| {
-                m.triangles
-                    .iter()
-                    .map(move |t| t.map(|i| DVec3::from(m.positions_m[i as usize]) - o))
-            })
-            .filter(|t| xy_cross(t) > 0.0)
-            .collect();
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for p in tris.iter().flatten() {
-            lo = [lo[0].min(p.x), lo[1].min(p.y)];
-            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+    pub fn new(meshes: &'a [TerrainMesh], origin_m: [f64; 3]) -> Ground<'a> {
+        let mut first = vec![0];
+        for m in meshes {
+            first.push(first.last().unwrap() + m.triangles.len());
         }
-        // About two triangles a bin, at most 2^22 bins.
-        let bins = (tris.len() / 2).clamp(1, 1 << 22) as f64;
-        let (w, h) = ((hi[0] - lo[0]).max(1e-9), (hi[1] - lo[1]).max(1e-9));
+        let mut g = Ground {
+            meshes,
+            first,
+            origin: DVec3::from(origin_m),
+            lo: [f64::INFINITY; 2],
+            hi: [f64::NEG_INFINITY; 2],
+            cell_m: 1.0,
+            n: [1, 1],
+            start: Vec::new(),
+            items: Vec::new(),
+        };
+        let total = *g.first.last().unwrap();
+        let up = |g: &Ground, k: usize| xy_cross(&g.tri(k)) > 0.0;
+        let mut count = 0usize;
+        for k in 0..total {
+            if up(&g, k) {
+                count += 1;
+                for p in g.tri(k) {
+                    g.lo = [g.lo[0].min(p.x), g.lo[1].min(p.y)];
+                    g.hi = [g.hi[0].max(p.x), g.hi[1].max(p.y)];
+                }
+            }
+        }
+        if count == 0 {
+            g.start = vec![0, 0];
+            return g;
+        }
+        // About two triangles a bin, at most 2^12 bins a side.
+        let bins = (count / 2).max(1) as f64;
+        let (w, h) = ((g.hi[0] - g.lo[0]).max(1e-9), (g.hi[1] - g.lo[1]).max(1e-9));
         let cell_m = (w * h / bins).sqrt().max(1e-6);
-        let n = [
+        g.n = [
             ((w / cell_m).ceil() as usize).clamp(1, 1 << 12),
             ((h / cell_m).ceil() as usize).clamp(1, 1 << 12),
         ];
-        let mut g = Ground {
-            tris: Vec::new(),
-            lo,
-            hi,
-            cell_m: (w / n[0] as f64).max(h / n[1] as f64),
-            n,
-            start: vec![0; n[0] * n[1] + 1],
-            items: Vec::new(),
-        };
+        g.cell_m = (w / g.n[0] as f64).max(h / g.n[1] as f64);
+        let nb = g.n[0] * g.n[1];
+        g.start = vec![0; nb + 1];
         for pass in 0..2 {
             let mut fill = g.start.clone();
-            for (k, t) in tris.iter().enumerate() {
+            for k in 0..total {
+                if !up(&g, k) {
+                    continue;
+                }
+                let t = g.tri(k);
                 let (a, b) = g.bin_range(
                     [
                         t[0].x.min(t[1].x).min(t[2].x),
@@ -110,7 +129,7 @@ impl Ground {
                 );
                 for j in a[1]..=b[1] {
                     for i in a[0]..=b[0] {
-                        let bin = j * n[0] + i;
+                        let bin = j * g.n[0] + i;
                         if pass == 0 {
                             g.start[bin + 1] += 1;
                         } else {
@@ -121,14 +140,21 @@ impl Ground {
                 }
             }
             if pass == 0 {
-                for b in 0..n[0] * n[1] {
+                for b in 0..nb {
                     g.start[b + 1] += g.start[b];
                 }
-                g.items = vec![0; g.start[n[0] * n[1]] as usize];
+                g.items = vec![0; g.start[nb] as usize];
             }
         }
-        g.tris = tris;
         g
+    }
+
+    /// Triangle k (of all meshes together), local frame.
+    fn tri(&self, k: usize) -> [DVec3; 3] {
+        let m = self.first.partition_point(|&f| f <= k) - 1;
+        let mesh = &self.meshes[m];
+        mesh.triangles[k - self.first[m]]
+            .map(|i| DVec3::from(mesh.positions_m[i as usize]) - self.origin)
     }
 
     /// The inclusive bin range covering the box `lo`..`hi`.
@@ -141,7 +167,7 @@ impl Ground {
 
     /// The distinct triangles whose bins meet the box `lo`..`hi`.
     fn candidates(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<u32> {
-        if self.tris.is_empty()
+        if self.items.is_empty()
             || hi[0] < self.lo[0]
             || hi[1] < self.lo[1]
             || lo[0] > self.hi[0]
@@ -169,7 +195,7 @@ impl Ground {
     pub fn at(&self, x: f64, y: f64) -> Option<(f64, DVec3)> {
         let mut best: Option<(f64, DVec3)> = None;
         for k in self.candidates([x, y], [x, y]) {
-            let t = &self.tris[k as usize];
+            let t = &self.tri(k as usize);
             let d = xy_cross(t);
             let w1 = ((t[2].x - t[0].x) * (y - t[0].y) - (t[2].y - t[0].y) * (x - t[0].x)) / -d;
             let w2 = ((t[1].x - t[0].x) * (y - t[0].y) - (t[1].y - t[0].y) * (x - t[0].x)) / d;
@@ -199,7 +225,7 @@ impl Ground {
         let mut area = 0.0;
         let mut nsum = DVec3::ZERO;
         for k in self.candidates(lo, hi) {
-            let t = &self.tris[k as usize];
+            let t = &self.tri(k as usize);
             let poly = clip(t, lo, hi);
             if poly.is_empty() {
                 continue;
