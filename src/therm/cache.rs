@@ -390,6 +390,12 @@ impl Hasher for PassHash {
 /// One shard: entries by hash; a bucket holds the keys that share a hash.
 type Shard = HashMap<u64, Vec<(ThermKey, Slot)>, BuildHasherDefault<PassHash>>;
 
+/// Memory the kept checkpoint states of one cache may take, bytes (64 MiB:
+/// ~60,000 states of a 60-node slab; the airfield at 512² with irsig's
+/// defaults keeps ~300,000 when unbounded, with `shadow_key_recent_h = 2`
+/// ~43,000).
+pub const CHECKPOINT_BUDGET_BYTES: u64 = 64 << 20;
+
 /// The key of a checkpoint state: the key's scalar parts, the history's
 /// clock, the forcing sample the march stands at, and the history's flags
 /// up to the last sample a step before that sample reads (bits past it
@@ -451,8 +457,9 @@ pub struct ThermCache {
     /// March states at checkpoints, by the key part and history prefix
     /// that determine them (see [`ThermCache::checkpoints`]).
     prefixes: Vec<Mutex<PrefixShard>>,
-    /// Checkpoint states kept, and solves resumed from one.
+    /// Checkpoint states kept, their bytes, and solves resumed from one.
     prefix_entries: AtomicU64,
+    prefix_bytes: AtomicU64,
     resumed: AtomicU64,
     meshes: Mutex<Vec<(MeshKey, Arc<Mesh>)>>,
     hits: AtomicU64,
@@ -488,6 +495,7 @@ impl ThermCache {
                 .map(|_| Mutex::new(PrefixShard::default()))
                 .collect(),
             prefix_entries: AtomicU64::new(0),
+            prefix_bytes: AtomicU64::new(0),
             resumed: AtomicU64::new(0),
             meshes: Mutex::new(Vec::new()),
             hits: AtomicU64::new(0),
@@ -970,13 +978,23 @@ impl ThermCache {
     }
 
     /// Keeps the checkpoint state of `k` (unless one is kept already: two
-    /// marches to one prefix give the same bits).
+    /// marches to one prefix give the same bits), while the kept states
+    /// stay within [`CHECKPOINT_BUDGET_BYTES`] (beyond it later keys march
+    /// from what is kept: more work, the same results).
     fn prefix_put(&self, k: PrefixKey, state: &MarchState) {
+        let bytes = (std::mem::size_of::<(PrefixKey, Arc<MarchState>, MarchState)>()
+            + 8 * (k.words.len() + 2 * state.nodes())) as u64;
+        if self.prefix_bytes.fetch_add(bytes, Ordering::Relaxed) + bytes > CHECKPOINT_BUDGET_BYTES {
+            self.prefix_bytes.fetch_sub(bytes, Ordering::Relaxed);
+            return;
+        }
         let hash = Self::prefix_hash(&k);
         let shard = &self.prefixes[((hash >> 32) as usize) % SHARDS];
         let mut map = shard.lock().unwrap_or_else(|e| e.into_inner());
         let bucket = map.entry(hash).or_default();
-        if !bucket.iter().any(|(key, _)| *key == k) {
+        if bucket.iter().any(|(key, _)| *key == k) {
+            self.prefix_bytes.fetch_sub(bytes, Ordering::Relaxed);
+        } else {
             bucket.push((k, Arc::new(state.clone())));
             self.prefix_entries.fetch_add(1, Ordering::Relaxed);
         }

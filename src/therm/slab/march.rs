@@ -128,6 +128,13 @@ struct Work {
     newton: usize,
 }
 
+impl MarchState {
+    /// Number of nodes of the slab it marches.
+    pub fn nodes(&self) -> usize {
+        self.temps.len()
+    }
+}
+
 impl SlabModel {
     /// Builds the mesh and checks the inputs.
     pub fn new(
