@@ -146,7 +146,8 @@ pub mod keys {
              air; exposed_area = back area per front area, DIRSIG EXPOSED_AREA), \
              `{ deep_ground = {} }` or `{ deep_ground = { temp_c = 12.0 } }` (back node at a \
              fixed deep temperature, °C; default: the mean air temperature of the 72 h before \
-             the image time, or of the history if longer)",
+             the image time, or of the history if longer, clipped to the weather record; \
+             `irsig therm` follows the same rule with `--to` as the image time)",
         ),
         Key::number(
             &["back", "air", "exposed_area"],
