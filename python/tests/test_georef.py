@@ -329,3 +329,29 @@ def test_map_grid_off(tmp_path):
     j = json.loads((tmp_path / "n.json").read_text())
     assert "n_map.tif" not in j["files"]
 
+
+def test_dataset_has_rio_crs_and_transform(nadir, tmp_path):
+    """A rendered Dataset carries the CF grid mapping ``spatial_ref``:
+    rioxarray reads the CLI GeoTIFF's CRS and (nadir) affine transform
+    from it, and ``rio.to_raster`` writes a GeoTIFF that rasterio places
+    where the CLI's is; an oblique view gets the CRS and no transform."""
+    rasterio = pytest.importorskip("rasterio")
+    pytest.importorskip("rioxarray")
+    import irsig
+
+    d, _ = nadir
+    ds = irsig.render(irsig.Scene.load(PLATE, overrides=NADIR), threads=2)
+    assert ds.rio.crs.to_epsg() == 32618
+    assert ds["apparent_temperature"].attrs["grid_mapping"] == "spatial_ref"
+    with rasterio.open(d / "n.tif") as src:
+        want = src.transform
+    got = ds.rio.transform()
+    assert np.allclose(list(got)[:6], list(want)[:6], rtol=0, atol=1e-6), (got, want)
+    ds["apparent_temperature"].rio.to_raster(tmp_path / "t.tif")
+    with rasterio.open(tmp_path / "t.tif") as out:
+        assert out.crs.to_epsg() == 32618
+        assert np.allclose(list(out.transform)[:6], list(want)[:6], rtol=0, atol=1e-6)
+        assert np.array_equal(out.read(1), ds["apparent_temperature"].values, equal_nan=True)
+    ob = irsig.render(irsig.Scene.load(PLATE, overrides=OBLIQUE), threads=2)
+    assert ob.rio.crs.to_epsg() == 32618
+    assert "GeoTransform" not in ob["spatial_ref"].attrs
