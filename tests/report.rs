@@ -287,3 +287,86 @@ fn report_refuses_what_is_not_a_render_summary() {
     );
     assert!(!dir.path().join("x.html").exists());
 }
+
+/// The planes a report page embeds: name → values (the page's JSON block,
+/// base64 float32 decoded).
+fn embedded_planes(html: &str) -> Vec<(String, Vec<f32>)> {
+    use base64::Engine;
+    let open = "<script type=\"application/json\" id=\"irsig-data\">";
+    let start = html.find(open).unwrap() + open.len();
+    let end = html[start..].find("</script>").unwrap() + start;
+    let v: serde_json::Value = serde_json::from_str(&html[start..end]).unwrap();
+    v["planes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let bytes = base64::engine::general_purpose::STANDARD
+                .decode(p["data"].as_str().unwrap())
+                .unwrap();
+            let vals = bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            (p["name"].as_str().unwrap().to_string(), vals)
+        })
+        .collect()
+}
+
+#[test]
+fn report_reads_a_geotiff_set_as_it_reads_an_exr_set() {
+    // The same render written as an EXR set and as a GeoTIFF set: the
+    // pages embed bit-identical planes, in the JSON's order; --planes
+    // picks and orders them, and an unknown plane is refused by name.
+    let dir = tempfile::tempdir().unwrap();
+    let mut pages = Vec::new();
+    for out in ["e.exr", "g.tif"] {
+        let path = dir.path().join(out);
+        let r = irsig()
+            .arg("render")
+            .arg(plate())
+            .arg("-o")
+            .arg(&path)
+            .args([
+                "-q",
+                "--set",
+                "sensor.width_px=20",
+                "--set",
+                "sensor.height_px=12",
+            ])
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let html = dir.path().join(format!("{out}.html"));
+        let r = irsig()
+            .arg("report")
+            .arg(path.with_extension("json"))
+            .arg("-o")
+            .arg(&html)
+            .args(["--planes", "material,apparent_temperature,range"])
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        pages.push(embedded_planes(&std::fs::read_to_string(&html).unwrap()));
+    }
+    let names: Vec<&str> = pages[0].iter().map(|p| p.0.as_str()).collect();
+    assert_eq!(names, ["material", "apparent_temperature", "range"]);
+    for (a, b) in pages[0].iter().zip(&pages[1]) {
+        assert_eq!(a.0, b.0);
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.1), bits(&b.1), "{}", a.0);
+        assert_eq!(a.1.len(), 20 * 12);
+    }
+    let r = irsig()
+        .arg("report")
+        .arg(dir.path().join("g.json"))
+        .args(["--planes", "temprature"])
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("--planes temprature") && err.contains("apparent_temperature"),
+        "{err}"
+    );
+}
