@@ -518,7 +518,7 @@ _THERM_COLUMNS = [
     "absorbed_ground_reflected_w_m2", "sky_longwave_in_w_m2", "ground_longwave_in_w_m2",
     "emitted_longwave_w_m2", "convection_w_m2", "latent_w_m2", "rain_w_m2", "internal_w_m2",
     "net_surface_w_m2", "conduction_into_slab_w_m2", "back_w_m2", "convection_coeff_w_m2k",
-    "water_store_mm", "sky_view", "sunlit_fraction", "surface_temp_c",
+    "water_store_mm", "sky_view", "sunlit_fraction", "surface_temp_c", "richardson", "stability_factor",
 ]
 
 
@@ -572,5 +572,6 @@ def therm(
     first = [c for c in _THERM_COLUMNS if c in df.columns]
     df = df[first + [c for c in df.columns if c not in first]]
     df.index = pd.DatetimeIndex(pd.to_datetime(df.pop("time_utc"), utc=True), name="time_utc")
-    df.attrs = {k: out[k] for k in ("material", "properties", "orientation", "settings", "nodes", "estimators")}
+    df.attrs = {k: out[k] for k in ("material", "properties", "orientation", "settings", "nodes", "deep_ground_k",
+                                    "estimators")}
     return df
