@@ -1003,39 +1003,70 @@ fn gzip_tables_inflate_no_further_than_they_declare() {
     }
 }
 
-/// A little-endian TIFF of `width`×`height` 32-bit float samples in one
-/// strip of `strip` (already compressed with `compression`), without
-/// GeoTIFF tags (the size check comes before them).
+/// A little-endian GeoTIFF (WGS 84 geographic, 0.001° pixels at 43° N,
+/// 77.6° W) of `width`×`height` 32-bit float samples in one strip of
+/// `strip` (already compressed with `compression`).
 fn float_tiff(width: u32, height: u32, compression: u16, strip: &[u8]) -> Vec<u8> {
-    // (tag, type, value): type 3 SHORT, 4 LONG; one value each.
-    let data_at = 8 + 2 + 10 * 12 + 4;
-    let entries: [(u16, u16, u32); 10] = [
-        (256, 4, width),
-        (257, 4, height),
-        (258, 3, 32),
-        (259, 3, u32::from(compression)),
-        (262, 3, 1),
-        (273, 4, data_at),
-        (277, 3, 1),
-        (278, 4, height),
-        (279, 4, strip.len() as u32),
-        (339, 3, 3),
+    let short = |v: &[u16]| {
+        (
+            3u16,
+            v.len() as u32,
+            v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        )
+    };
+    let long = |v: u32| (4u16, 1u32, v.to_le_bytes().to_vec());
+    let double = |v: &[f64]| {
+        (
+            12u16,
+            v.len() as u32,
+            v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        )
+    };
+    let n = 13u32;
+    let ifd_end = 8 + 2 + 12 * n + 4;
+    // Values longer than 4 bytes follow the IFD: pixel scale (24 bytes),
+    // tie point (48), GeoKey directory (32); then the strip.
+    let data_at = ifd_end + 24 + 48 + 32;
+    // (tag, (field type, count, value bytes)).
+    type Entry = (u16, (u16, u32, Vec<u8>));
+    let entries: Vec<Entry> = vec![
+        (256, long(width)),
+        (257, long(height)),
+        (258, short(&[32])),
+        (259, short(&[compression])),
+        (262, short(&[1])),
+        (273, long(data_at)),
+        (277, short(&[1])),
+        (278, long(height)),
+        (279, long(strip.len() as u32)),
+        (339, short(&[3])),
+        (33550, double(&[0.001, 0.001, 0.0])),
+        (33922, double(&[0.0, 0.0, 0.0, -77.6, 43.0, 0.0])),
+        (
+            34735,
+            short(&[1, 1, 0, 3, 1024, 0, 1, 2, 1025, 0, 1, 1, 2048, 0, 1, 4326]),
+        ),
     ];
+    assert_eq!(entries.len() as u32, n);
     let mut b = b"II*\0".to_vec();
     b.extend_from_slice(&8u32.to_le_bytes());
-    b.extend_from_slice(&(entries.len() as u16).to_le_bytes());
-    for (tag, ty, v) in entries {
+    b.extend_from_slice(&(n as u16).to_le_bytes());
+    let mut extra = Vec::new();
+    for (tag, (ty, count, bytes)) in &entries {
         b.extend_from_slice(&tag.to_le_bytes());
         b.extend_from_slice(&ty.to_le_bytes());
-        b.extend_from_slice(&1u32.to_le_bytes());
-        if ty == 3 {
-            b.extend_from_slice(&(v as u16).to_le_bytes());
-            b.extend_from_slice(&[0, 0]);
+        b.extend_from_slice(&count.to_le_bytes());
+        if bytes.len() <= 4 {
+            let mut v = bytes.clone();
+            v.resize(4, 0);
+            b.extend_from_slice(&v);
         } else {
-            b.extend_from_slice(&v.to_le_bytes());
+            b.extend_from_slice(&(ifd_end + extra.len() as u32).to_le_bytes());
+            extra.extend_from_slice(bytes);
         }
     }
     b.extend_from_slice(&0u32.to_le_bytes());
+    b.extend_from_slice(&extra);
     assert_eq!(b.len(), data_at as usize);
     b.extend_from_slice(strip);
     b
@@ -1047,8 +1078,10 @@ fn float_tiff(width: u32, height: u32, compression: u16, strip: &[u8]) -> Vec<u8
 /// anything is allocated or inflated: a deflate strip of under 1 kB declaring
 /// 8192×16384 float pixels (512 MiB, inside the 2²⁷-pixel bound) is refused
 /// with both sizes; an uncompressed strip shorter than declared, and one
-/// that runs past the end of the file, likewise. A well-formed small
-/// deflate raster still decodes as far as the missing GeoTIFF tags.
+/// that runs past the end of the file, likewise. (Without the check the
+/// decoder allocated the 512 MiB and failed only at the end of the
+/// inflated data.) Well-formed small rasters, deflate and uncompressed,
+/// are read.
 #[test]
 fn a_dem_deflate_bomb_is_refused_before_inflating() {
     use std::io::Write;
@@ -1082,14 +1115,18 @@ fn a_dem_deflate_bomb_is_refused_before_inflating() {
     b.truncate(b.len() - 1);
     let e = parse(&b);
     assert!(e.contains("runs past the end of the"), "{e}");
-    // Well-formed (deflate and uncompressed): past the size check, refused
-    // only for the missing GeoTIFF tags.
+    // Well-formed (deflate and uncompressed): read.
+    let heights: Vec<u8> = (0..64 * 64)
+        .flat_map(|i| (100.0f32 + i as f32).to_le_bytes())
+        .collect();
     for b in [
-        float_tiff(64, 64, 8, &zlib(&[0u8; 4 * 64 * 64])),
-        float_tiff(64, 64, 1, &[0u8; 4 * 64 * 64]),
+        float_tiff(64, 64, 8, &zlib(&heights)),
+        float_tiff(64, 64, 1, &heights),
     ] {
-        let e = parse(&b);
-        assert!(e.contains("without GeoTIFF tags"), "{e}");
+        let r = irsig::scene::terrain::raster::parse_raster(Path::new("ok.tif"), &b)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((r.width, r.height), (64, 64));
+        assert_eq!(r.data[64 * 64 - 1], 100.0 + 4095.0);
     }
 }
 
