@@ -332,3 +332,43 @@ fn y_up_models_stand_up() {
         "{e}"
     );
 }
+
+/// Issue 32: an exporter's face `v/vt/vn` indices that point past the
+/// texture coordinates or normals (irsig reads neither) are ignored with
+/// one warning naming the first; the face keeps its vertices and the scene
+/// loads (and `irsig check` lists the warning). A vertex index out of range
+/// is still refused with the file and line.
+#[test]
+fn out_of_range_texture_and_normal_indices_are_ignored() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tex.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 4 0 0\nv 4 3 0\nv 0 3 0\nvt 0 0\nvn 0 0 1\n\
+         usemtl concrete\nf 1/1/1 2/7/1 3/1/9 4/-3/-2\nf 1/1/1 3//1 4/2\n",
+    )
+    .unwrap();
+    let m = mesh::load(&obj).unwrap();
+    assert_eq!(m.faces.len(), 2);
+    assert_eq!(m.faces[0].verts, vec![0, 1, 2, 3]);
+    assert_eq!(m.faces[1].verts, vec![0, 2, 3]);
+    assert_eq!(triangle_area(&m), 12.0 + 6.0);
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+    let w = &m.warnings[0];
+    assert!(
+        w.contains("tex.obj: 4 face vertices refer to texture coordinates or normals that are not defined (first at line 8, `2/7/1`: texture coordinate index 7 is out of range"),
+        "{w}"
+    );
+    let key = format!("file = \"{}\"", obj.display());
+    let s = irsig::scene::load(&scene_with(dir.path(), &[key])).unwrap();
+    assert_eq!(s.triangles.len(), 3);
+    assert!(s.warnings.iter().any(|x| x == w), "{:?}", s.warnings);
+
+    // A vertex index out of range is still an error at its line.
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 4/1\n").unwrap();
+    let e = mesh::load(&obj).unwrap_err().to_string();
+    assert!(
+        e.contains("tex.obj:5: face vertex `4/1`: vertex index 4 is out of range: 3 vertices defined so far"),
+        "{e}"
+    );
+}

@@ -108,6 +108,20 @@ fn check(img: &Img, (x, y): (u32, u32), what: &str) -> Value {
         "{what}: a thermal series over the history"
     );
     assert!((f(&series[series.len() - 1]["surface_temp_k"]) - t_s).abs() < 1e-9);
+    // Issue #30: the point's own sky view factor and the stability function
+    // at the image time are reported, and agree with the series' last step
+    // and with the library's F(Ri).
+    let last = &series[series.len() - 1];
+    let th = &hit["thermal"];
+    let sky = f(&th["sky_view"]);
+    assert!((0.0..=1.0).contains(&sky), "{what}: sky view {sky}");
+    assert_eq!(sky, f(&last["sky_view"]), "{what}: sky view");
+    let ri = f(&th["richardson"]);
+    assert_eq!(ri, f(&last["surface"]["richardson"]), "{what}: Ri");
+    assert!(
+        (f(&th["stability_factor"]) - irsig::therm::aero::stability_factor(ri)).abs() < 1e-12,
+        "{what}: F(Ri)"
+    );
     // Hit, case and history agree with the planes.
     assert_eq!(
         f(&hit["triangle"]) as f32,

@@ -294,3 +294,149 @@ fn therm_times_without_seconds() {
         irsig::sun::report::parse_time("2001-08-07T04:00:00Z").unwrap()
     );
 }
+
+/// One deep-ground rule (issue #30 item 8): `irsig therm` on a
+/// `deep_ground = {}` material sits on the temperature a render of the
+/// airfield uses at the same image time (`to`), the mean air temperature
+/// of the 72 h before it, though the render's history (36 h) and therm's
+/// (24 h spin-up + 24 h) differ.
+#[test]
+fn therm_and_render_share_the_deep_ground_rule() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let scene_path = std::path::Path::new(root).join("scenes/airfield/scene.toml");
+    let scene = irsig::scene::load(&scene_path).unwrap();
+    let image = irsig::sun::report::parse_time("2001-08-08T16:00:00Z").unwrap();
+    let render_k = irsig::render::prepare::frame_weather(&scene, image)
+        .unwrap()
+        .deep_ground_k;
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    std::fs::write(
+        &mats,
+        MATS.replace(
+            "{ deep_ground = { temp_c = 16.85 } }",
+            "{ deep_ground = {} }",
+        ),
+    )
+    .unwrap();
+    let weather = format!("{root}/scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv");
+    let out = irsig(&[
+        "therm",
+        "--materials",
+        mats.to_str().unwrap(),
+        "--material",
+        "asphalt",
+        "--weather",
+        &weather,
+        "--lat",
+        "43.1566",
+        "--lon",
+        "-77.6088",
+        "--elevation",
+        "169",
+        "--from",
+        "2001-08-07T16:00:00Z",
+        "--to",
+        "2001-08-08T16:00:00Z",
+        "--spin-up-h",
+        "24",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let therm_k = v["deep_ground_k"].as_f64().unwrap();
+    assert!(
+        (therm_k - render_k).abs() < 1e-9,
+        "therm {therm_k} K, render {render_k} K"
+    );
+    // The plain mean of therm's own 48 h of forcing was 0.5 K warmer
+    // (issue #30: 300.76 against 300.19 K on this weather).
+    assert!((therm_k - 300.19).abs() < 0.05, "{therm_k}");
+}
+
+/// `irsig therm --csv` reports the bulk Richardson number and the
+/// stability function `F(Ri)` of the surface layer at every step (issue
+/// #30): F is the library's function of the reported Ri, above 1 where the
+/// surface is warmer than the air (unstable, Ri < 0) and below 1 where it
+/// is colder (stable), and the day and night of the TMY3 forcing show
+/// both; under McAdams convection Ri = 0 and F = 1.
+#[test]
+fn therm_reports_the_stability_function() {
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    std::fs::write(&mats, MATS).unwrap();
+    let forcing = format!("{DATA}therm_ref_forcing.csv");
+    let go = |conv: &str| {
+        let out = irsig(&[
+            "therm",
+            "--materials",
+            mats.to_str().unwrap(),
+            "--material",
+            "asphalt",
+            "--forcing",
+            &forcing,
+            "--lat",
+            "36.1",
+            "--lon",
+            "-79.95",
+            "--from",
+            "2021-05-04T05:00:00Z",
+            "--to",
+            "2021-05-05T05:00:00Z",
+            "--convection",
+            conv,
+            "--csv",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let c = |n: &str| head.iter().position(|h| *h == n).unwrap();
+        let (ir, iff, its, ita) = (
+            c("richardson"),
+            c("stability_factor"),
+            c("surface_temp_k"),
+            c("air_temp_k"),
+        );
+        lines
+            .map(|l| {
+                let v: Vec<f64> = l.split(',').skip(1).map(|x| x.parse().unwrap()).collect();
+                // `time_utc` is skipped: indices shift by one.
+                (v[ir - 1], v[iff - 1], v[its - 1] - v[ita - 1])
+            })
+            .collect::<Vec<_>>()
+    };
+    let rows = go("surface-layer");
+    let (mut unstable, mut stable) = (0, 0);
+    for &(ri, f, ts_minus_ta) in &rows {
+        // 3 printed decimals.
+        let want = irsig::therm::aero::stability_factor(ri);
+        assert!(
+            (f - want).abs()
+                < 2e-3 + (want - irsig::therm::aero::stability_factor(ri + 5e-4)).abs(),
+            "F {f} against F({ri}) = {want}"
+        );
+        if ts_minus_ta > 0.5 {
+            assert!(ri < 0.0 && f > 1.0, "warm surface: Ri {ri}, F {f}");
+            unstable += 1;
+        } else if ts_minus_ta < -0.5 {
+            assert!(ri > 0.0 && f < 1.0, "cold surface: Ri {ri}, F {f}");
+            stable += 1;
+        }
+    }
+    assert!(
+        unstable > 10 && stable > 10,
+        "{unstable} unstable, {stable} stable rows"
+    );
+    for (ri, f, _) in go("mcadams") {
+        assert_eq!((ri, f), (0.0, 1.0));
+    }
+}

@@ -10,7 +10,17 @@
 //! broadband emissivity. Its `# key: value` header gives the site, the
 //! compared window and the spin-up. The model runs with the measured
 //! forcing and is compared at every measured time of the compared day:
-//! RMS ≤ 2 K and |bias| ≤ 1.5 K per station-day.
+//! RMS ≤ 1.5 K and |bias| ≤ 1.0 K per station-day (issue #30's tolerance).
+//!
+//! Files with `# skin_source: ir_thermometer` (written by
+//! tools/station_excerpt_more.py) carry the surface temperature measured by
+//! an infrared thermometer instead (no upwelling longwave), and state the
+//! measurement heights (`wind_height_m`, `air_height_m`).
+//!
+//! Station-days the model misses are `#[ignore]`d with the process that
+//! limits them (from the flux terms of `irsig therm`, in
+//! docs/validation-stations.md); `cargo test --release --test
+//! therm_stations -- --ignored --nocapture` prints their numbers.
 
 use std::collections::HashMap;
 use std::process::Command;
@@ -31,9 +41,18 @@ const BON_MATERIAL: &str = "grass_irrigated";
 /// run 4.3 K too cold (RMS 3.8 K, bias −3.2 K; docs/validation-stations.md).
 const SLV_MATERIAL: &str = "soil_bare";
 
-/// Tolerances per station-day (K).
-const RMS_MAX_K: f64 = 2.0;
-const BIAS_MAX_K: f64 = 1.5;
+/// NOAA ATDD/ARL Bondville 1998-05-17: bare soil with crop residue before
+/// emergence, clear and hot.
+const BND_BARE_MATERIAL: &str = "soil_bare";
+/// Bondville 1998-07-25 and 1998-08-01: the crop at full cover,
+/// transpiring (latent heat flux up to 525 W/m²).
+const BND_CROP_MATERIAL: &str = "grass_irrigated";
+/// Col de Porte 2002-01-10: 37 cm of settled snow, clear and calm.
+const CDP_MATERIAL: &str = "snow";
+
+/// Tolerances per station-day (K): issue #30's RMS ≤ 1.5 K, |bias| ≤ 1.0 K.
+const RMS_MAX_K: f64 = 1.5;
+const BIAS_MAX_K: f64 = 1.0;
 
 struct Excerpt {
     meta: HashMap<String, String>,
@@ -98,13 +117,26 @@ fn stats(e: &[f64]) -> Stats {
     }
 }
 
-/// Anemometer height of a station, m.
-fn wind_height_m(name: &str) -> &'static str {
+/// Anemometer height of a station, m: the file's `# wind_height_m:` where
+/// it states one, else SURFRAD's 10 m or ARM E39's 3 m.
+fn wind_height_m(name: &str, meta: &HashMap<String, String>) -> String {
+    if let Some(h) = meta.get("wind_height_m") {
+        return h.clone();
+    }
     if name.starts_with("sgp-e39") {
         "3"
     } else {
         "10"
     }
+    .to_string()
+}
+
+/// Air-temperature height, m: the file's `# air_height_m:`, else 2 m (what
+/// the first three station-days were compared with).
+fn air_height_m(meta: &HashMap<String, String>) -> String {
+    meta.get("air_height_m")
+        .cloned()
+        .unwrap_or_else(|| "2".to_string())
 }
 
 /// Runs the model on one station-day and returns the errors (model −
@@ -143,11 +175,12 @@ fn compare(name: &str, material: &str) -> (Stats, Stats, Stats) {
             "--spin-up-h",
             m("spin_up_h"),
             // Measurement heights: SURFRAD 10 m (air temperature, RH and
-            // wind on the 10-m tower); ARM E39 ECORSF about 3 m.
+            // wind on the 10-m tower); ARM E39 ECORSF about 3 m; the IRT
+            // files state theirs.
             "--wind-height-m",
-            wind_height_m(name),
+            &wind_height_m(name, &x.meta),
             "--air-height-m",
-            "2",
+            &air_height_m(&x.meta),
             "--csv",
         ])
         .output()
@@ -220,15 +253,68 @@ fn station_slv_20160101_winter_dry() {
     check("slv-20160101", SLV_MATERIAL);
 }
 
+/// Spring, bare soil with residue, clear and hot: Bondville 1998-05-17
+/// (IRT skin; 1998-05-16 measured as spin-up).
+#[test]
+#[ignore = "misses: RMS 5.15 K, bias +5.05 K day and night. Limited by the missing soil evaporation \
+            (soil_bare has no evaporation but its 2 mm wet store: model latent 0 against 150-200 W/m2 \
+            measured by day) and by the bare 0.5 m slab under the skin (the residue layer insulates: \
+            modelled soil heat flux back to the surface 90-120 W/m2 at night against 30-45 measured); \
+            docs/validation-stations.md"]
+fn station_bnd_19980517_bare_soil_hot() {
+    check("bnd-19980517", BND_BARE_MATERIAL);
+}
+
+/// Summer crop at full cover; a calm clear night after a sunny day:
+/// Bondville 1998-07-25 (IRT skin; 1998-07-24 measured as spin-up).
+#[test]
+#[ignore = "misses the bias: RMS 1.43 K, bias +1.17 K. Limited by the canopy being the top of a 0.5 m \
+            soil slab (issue #30 item 2): at 0.1-2 m/s wind the exchange is nearly off at night and \
+            the slab returns 40-65 W/m2 to the skin where 10-35 W/m2 is measured; \
+            docs/validation-stations.md"]
+fn station_bnd_19980725_calm_clear_night_crop() {
+    check("bnd-19980725", BND_CROP_MATERIAL);
+}
+
+/// Peak-season transpiring crop (latent heat flux measured): Bondville
+/// 1998-08-01 (IRT skin; 1998-07-31 measured as spin-up).
+#[test]
+#[ignore = "misses: RMS 2.23 K, bias +1.94 K. Limited by the canopy being the top of a 0.5 m soil slab \
+            (issue #30 item 2: ground heat flux 80-105 W/m2 into the slab by day against 30-55 measured, \
+            50-75 W/m2 back at night against 10-20) and by transpiration 10-20 % under the measured \
+            latent heat at peak (400 against 410-490 W/m2); docs/validation-stations.md"]
+fn station_bnd_19980801_crop_peak_transpiration() {
+    check("bnd-19980801", BND_CROP_MATERIAL);
+}
+
+/// Snow-covered, clear and calm: Col de Porte 2002-01-10 (IRT snow
+/// surface temperature; 2002-01-09 measured as spin-up).
+#[test]
+#[ignore = "misses: RMS 3.64 K, bias -3.33 K (night -3.6 K). Limited by the calm stable surface layer: \
+            at 0.1-0.6 m/s wind over snow (z0 1 mm) the exchange coefficient is 0.1-0.3 W/(m2 K) all \
+            night, so the modelled snow decouples from the air and runs 4 K below the measured \
+            surface (issue #30 item 3: a minimum exchange); docs/validation-stations.md"]
+fn station_cdp_20020110_snow_clear() {
+    check("cdp-20020110", CDP_MATERIAL);
+}
+
 /// The excerpts are self-consistent: the derived skin temperature
 /// reproduces the measured upwelling longwave with the stated emissivity,
 /// and the sky temperature the downwelling.
 #[test]
 fn station_excerpts_are_consistent() {
     const SIGMA: f64 = 5.670_374_419e-8;
-    for name in ["sgp-e39-20230601", "bon-19950510", "slv-20160101"] {
+    // de-tha-20140607 (FLUXNET DE-Tha, spruce forest) has no test of its
+    // own: the library has no forest material (docs/validation-stations.md).
+    for name in [
+        "sgp-e39-20230601",
+        "bon-19950510",
+        "slv-20160101",
+        "de-tha-20140607",
+    ] {
         let path = format!("{STATIONS}{name}.csv");
         let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!text.contains("# skin_source: ir_thermometer"), "{name}");
         let eps: f64 = text
             .lines()
             .find_map(|l| l.strip_prefix("# emissivity:"))
@@ -267,5 +353,45 @@ fn station_excerpts_are_consistent() {
             n += 1;
         }
         assert!(n >= 48, "{name}: {n} rows with a skin temperature");
+    }
+}
+
+/// The IRT excerpts: the sky temperature reproduces the measured
+/// downwelling longwave, every compared row has a skin temperature, and
+/// the compared window is one day of rows after the stated spin-up.
+#[test]
+fn station_ir_excerpts_are_consistent() {
+    const SIGMA: f64 = 5.670_374_419e-8;
+    for name in [
+        "bnd-19980517",
+        "bnd-19980725",
+        "bnd-19980801",
+        "cdp-20020110",
+    ] {
+        let x = read_excerpt(name);
+        assert_eq!(
+            x.meta.get("skin_source").map(String::as_str),
+            Some("ir_thermometer"),
+            "{name}"
+        );
+        let step_h = if name.starts_with("cdp") { 1.0 } else { 0.5 };
+        assert_eq!(x.measured.len() as f64, 24.0 / step_h, "{name}");
+        let text = std::fs::read_to_string(format!("{STATIONS}{name}.csv")).unwrap();
+        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let c = |n: &str| head.iter().position(|h| *h == n).unwrap();
+        let (id, isky, isp) = (c("x_lw_dn_w_m2"), c("sky_temp_c"), c("x_spinup"));
+        let mut n_spin = 0;
+        for l in lines {
+            let f: Vec<&str> = l.split(',').collect();
+            let (dn, sky): (f64, f64) = (f[id].parse().unwrap(), f[isky].parse().unwrap());
+            assert!(
+                (SIGMA * (sky + 273.15).powi(4) - dn).abs() < 0.15,
+                "{name}: {l}"
+            );
+            n_spin += usize::from(f[isp] == "1");
+        }
+        let spin_h: f64 = x.meta["spin_up_h"].parse().unwrap();
+        assert_eq!(n_spin as f64 * step_h, spin_h, "{name}");
     }
 }

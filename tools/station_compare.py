@@ -44,7 +44,11 @@ def run_irsig(irsig, materials, material, path, meta, step):
            "--weather", str(path), "--lat", meta["lat"], "--lon", meta["lon"],
            "--elevation", meta["elevation_m"], "--from", meta["compare_from"],
            "--to", meta["compare_to"], "--step", str(step), "--spin-up-h", meta["spin_up_h"],
-           # TODO: --wind-height-m / --air-height-m once irsig has them (SURFRAD: 10 m, ARM ECORSF: ~3 m)
+           # Measurement heights as tests/therm_stations.rs passes them: the
+           # file's own (`wind_height_m`, `air_height_m`), else SURFRAD's
+           # 10 m / ARM E39's 3 m wind and 2 m air.
+           "--wind-height-m", meta.get("wind_height_m", "3" if path.name.startswith("sgp-e39") else "10"),
+           "--air-height-m", meta.get("air_height_m", "2"),
            "--csv"]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:

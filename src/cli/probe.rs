@@ -136,10 +136,17 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
         th.steps_accepted,
         th.steps_rejected
     );
+    if let (Some(sky), Some(ri), Some(f)) = (th.sky_view, th.richardson, th.stability_factor) {
+        let _ = writeln!(
+            o,
+            "{pad}at the image time: sky view factor {sky:.3} (this point's); \
+             stability F(Ri) {f:.3} at Ri {ri:.3} (1 = neutral)"
+        );
+    }
     if with_series && !th.series.is_empty() {
         let _ = writeln!(
             o,
-            "{pad}  flux terms, W m-2 (hourly; all steps with --json):\n{pad}  {:>11} {:>8} {:>8} {:>4} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6} {:>6} {:>5}",
+            "{pad}  flux terms, W m-2 (hourly; all steps with --json):\n{pad}  {:>11} {:>8} {:>8} {:>4} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6} {:>6} {:>5} {:>5}",
             "local",
             "T_s K",
             "T_air K",
@@ -157,7 +164,8 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             "conduct",
             "h_c",
             "store",
-            "F_sky"
+            "F_sky",
+            "F(Ri)"
         );
         let mut next_h = 0.0;
         let last = th.series.len() - 1;
@@ -170,7 +178,7 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             let f = &r.surface;
             let _ = writeln!(
                 o,
-                "{pad}  {:>11} {:>8.2} {:>8.2} {:>4.2} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>6.1} {:>6.2} {:>5.2}",
+                "{pad}  {:>11} {:>8.2} {:>8.2} {:>4.2} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>6.1} {:>6.2} {:>5.2} {:>5.2}",
                 local_of(&th.start_local, r.t_s),
                 r.surface_temp_k,
                 r.air_temp_k,
@@ -188,7 +196,8 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
                 r.conduction_into_slab_w_m2,
                 f.convection_coeff_w_m2k,
                 r.water_store_mm,
-                r.sky_view
+                r.sky_view,
+                f.stability_factor()
             );
         }
     }

@@ -225,7 +225,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     Ok(0)
 }
 
-const COLUMNS: [&str; 23] = [
+const COLUMNS: [&str; 25] = [
     "time_utc",
     "t_s",
     "surface_temp_k",
@@ -249,6 +249,8 @@ const COLUMNS: [&str; 23] = [
     "sky_view",
     "sunlit_fraction",
     "surface_temp_c",
+    "richardson",
+    "stability_factor",
 ];
 
 fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::Result<()> {
@@ -282,6 +284,8 @@ fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::R
             r.rec.sky_view,
             r.rec.sunlit_fraction,
             r.rec.surface_temp_k - ZERO_C_K,
+            s.richardson,
+            r.stability_factor,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
         writeln!(

@@ -148,6 +148,10 @@ pub struct Stats {
     pub thermal_steps_rejected: u64,
     pub thermal_newton_iterations: u64,
     pub thermal_solve_core_s: f64,
+    /// March states kept at checkpoints, and solves resumed from one
+    /// (`therm::cache`: histories that begin alike share their march).
+    pub thermal_checkpoints: u64,
+    pub thermal_resumed: u64,
     /// Samples whose band integral was evaluated (uniform pixels evaluate
     /// one of their n×n samples).
     pub radiometry_samples: u64,
@@ -933,6 +937,8 @@ fn solve_temperatures(
     stats.thermal_steps_rejected += after.steps_rejected - before.steps_rejected;
     stats.thermal_newton_iterations += after.newton_iterations - before.newton_iterations;
     stats.thermal_solve_core_s += (after.solve_ns - before.solve_ns) as f64 * 1e-9;
+    stats.thermal_checkpoints += after.checkpoints - before.checkpoints;
+    stats.thermal_resumed += after.resumed - before.resumed;
     stats.seconds.thermal += t1.elapsed().as_secs_f64();
     Ok(())
 }

@@ -136,6 +136,15 @@ pub struct ThermalReport {
     pub surface_temp_k: f64,
     pub steps_accepted: usize,
     pub steps_rejected: usize,
+    /// Sky view factor of this surface point (per point, not per
+    /// triangle: the value the thermal balance used), at the image time.
+    pub sky_view: Option<f64>,
+    /// Bulk Richardson number and stability function `F(Ri) =
+    /// h_forced/h_neutral` of the surface layer at the image time
+    /// ([`crate::therm::balance::SurfaceFluxes::stability_factor`]; 1 =
+    /// neutral).
+    pub richardson: Option<f64>,
+    pub stability_factor: Option<f64>,
     /// One record per thermal step, seconds since the history start, with
     /// every surface flux term (W m⁻²).
     pub series: Vec<StepRecord>,
@@ -267,6 +276,9 @@ impl Ctx<'_> {
                 surface_temp_k: s.temp_k,
                 steps_accepted: sol.steps_accepted,
                 steps_rejected: sol.steps_rejected,
+                sky_view: sol.series.last().map(|r| r.sky_view),
+                richardson: sol.series.last().map(|r| r.surface.richardson),
+                stability_factor: sol.series.last().map(|r| r.surface.stability_factor()),
                 series: sol.series.clone(),
             },
         })

@@ -18,6 +18,7 @@ pub mod lookup;
 pub mod material;
 pub mod mesh;
 mod paths;
+pub mod placement;
 pub mod spec;
 pub mod summary;
 pub mod terrain;
@@ -387,7 +388,18 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
         _ => None,
     };
 
-    // Geometry.
+    // Geometry. Terrains are meshed first: objects may stand on them.
+    let terrains: Vec<terrain::TerrainMesh> = (scene.terrain.iter().enumerate())
+        .map(|(ti, t)| {
+            terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
+                by_name
+                    .get(name)
+                    .copied()
+                    .ok_or_else(|| undefined(src.loc_of(at), name))
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut ground: Option<placement::Ground> = None;
     let mut cache: HashMap<PathBuf, mesh::Mesh> = HashMap::new();
     let mut warnings = Vec::new();
     let mut out = Geometry::default();
@@ -469,8 +481,46 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| format!("object{}", oi + 1))
         });
-        let transforms = o.local_transforms(origin, mesh.default_up);
+        let mut transforms = o.local_transforms(origin, mesh.default_up);
         let n_inst = transforms.len();
+        let stands = placement::stands(&src, oi, o)?;
+        for (k, (xf, st)) in transforms.iter_mut().zip(&stands).enumerate() {
+            let Some((st, z_at)) = st else { continue };
+            let who = if n_inst > 1 {
+                format!("object `{base_name}#{}`", k + 1)
+            } else {
+                format!("object `{base_name}`")
+            };
+            if terrains.is_empty() {
+                return Err(src.invalid(
+                    z_at,
+                    format!(
+                        "{who} stands on the terrain (`z = \"terrain\"`), but the scene has no \
+                         `[[terrain]]`: add one, or give its height in `translate_m`"
+                    ),
+                ));
+            }
+            let g = ground.get_or_insert_with(|| placement::Ground::new(&terrains, origin));
+            *xf = placement::stand(mesh, *xf, st, g).map_err(|e| {
+                let ([x0, y0], [x1, y1]) = g.cover();
+                src.invalid(
+                    z_at,
+                    format!(
+                        "{who} stands on the terrain (`z = \"terrain\"`), but there is no \
+                         terrain under {} at scene ({:.1}, {:.1}) m: the terrains cover x {:.1} \
+                         to {:.1} m, y {:.1} to {:.1} m (less any holes); move it onto the \
+                         terrain or widen the terrain's `extent_m`",
+                        e.what,
+                        e.at_m[0] + origin[0],
+                        e.at_m[1] + origin[1],
+                        x0 + origin[0],
+                        x1 + origin[0],
+                        y0 + origin[1],
+                        y1 + origin[1],
+                    ),
+                )
+            })?;
+        }
         for (k, xf) in transforms.iter().enumerate() {
             let object_id = objects.len() as u32;
             let first = out.triangles.len() as u32;
@@ -519,16 +569,10 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
             });
         }
     }
-    for (ti, t) in scene.terrain.iter().enumerate() {
-        let mesh = terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
-            by_name
-                .get(name)
-                .copied()
-                .ok_or_else(|| undefined(src.loc_of(at), name))
-        })?;
+    for (ti, (t, mesh)) in scene.terrain.iter().zip(&terrains).enumerate() {
         let first = out.triangles.len() as u32;
         let object_id = objects.len() as u32;
-        let skipped = out.add_terrain(&mesh, origin, object_id).map_err(|far_m| {
+        let skipped = out.add_terrain(mesh, origin, object_id).map_err(|far_m| {
             src.invalid(
                 &[key("terrain"), Seg::Index(ti), key("extent_m")],
                 format!(

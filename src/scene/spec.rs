@@ -230,6 +230,18 @@ pub struct ObjectSpec {
     /// Scale factor, one number or [sx, sy, sz] (dimensionless, > 0).
     #[serde(default)]
     pub scale: Scale,
+    /// `"terrain"`: stand it on the terrain ([`crate::scene::placement`]);
+    /// the z of `translate_m` is then the anchor's height above the ground.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<ZRef>,
+    /// With `z = "terrain"`: the point that stands on the ground
+    /// (default `"base"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<Anchor>,
+    /// With `z = "terrain"`: `"slope"` tilts it to the terrain's slope
+    /// (default `"none"`: upright).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub align: Option<Align>,
     /// Repeated placements; each instance transform is applied first, then
     /// the object transform above. Empty: one instance (identity).
     /// Mesh material names mapped to library materials (`"*"`: every name
@@ -254,6 +266,51 @@ pub struct Transform {
     /// Scale factor (uniform or per axis), > 0.
     #[serde(default)]
     pub scale: Scale,
+    /// `"terrain"`: stand this instance on the terrain ([`crate::scene::placement`]);
+    /// the z of `translate_m` is then the anchor's height above the ground (the object's
+    /// z added).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<ZRef>,
+    /// With `z = "terrain"`: the point that stands on the ground
+    /// (default `"base"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<Anchor>,
+    /// With `z = "terrain"`: `"slope"` tilts it to the terrain's slope
+    /// (default `"none"`: upright).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub align: Option<Align>,
+}
+
+/// `z = "terrain"`: what an object's height is taken from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ZRef {
+    /// The meshed terrain under the object (every `[[terrain]]`).
+    Terrain,
+}
+
+/// `anchor`: the point of an object that stands on the terrain.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Anchor {
+    /// The centre of the bottom of its bounding box; its lowest point on
+    /// the lowest ground under its footprint.
+    #[default]
+    Base,
+    /// The model's origin (0, 0, 0), on the ground under it.
+    Origin,
+}
+
+/// `align`: whether an object standing on the terrain tilts with it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Align {
+    /// Upright: the model's up stays +z.
+    #[default]
+    #[serde(rename = "none")]
+    Upright,
+    /// The model's up turned to the terrain's normal under it.
+    #[serde(rename = "slope")]
+    Slope,
 }
 
 impl Transform {
@@ -276,6 +333,9 @@ impl ObjectSpec {
             translate_m: self.translate_m,
             rotate_deg: self.rotate_deg,
             scale: self.scale,
+            z: self.z,
+            anchor: self.anchor,
+            align: self.align,
         }
     }
     /// World transforms of every instance (object ∘ instance) of a mesh

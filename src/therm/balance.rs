@@ -352,6 +352,24 @@ pub struct SurfaceFluxes {
     pub net_w_m2: f64,
     /// Convective coefficient in force, W m⁻² K⁻¹.
     pub convection_coeff_w_m2k: f64,
+    /// Bulk Richardson number of the surface layer at this surface
+    /// temperature, `Ri = Ri_K·(T_a − T_s)` (Monteith & Unsworth 2013, eq.
+    /// 16.23; [`super::aero::richardson_per_k`]), uncapped: the stability
+    /// function caps it ([`SurfaceFluxes::stability_factor`]). 0 under
+    /// McAdams or a constant coefficient, and on walls (their exchange is
+    /// neutral).
+    pub richardson: f64,
+}
+
+impl SurfaceFluxes {
+    /// The stability function `F(Ri) = h_forced/h_neutral` in force
+    /// ([`super::aero::stability_factor`]: Businger-Dyer unstable, Louis
+    /// 1979 stable, Ri capped to `[MIN_RICHARDSON, MAX_RICHARDSON]`); 1 is
+    /// neutral. Computed from [`SurfaceFluxes::richardson`] on demand (not
+    /// in the solver's hot loop).
+    pub fn stability_factor(&self) -> f64 {
+        super::aero::stability_factor(self.richardson)
+    }
 }
 
 /// Net surface flux into the slab at surface temperature `surf_temp_k`,
@@ -424,6 +442,10 @@ pub fn surface_fluxes(
             internal_w_m2: drive.internal_w_m2,
             net_w_m2: net,
             convection_coeff_w_m2k: h,
+            richardson: match conv {
+                Convection::SurfaceLayer(_) => drive.exchange.richardson_per_k * dt,
+                Convection::Linear { .. } => 0.0,
+            },
         },
         d_conv - d_emitted + d_latent - drive.rain_coeff_w_m2k,
     )

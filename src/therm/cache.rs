@@ -33,7 +33,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 use super::balance::Orientation;
 use super::forcing::Forcing;
 use super::slab::{
-    Mesh, SlabMaterial, SlabModel, SunHistory, ThermError, ThermSettings, ThermSolution,
+    MarchState, Mesh, SPIN_UP_MEAN_WINDOW_S, SlabMaterial, SlabModel, SpinUpStart, SunHistory,
+    ThermError, ThermSettings, ThermSolution,
 };
 
 const SHARDS: usize = 64;
@@ -389,6 +390,35 @@ impl Hasher for PassHash {
 /// One shard: entries by hash; a bucket holds the keys that share a hash.
 type Shard = HashMap<u64, Vec<(ThermKey, Slot)>, BuildHasherDefault<PassHash>>;
 
+/// Memory the kept checkpoint states of one cache may take, bytes (64 MiB:
+/// ~60,000 states of a 60-node slab; the airfield at 512² with irsig's
+/// defaults keeps ~300,000 when unbounded, with `shadow_key_recent_h = 2`
+/// ~43,000).
+pub const CHECKPOINT_BUDGET_BYTES: u64 = 64 << 20;
+
+/// The key of a checkpoint state: the key's scalar parts, the history's
+/// clock, the forcing sample the march stands at, and the history's flags
+/// up to the last sample a step before that sample reads (bits past it
+/// zero).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct PrefixKey {
+    scalars: (u32, i32, i32, u64, i32, i32),
+    clock: (i64, i64, usize),
+    at: usize,
+    words: Box<[u64]>,
+}
+
+/// One shard of checkpoint states, by the hash of their [`PrefixKey`].
+type PrefixShard = HashMap<u64, Vec<(PrefixKey, Arc<MarchState>)>, BuildHasherDefault<PassHash>>;
+
+/// A checkpoint of a march: the forcing sample it stands at and the number
+/// of history samples that decide the march up to there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Checkpoint {
+    at: usize,
+    flags: usize,
+}
+
 /// Quantum of the blocked sky fraction in the cache key (and the solve):
 /// ±0.01 of the hemisphere, about ±1 W/m² of longwave, ≤ 0.1 K.
 pub const SKY_QUANTUM: f64 = 0.02;
@@ -406,6 +436,10 @@ pub struct CacheStats {
     pub steps_rejected: u64,
     pub newton_iterations: u64,
     pub solve_ns: u64,
+    /// March states kept at checkpoints, and solves that resumed from one
+    /// instead of marching from the spin-up.
+    pub checkpoints: u64,
+    pub resumed: u64,
 }
 
 type Slot = Arc<OnceLock<Result<Arc<ThermSolution>, ThermError>>>;
@@ -420,6 +454,13 @@ pub struct ThermCache {
     orientation_quantum_deg: f64,
     with_series: bool,
     shards: Vec<Mutex<Shard>>,
+    /// March states at checkpoints, by the key part and history prefix
+    /// that determine them (see [`ThermCache::checkpoints`]).
+    prefixes: Vec<Mutex<PrefixShard>>,
+    /// Checkpoint states kept, their bytes, and solves resumed from one.
+    prefix_entries: AtomicU64,
+    prefix_bytes: AtomicU64,
+    resumed: AtomicU64,
     meshes: Mutex<Vec<(MeshKey, Arc<Mesh>)>>,
     hits: AtomicU64,
     misses: AtomicU64,
@@ -450,6 +491,12 @@ impl ThermCache {
             },
             with_series,
             shards: (0..SHARDS).map(|_| Mutex::new(Shard::default())).collect(),
+            prefixes: (0..SHARDS)
+                .map(|_| Mutex::new(PrefixShard::default()))
+                .collect(),
+            prefix_entries: AtomicU64::new(0),
+            prefix_bytes: AtomicU64::new(0),
+            resumed: AtomicU64::new(0),
             meshes: Mutex::new(Vec::new()),
             hits: AtomicU64::new(0),
             misses: AtomicU64::new(0),
@@ -794,6 +841,16 @@ impl ThermCache {
 
     /// Solves the facet that key `q` stands for (quantised orientation,
     /// height and blocked sky).
+    ///
+    /// A march with a history (and no series kept) stops at the
+    /// [`Self::checkpoints`] and keeps its state there, keyed by what
+    /// decided it: the key's other parts and the history's flags up to
+    /// there. A later key whose history begins the same resumes from the
+    /// latest such state instead of marching from the spin-up. Resuming is
+    /// bit for bit the march that did not stop ([`SlabModel::advance`]), so
+    /// a result is still a function of its key alone, whichever key was
+    /// solved first and on whichever thread: only the work depends on the
+    /// order.
     fn solve_key(
         &self,
         q: &ThermQuery,
@@ -807,13 +864,140 @@ impl ThermCache {
         });
         material.validate()?;
         let oq = self.dequantise(q.slope_q, q.aspect_q);
-        SlabModel::with_mesh(material, oq, &self.settings, self.mesh(material))
-            .and_then(|m| {
-                m.with_height(Self::height_of(q.height_q))
-                    .with_blocked_sky(q.blocked_q as f64 * SKY_QUANTUM)
-                    .solve(forcing, history.as_ref(), self.with_series)
+        let model = SlabModel::with_mesh(material, oq, &self.settings, self.mesh(material))?
+            .with_height(Self::height_of(q.height_q))
+            .with_blocked_sky(q.blocked_q as f64 * SKY_QUANTUM);
+        let (Some(h), Some(hr), false) = (history.as_ref(), q.history, self.with_series) else {
+            return model
+                .solve(forcing, history.as_ref(), self.with_series)
+                .map(Arc::new);
+        };
+        let cps = self.checkpoints(forcing, h);
+        if cps.is_empty() {
+            return model.solve(forcing, Some(h), false).map(Arc::new);
+        }
+        let words: Vec<u64> = hr.sunlit.words().collect();
+        let prefix = |cp: &Checkpoint| PrefixKey {
+            scalars: ThermMemo::scalars(q),
+            clock: (h.start_s, h.interval_s, h.sunlit.len()),
+            at: cp.at,
+            words: words
+                .iter()
+                .enumerate()
+                .map(|(i, &w)| w & bit_range(0, cp.flags.saturating_sub(64 * i).min(64)))
+                .collect(),
+        };
+        let found = cps
+            .iter()
+            .enumerate()
+            .rev()
+            .find_map(|(j, cp)| self.prefix_get(&prefix(cp)).map(|s| (j, s)));
+        let (mut state, next, base) = match found {
+            Some((j, s)) => {
+                self.resumed.fetch_add(1, Ordering::Relaxed);
+                let base = (s.accepted, s.rejected, s.newton);
+                (MarchState::clone(&s), j + 1, base)
+            }
+            None => (model.initial_state(forcing, Some(h))?, 0, (0, 0, 0)),
+        };
+        for cp in &cps[next..] {
+            model.advance(&mut state, forcing, Some(h), cp.at, None)?;
+            self.prefix_put(prefix(cp), &state);
+        }
+        model.advance(&mut state, forcing, Some(h), forcing.len() - 1, None)?;
+        let mut sol = SlabModel::finish(state, Vec::new());
+        // The counters say the work this solve did.
+        sol.steps_accepted -= base.0;
+        sol.steps_rejected -= base.1;
+        sol.newton_iterations -= base.2;
+        Ok(Arc::new(sol))
+    }
+
+    /// The forcing samples where a march with history `h` keeps its state
+    /// (ascending): the samples 1, 2, 4, 8, … h before the last one
+    /// (rounded down to a sample), and the first sample after the window
+    /// the initial state reads ([`SPIN_UP_MEAN_WINDOW_S`] under the mean
+    /// forcing); none before that window's end, and none when the forcing
+    /// starts before the history (its periodic extension would read the
+    /// history's end). Histories of one facet mostly differ in their recent
+    /// transitions (and, keyed, `render::key_history`, coarsely in their
+    /// old ones), so a key resumes within hours of the image time.
+    fn checkpoints(&self, forcing: &[Forcing], h: &SunHistory) -> Vec<Checkpoint> {
+        let n = forcing.len();
+        if n < 3 || h.interval_s <= 0 || forcing[0].t_s < h.start_s as f64 {
+            return Vec::new();
+        }
+        let t0 = forcing[0].t_s;
+        let t_end = forcing[n - 1].t_s;
+        let window_end = match self.settings.spin_up_start {
+            SpinUpStart::MeanForcing => t0 + SPIN_UP_MEAN_WINDOW_S,
+            SpinUpStart::FirstSample => t0,
+        };
+        let mut at: Vec<usize> = Vec::new();
+        // First sample at or after the window's end.
+        at.push(forcing.partition_point(|f| f.t_s < window_end));
+        let mut age_s = 3600.0;
+        while t_end - age_s >= window_end {
+            // Last sample at or before t_end − age.
+            at.push(
+                forcing
+                    .partition_point(|f| f.t_s <= t_end - age_s)
+                    .saturating_sub(1),
+            );
+            age_s *= 2.0;
+        }
+        at.retain(|&i| i >= 1 && i < n - 1 && forcing[i].t_s >= window_end);
+        at.sort_unstable();
+        at.dedup();
+        at.into_iter()
+            .map(|i| {
+                // A step ending at sample i reads flags up to index
+                // ⌊(t_i − start)/Δ⌋ + 1 (the ramp's next sample).
+                let x = ((forcing[i].t_s - h.start_s as f64) / h.interval_s as f64).floor();
+                let flags = (x.max(0.0) as usize + 2).min(h.sunlit.len());
+                Checkpoint { at: i, flags }
             })
-            .map(Arc::new)
+            .collect()
+    }
+
+    fn prefix_hash(k: &PrefixKey) -> u64 {
+        let mut h = DefaultHasher::new();
+        k.hash(&mut h);
+        h.finish()
+    }
+
+    /// The checkpoint state of `k`, if one was kept.
+    fn prefix_get(&self, k: &PrefixKey) -> Option<Arc<MarchState>> {
+        let hash = Self::prefix_hash(k);
+        let shard = &self.prefixes[((hash >> 32) as usize) % SHARDS];
+        let map = shard.lock().unwrap_or_else(|e| e.into_inner());
+        map.get(&hash)?
+            .iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, s)| s.clone())
+    }
+
+    /// Keeps the checkpoint state of `k` (unless one is kept already: two
+    /// marches to one prefix give the same bits), while the kept states
+    /// stay within [`CHECKPOINT_BUDGET_BYTES`] (beyond it later keys march
+    /// from what is kept: more work, the same results).
+    fn prefix_put(&self, k: PrefixKey, state: &MarchState) {
+        let bytes = (std::mem::size_of::<(PrefixKey, Arc<MarchState>, MarchState)>()
+            + 8 * (k.words.len() + 2 * state.nodes())) as u64;
+        if self.prefix_bytes.fetch_add(bytes, Ordering::Relaxed) + bytes > CHECKPOINT_BUDGET_BYTES {
+            self.prefix_bytes.fetch_sub(bytes, Ordering::Relaxed);
+            return;
+        }
+        let hash = Self::prefix_hash(&k);
+        let shard = &self.prefixes[((hash >> 32) as usize) % SHARDS];
+        let mut map = shard.lock().unwrap_or_else(|e| e.into_inner());
+        let bucket = map.entry(hash).or_default();
+        if bucket.iter().any(|(key, _)| *key == k) {
+            self.prefix_bytes.fetch_sub(bytes, Ordering::Relaxed);
+        } else {
+            bucket.push((k, Arc::new(state.clone())));
+            self.prefix_entries.fetch_add(1, Ordering::Relaxed);
+        }
     }
 
     /// Surface temperature at the last forcing time (the image time), K.
@@ -854,6 +1038,8 @@ impl ThermCache {
             steps_rejected: self.steps_rejected.load(Ordering::Relaxed),
             newton_iterations: self.newton.load(Ordering::Relaxed),
             solve_ns: self.solve_ns.load(Ordering::Relaxed),
+            checkpoints: self.prefix_entries.load(Ordering::Relaxed),
+            resumed: self.resumed.load(Ordering::Relaxed),
         }
     }
 }
@@ -861,7 +1047,7 @@ impl ThermCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::therm::slab::BackBoundary;
+    use crate::therm::slab::{BackBoundary, solve_surface};
     use rayon::prelude::*;
 
     fn forcing() -> Vec<Forcing> {
@@ -911,6 +1097,72 @@ mod tests {
             interval_s: 1800,
             sunlit: (0..48).map(|i| i < shade_from).collect(),
         }
+    }
+
+    /// 48 h of the test forcing's diurnal cycle, every 30 min, starting
+    /// 12 h into it (so the sun is up over hours 12-24 and 36-48).
+    fn two_days() -> Vec<Forcing> {
+        let day = forcing();
+        (0..=96)
+            .map(|i| Forcing {
+                t_s: i as f64 * 1800.0,
+                ..day[(2 * i + 48) % 96]
+            })
+            .collect()
+    }
+
+    /// A history over [`two_days`] (30-min samples) shaded over `shade`.
+    fn shaded(shade: std::ops::Range<usize>) -> SunHistory {
+        SunHistory {
+            start_s: 0,
+            interval_s: 1800,
+            sunlit: (0..=96).map(|i| !shade.contains(&i)).collect(),
+        }
+    }
+
+    #[test]
+    fn a_march_resumed_from_a_checkpoint_is_the_march_that_did_not_stop() {
+        let f = two_days();
+        let m = mats()[0];
+        let flat = Orientation {
+            slope_deg: 0.0,
+            aspect_deg: 0.0,
+        };
+        // Histories alike until the last hours (a shadow arriving at 42 h
+        // or 44 h), and one that differs on the first day.
+        let (a, b, c) = (shaded(84..97), shaded(88..97), shaded(30..36));
+        let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+        let sa = cache.solve(0, &m, flat, Some(&a), 1, &f).unwrap();
+        let after_a = cache.stats();
+        assert!(after_a.checkpoints >= 3, "{after_a:?}");
+        assert_eq!(after_a.resumed, 0);
+        let sb = cache.solve(0, &m, flat, Some(&b), 1, &f).unwrap();
+        let sc = cache.solve(0, &m, flat, Some(&c), 1, &f).unwrap();
+        let st = cache.stats();
+        assert_eq!(
+            st.resumed, 1,
+            "b resumes from a's checkpoint, c cannot: {st:?}"
+        );
+        assert!(
+            3 * sb.steps_accepted < 2 * sa.steps_accepted,
+            "b marches only its last hours: {} vs {} steps",
+            sb.steps_accepted,
+            sa.steps_accepted
+        );
+        // Bit for bit what a cache that solves b alone, and the plain
+        // march, give.
+        for (h, s) in [(&b, &sb), (&a, &sa), (&c, &sc)] {
+            let alone = ThermCache::new(ThermSettings::default(), 0.5, false)
+                .solve(0, &m, flat, Some(h), 1, &f)
+                .unwrap();
+            let plain =
+                solve_surface(&m, flat, Some(h), &f, &ThermSettings::default(), false).unwrap();
+            assert_eq!(s.profile_k, alone.profile_k);
+            assert_eq!(s.profile_k, plain.profile_k);
+            assert_eq!(s.surface_temp_k.to_bits(), plain.surface_temp_k.to_bits());
+        }
+        // The shadow changes the answer (the test is not vacuous).
+        assert!((sa.surface_temp_k - sb.surface_temp_k).abs() > 0.05);
     }
 
     #[test]

@@ -10,6 +10,13 @@
 //!   of the spin-up, `from − spin_up_h`; its own step is used.
 //! * Shadow ranges ([`ShadowRange`]) shade the facet (no direct sun); the
 //!   history is sampled on a uniform grid of the smallest forcing interval.
+//! * A material on `deep_ground = {}` sits on the deep-ground temperature
+//!   a render uses with `to` as the image time
+//!   ([`super::conditions::deep_ground_temp_k`]: the mean air temperature,
+//!   trapezoid rule on hourly samples, of the 72 h before `to`, or of the
+//!   whole run if longer, clipped to the start of the record); from a
+//!   forcing CSV, the same rule on the CSV's own samples
+//!   ([`forcing_deep_ground_k`]).
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +25,9 @@ use chrono::{DateTime, Duration, NaiveTime, Timelike, Utc};
 use serde::Serialize;
 
 use super::balance::{Convection, Orientation};
+use super::conditions::{
+    DEEP_GROUND_WINDOW_H, deep_ground_temp_k, weather_window, with_deep_ground,
+};
 use super::forcing::Forcing;
 use super::forcing_csv::read_forcing_csv;
 use super::slab::{SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, ThermSettings};
@@ -122,13 +132,17 @@ pub struct FacetRun {
     pub shadow: Vec<ShadowRange>,
 }
 
-/// One output row: the time, then the step's record (flattened).
+/// One output row: the time, then the step's record (flattened), then the
+/// stability function in force.
 #[derive(Clone, Debug, Serialize)]
 pub struct ThermRow {
     /// RFC 3339, whole seconds.
     pub time_utc: String,
     #[serde(flatten)]
     pub rec: StepRecord,
+    /// `F(Ri)` of the surface layer at this step
+    /// ([`super::balance::SurfaceFluxes::stability_factor`]; 1 = neutral).
+    pub stability_factor: f64,
 }
 
 /// The facet's series; serialises as `irsig therm --json` prints it.
@@ -140,14 +154,22 @@ pub struct FacetSeries {
     pub settings: ThermSettings,
     /// Nodes of the slab's grid.
     pub nodes: usize,
+    /// The deep-ground temperature the slab's back sat on, K (a
+    /// `deep_ground = {}` material: the rule of
+    /// [`super::conditions::deep_ground_temp_k`] with `to` as the image
+    /// time; a fixed `temp_c`: that); `None` for other backs.
+    pub deep_ground_k: Option<f64>,
     pub rows: Vec<ThermRow>,
     /// The weather estimators used, one line each (none for a forcing CSV).
     #[serde(skip)]
     pub estimator_lines: Vec<String>,
 }
 
-/// Forcing from a weather file (`n_steps + 1` samples from `start`) and the
-/// report of the estimators used.
+/// Forcing from a weather file (`n_steps + 1` samples from `start`), the
+/// report of the estimators used, and the deep-ground temperature with
+/// `image_time` as the image time (the render's rule,
+/// [`deep_ground_temp_k`]; the record is read over the render's
+/// [`weather_window`]).
 fn forcing_from_weather(
     path: &Path,
     typical_year: bool,
@@ -155,15 +177,58 @@ fn forcing_from_weather(
     start: DateTime<Utc>,
     step_s: f64,
     n_steps: usize,
-) -> anyhow::Result<(Vec<Forcing>, Vec<String>)> {
-    let end = start + Duration::milliseconds((step_s * n_steps as f64 * 1e3).round() as i64);
+    image_time: DateTime<Utc>,
+) -> anyhow::Result<(Vec<Forcing>, Vec<String>, f64)> {
+    let (w_from, w_to) = weather_window(start, image_time);
     let opts = crate::weather::ReadOptions {
-        typical_year: typical_year.then(|| crate::weather::YearSpan::around(start, end)),
+        typical_year: typical_year.then(|| crate::weather::YearSpan::around(w_from, w_to)),
         ..Default::default()
     };
     let history = crate::weather::read_weather_file_with(path, &opts)?.history;
     let (forcing, report) = super::forcing::build_forcing(&history, site, start, step_s, n_steps)?;
-    Ok((forcing, report.lines()))
+    let deep_k = deep_ground_temp_k(&history, site, start, image_time)?;
+    Ok((forcing, report.lines(), deep_k))
+}
+
+/// The deep-ground rule of [`deep_ground_temp_k`] on a ready forcing (a
+/// forcing CSV, whose `t_s = 0` is the history's start): the mean air
+/// temperature, trapezoid rule, over the [`DEEP_GROUND_WINDOW_H`] hours
+/// before `end_s` or over the whole forcing if it starts later, K. The
+/// samples are the forcing's own (linear between them), not hourly.
+pub fn forcing_deep_ground_k(forcing: &[Forcing], end_s: f64) -> Option<f64> {
+    let from_s = end_s - DEEP_GROUND_WINDOW_H as f64 * 3600.0;
+    let air_at = |t: f64| {
+        let i = forcing
+            .partition_point(|f| f.t_s <= t)
+            .clamp(1, forcing.len() - 1);
+        let (a, b) = (&forcing[i - 1], &forcing[i]);
+        let w = if b.t_s > a.t_s {
+            ((t - a.t_s) / (b.t_s - a.t_s)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        a.air_temp_k + w * (b.air_temp_k - a.air_temp_k)
+    };
+    match forcing {
+        [] => None,
+        [f] => Some(f.air_temp_k),
+        _ => {
+            let lo = from_s.max(forcing[0].t_s);
+            let hi = end_s.min(forcing[forcing.len() - 1].t_s);
+            if hi <= lo {
+                return Some(air_at(hi));
+            }
+            // Knots: the window's ends and every sample inside it.
+            let mut knots = vec![lo];
+            knots.extend(forcing.iter().map(|f| f.t_s).filter(|&t| t > lo && t < hi));
+            knots.push(hi);
+            let sum: f64 = knots
+                .windows(2)
+                .map(|k| 0.5 * (air_at(k[0]) + air_at(k[1])) * (k[1] - k[0]))
+                .sum();
+            Some(sum / (hi - lo))
+        }
+    }
 }
 
 /// Marches the facet of `run` and returns its rows from `run.from` to
@@ -206,7 +271,7 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
         );
     }
     let start = from - Duration::milliseconds((run.spin_up_h * 3.6e6).round() as i64);
-    let (forcing, estimator_lines) = match &run.forcing {
+    let (forcing, estimator_lines, deep_k) = match &run.forcing {
         ForcingSource::ForcingCsv(p) => {
             let f = read_forcing_csv(p)?;
             let end_s = (to - start).num_milliseconds() as f64 / 1e3;
@@ -217,13 +282,16 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
                     p.display()
                 );
             }
-            (f, Vec::new())
+            let deep_k = forcing_deep_ground_k(&f, end_s);
+            (f, Vec::new(), deep_k)
         }
         ForcingSource::Weather { path, typical_year } => {
             let step_s = run.step_min * 60.0;
             let total_s = (to - start).num_milliseconds() as f64 / 1e3;
             let n_steps = (total_s / step_s).ceil().max(1.0) as usize;
-            forcing_from_weather(path, *typical_year, &run.site, start, step_s, n_steps)?
+            let (f, lines, deep_k) =
+                forcing_from_weather(path, *typical_year, &run.site, start, step_s, n_steps, to)?;
+            (f, lines, Some(deep_k))
         }
     };
     let at = |t_s: f64| start + Duration::milliseconds((t_s * 1e3).round() as i64);
@@ -264,7 +332,18 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
         convection: run.convection,
         ..ThermSettings::default()
     };
-    let model = SlabModel::new(&run.material, run.orientation, &settings)
+    // One deep-ground rule for `irsig therm` and a render: resolve
+    // `deep_ground = {}` here rather than leave it to the slab's fallback
+    // (the plain mean of the forcing it is given).
+    let material = match deep_k {
+        Some(k) => with_deep_ground(std::slice::from_ref(&run.material), k)[0],
+        None => run.material,
+    };
+    let deep_ground_k = match material.back {
+        super::slab::BackBoundary::DeepGround { temp_k } => temp_k,
+        _ => None,
+    };
+    let model = SlabModel::new(&material, run.orientation, &settings)
         .with_context(|| format!("material '{}'", run.material_name))?
         .with_height(run.facet_height_m);
     let sol = model.solve(&forcing, shadow.as_ref(), true)?;
@@ -276,6 +355,7 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
         .map(|r| ThermRow {
             time_utc: at(r.t_s).to_rfc3339_opts(chrono::SecondsFormat::Secs, true),
             rec: *r,
+            stability_factor: r.surface.stability_factor(),
         })
         .collect();
     Ok(FacetSeries {
@@ -284,6 +364,7 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
         orientation: run.orientation,
         settings,
         nodes: model.nodes(),
+        deep_ground_k,
         rows,
         estimator_lines,
     })
@@ -292,6 +373,53 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn ramp(hours: usize, step_h: f64) -> Vec<Forcing> {
+        let base = Forcing {
+            t_s: 0.0,
+            air_temp_k: 0.0,
+            sky_temp_k: 260.0,
+            wind_speed_m_s: 2.0,
+            dni_w_m2: 0.0,
+            dhi_w_m2: 0.0,
+            ghi_w_m2: 0.0,
+            sun_dir_enu: [0.0, 0.0, -1.0],
+            dew_point_k: 270.0,
+            pressure_pa: 101_325.0,
+            precip_mm_h: 0.0,
+            ground_temp_k: None,
+        };
+        (0..=(hours as f64 / step_h) as usize)
+            .map(|i| {
+                let t_h = i as f64 * step_h;
+                Forcing {
+                    t_s: t_h * 3600.0,
+                    // 1 K/h: the trapezoid mean of a line is exact.
+                    air_temp_k: 280.0 + t_h,
+                    ..base
+                }
+            })
+            .collect()
+    }
+
+    /// The deep-ground rule on a forcing CSV: the mean air temperature of
+    /// the 72 h before the end, or of the whole forcing if shorter. On a
+    /// 1 K/h ramp the exact means are the window's mid-point values.
+    #[test]
+    fn forcing_deep_ground_is_the_72_h_mean_air_temperature() {
+        // 100 h of forcing, end at 100 h: window 28-100 h, mean at 64 h.
+        let f = ramp(100, 0.25);
+        let k = forcing_deep_ground_k(&f, 100.0 * 3600.0).unwrap();
+        assert!((k - 344.0).abs() < 1e-9, "{k}");
+        // End at 90 h (the forcing goes on): window 18-90 h, mean at 54 h.
+        let k = forcing_deep_ground_k(&f, 90.0 * 3600.0).unwrap();
+        assert!((k - 334.0).abs() < 1e-9, "{k}");
+        // 48 h of forcing: the whole of it, mean at 24 h; uneven steps.
+        let f = ramp(48, 1.5);
+        let k = forcing_deep_ground_k(&f, 48.0 * 3600.0).unwrap();
+        assert!((k - 304.0).abs() < 1e-9, "{k}");
+        assert_eq!(forcing_deep_ground_k(&[], 0.0), None);
+    }
 
     #[test]
     fn shadow_ranges_parse_and_contain() {

@@ -75,6 +75,9 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<Mesh, SceneError> {
         ..Mesh::default()
     };
     let (mut n_vt, mut n_vn) = (0usize, 0usize);
+    // Face vertices whose texture/normal index is out of range (count,
+    // first line and what): read past, as irsig uses neither.
+    let mut ignored: (usize, Option<(usize, String)>) = (0, None);
     let mut current: Option<u32> = None;
     let mut parts: Vec<Part> = Vec::new();
     let (mut object, mut groups): (Option<usize>, Vec<usize>) = (None, Vec::new());
@@ -116,12 +119,16 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<Mesh, SceneError> {
                     )));
                 }
                 let counts = [m.positions.len(), n_vt, n_vn];
-                let verts = args
-                    .iter()
-                    .map(|a| {
-                        face_vertex(a, counts).map_err(|e| err(format!("face vertex `{a}`: {e}")))
-                    })
-                    .collect::<Result<Vec<u32>, _>>()?;
+                let mut verts = Vec::with_capacity(args.len());
+                for a in &args {
+                    let (v, unused) = face_vertex(a, counts)
+                        .map_err(|e| err(format!("face vertex `{a}`: {e}")))?;
+                    verts.push(v);
+                    if let Some(e) = unused {
+                        ignored.0 += 1;
+                        ignored.1.get_or_insert((ln, format!("`{a}`: {e}")));
+                    }
+                }
                 m.faces.push(Face {
                     verts,
                     material: current,
@@ -196,6 +203,13 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<Mesh, SceneError> {
         }
     }
     let file = path.display();
+    if let (n, Some((ln, what))) = ignored {
+        m.warnings.push(format!(
+            "{file}: {n} face vertices refer to texture coordinates or normals that are not \
+             defined (first at line {ln}, {what}); irsig reads neither, so those indices are \
+             ignored (vertex indices are still checked)"
+        ));
+    }
     if m.faces.is_empty() {
         m.warnings.push(format!(
             "{file}: no faces (`f`): nothing of it is rendered (points and lines are not surfaces)"
@@ -284,8 +298,10 @@ fn num(s: &str) -> Option<f64> {
 }
 
 /// One `v[/vt][/vn]` face token, checked against the counts of vertices,
-/// texture coordinates and normals so far; the 0-based vertex index.
-fn face_vertex(tok: &str, counts: [usize; 3]) -> Result<u32, String> {
+/// texture coordinates and normals so far; the 0-based vertex index, and
+/// what was wrong with a texture or normal index that is out of range
+/// (irsig uses neither, so such an index is ignored, not refused).
+fn face_vertex(tok: &str, counts: [usize; 3]) -> Result<(u32, Option<String>), String> {
     let parts: Vec<&str> = tok.split('/').collect();
     if parts.len() > 3 {
         return Err("expected v, v/vt, v//vn or v/vt/vn".into());
@@ -296,6 +312,7 @@ fn face_vertex(tok: &str, counts: [usize; 3]) -> Result<u32, String> {
         ("normal", "normals"),
     ];
     let mut vertex = 0;
+    let mut unused = None;
     for (j, p) in parts.iter().enumerate() {
         if p.is_empty() {
             if j == 0 {
@@ -312,16 +329,21 @@ fn face_vertex(tok: &str, counts: [usize; 3]) -> Result<u32, String> {
         } else if idx < 0 && idx.unsigned_abs() <= n as u64 {
             n as u64 - idx.unsigned_abs()
         } else {
-            return Err(format!(
+            let msg = format!(
                 "{kind} index {idx} is out of range: {n} {plural} defined so far (indices are 1..={n} or -1..=-{n})"
-            ));
+            );
+            if j == 0 {
+                return Err(msg);
+            }
+            unused.get_or_insert(msg);
+            continue;
         };
         if j == 0 {
             vertex = u32::try_from(zero_based)
                 .map_err(|_| format!("vertex index {idx} exceeds 2^32 vertices"))?;
         }
     }
-    Ok(vertex)
+    Ok((vertex, unused))
 }
 
 #[cfg(test)]
@@ -402,9 +424,15 @@ mod tests {
             parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap_err(),
             "m.obj:4: face vertex `0`: vertex index 0 is out of range: 3 vertices defined so far (indices are 1..=3 or -1..=-3)"
         );
+        // Texture and normal indices are not used: out of range, they are
+        // read past with a warning (not refused).
+        let m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n").unwrap();
+        assert_eq!(m.faces[0].verts, vec![0, 1, 2]);
         assert_eq!(
-            parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n").unwrap_err(),
-            "m.obj:4: face vertex `1/1`: texture coordinate index 1 is out of range: 0 texture coordinates defined so far (indices are 1..=0 or -1..=-0)"
+            m.warnings,
+            vec![
+                "m.obj: 3 face vertices refer to texture coordinates or normals that are not defined (first at line 4, `1/1`: texture coordinate index 1 is out of range: 0 texture coordinates defined so far (indices are 1..=0 or -1..=-0)); irsig reads neither, so those indices are ignored (vertex indices are still checked)"
+            ]
         );
     }
 

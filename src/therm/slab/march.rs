@@ -59,6 +59,30 @@ pub struct ThermSolution {
     pub newton_iterations: usize,
 }
 
+/// The window of forcing (from its first sample) whose mean drive gives the
+/// initial profile under [`SpinUpStart::MeanForcing`], s: one day.
+pub const SPIN_UP_MEAN_WINDOW_S: f64 = 86_400.0;
+
+/// A march stopped at a forcing sample: everything its next step reads
+/// (the node profile, the last accepted increment and step, the step
+/// suggestion, the water store) and its counters. Resuming it with
+/// [`SlabModel::advance`] gives the bits of the march that did not stop.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarchState {
+    /// Index of the forcing sample the march stands at.
+    pub at: usize,
+    temps: Vec<f64>,
+    prev_inc: Vec<f64>,
+    prev_h: f64,
+    h_try: f64,
+    store_mm: f64,
+    energy_in: f64,
+    /// Accepted and rejected steps and Newton iterations so far.
+    pub accepted: usize,
+    pub rejected: usize,
+    pub newton: usize,
+}
+
 /// A slab of one material at one orientation, ready to march.
 #[derive(Clone, Debug)]
 pub struct SlabModel {
@@ -102,6 +126,13 @@ struct Work {
     built_g: Vec<f64>,
     /// Newton iterations done with this scratch.
     newton: usize,
+}
+
+impl MarchState {
+    /// Number of nodes of the slab it marches.
+    pub fn nodes(&self) -> usize {
+        self.temps.len()
+    }
 }
 
 impl SlabModel {
@@ -543,16 +574,26 @@ impl SlabModel {
             })
     }
 
-    /// Steady state under the time-mean surface drive of `forcing` (each
-    /// sample's drive with its sun/shadow flag, trapezoid weights in time):
-    /// every term of [`SurfaceDrive`] is averaged, and the back face sees the
-    /// mean air temperature and wind. See the module docs for why.
+    /// Steady state under the time-mean surface drive of the first
+    /// [`SPIN_UP_MEAN_WINDOW_S`] (24 h) of `forcing` — all of it when it is
+    /// shorter — (each sample's drive with its sun/shadow flag, trapezoid
+    /// weights in time): every term of [`SurfaceDrive`] is averaged, and
+    /// the back face sees the mean air temperature and wind. See the module
+    /// docs for why. One whole day is the period of the diurnal forcing,
+    /// so its mean is the mean of the periodic solution; and the initial
+    /// state then depends only on the first day of the sun/shadow history,
+    /// so that marches of histories that differ only later share their
+    /// start (the thermal cache's checkpoints, `therm::cache`).
     pub fn mean_equilibrium(
         &self,
         forcing: &[Forcing],
         shadow: Option<&SunHistory>,
         deep: Option<f64>,
     ) -> Result<Vec<f64>, ThermError> {
+        let end = forcing
+            .partition_point(|f| f.t_s <= forcing[0].t_s + SPIN_UP_MEAN_WINDOW_S)
+            .max(1);
+        let forcing = &forcing[..end];
         let n = forcing.len();
         let mut sum = SurfaceDrive::default();
         let mut total_w = 0.0;
@@ -687,6 +728,74 @@ impl SlabModel {
         shadow: Option<&SunHistory>,
         record: bool,
     ) -> Result<ThermSolution, ThermError> {
+        let mut state = self.initial_state(forcing, shadow)?;
+        let mut series = Vec::new();
+        let rec = if record { Some(&mut series) } else { None };
+        self.advance(&mut state, forcing, shadow, forcing.len() - 1, rec)?;
+        Ok(Self::finish(state, series))
+    }
+
+    /// Marches an explicit initial node profile (length [`Self::nodes`])
+    /// through the forcing, from its first to its last sample.
+    pub fn march(
+        &self,
+        init_k: Vec<f64>,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        record: bool,
+    ) -> Result<ThermSolution, ThermError> {
+        let mut state = self.start_state(init_k, forcing)?;
+        let mut series = Vec::new();
+        let rec = if record { Some(&mut series) } else { None };
+        self.advance(&mut state, forcing, shadow, forcing.len() - 1, rec)?;
+        Ok(Self::finish(state, series))
+    }
+
+    /// The state of a march standing at the first forcing sample with the
+    /// node profile `init_k` (length [`Self::nodes`]; a fixed deep node is
+    /// set to the deep-ground temperature).
+    pub fn start_state(
+        &self,
+        init_k: Vec<f64>,
+        forcing: &[Forcing],
+    ) -> Result<MarchState, ThermError> {
+        validate_forcing(forcing)?;
+        let n = self.nodes();
+        if init_k.len() != n || init_k.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+            return Err(ThermError::BadInput(format!(
+                "initial profile must have {n} finite positive temperatures"
+            )));
+        }
+        let mut temps = init_k;
+        if let Some(d) = self.deep_temp_k(forcing) {
+            temps[n - 1] = d;
+        }
+        let s = &self.settings;
+        Ok(MarchState {
+            at: 0,
+            prev_inc: vec![0.0; n],
+            temps,
+            prev_h: f64::NAN,
+            h_try: match s.tol_k {
+                Some(_) => s.step_s.min(60.0),
+                None => s.step_s,
+            },
+            store_mm: 0.0,
+            energy_in: 0.0,
+            accepted: 0,
+            rejected: 0,
+            newton: 0,
+        })
+    }
+
+    /// The spin-up state of [`Self::solve`]: the march standing at the
+    /// first forcing sample with the initial profile of
+    /// [`ThermSettings::spin_up_start`].
+    pub fn initial_state(
+        &self,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+    ) -> Result<MarchState, ThermError> {
         validate_forcing(forcing)?;
         if let Some(h) = shadow {
             h.validate()?;
@@ -699,64 +808,64 @@ impl SlabModel {
             }
             SpinUpStart::MeanForcing => self.mean_equilibrium(forcing, shadow, deep)?,
         };
-        self.march(init, forcing, shadow, record)
+        self.start_state(init, forcing)
     }
 
-    /// Marches an explicit initial node profile (length [`Self::nodes`])
-    /// through the forcing, from its first to its last sample.
-    pub fn march(
+    /// Marches `state` on from the forcing sample it stands at to sample
+    /// `until` (the march's breakpoints are the forcing samples, so a
+    /// march stopped at a sample and resumed is bit for bit the march that
+    /// did not stop: everything its next step reads is in the state).
+    /// With `series`, the record of each sample reached is pushed (and of
+    /// the first sample, when the march stands there).
+    pub fn advance(
         &self,
-        init_k: Vec<f64>,
+        state: &mut MarchState,
         forcing: &[Forcing],
         shadow: Option<&SunHistory>,
-        record: bool,
-    ) -> Result<ThermSolution, ThermError> {
-        validate_forcing(forcing)?;
+        until: usize,
+        mut series: Option<&mut Vec<StepRecord>>,
+    ) -> Result<(), ThermError> {
         let n = self.nodes();
-        if init_k.len() != n || init_k.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+        if state.temps.len() != n || until >= forcing.len() {
             return Err(ThermError::BadInput(format!(
-                "initial profile must have {n} finite positive temperatures"
+                "march state of {} nodes up to sample {until} for a {n}-node slab and {} samples",
+                state.temps.len(),
+                forcing.len()
             )));
         }
         let deep = self.deep_temp_k(forcing);
-        let mut temps = init_k;
-        if let Some(d) = deep {
-            temps[n - 1] = d;
+        let capacity_mm = self.water_capacity_mm();
+        let mut w = Work::new(n);
+        let mut g = vec![0.0; n - 1];
+        let MarchState {
+            at,
+            temps,
+            prev_inc,
+            prev_h,
+            h_try,
+            store_mm,
+            energy_in,
+            accepted,
+            rejected,
+            newton,
+        } = state;
+        let mut new = temps.clone();
+        let s = &self.settings;
+        if let Some(out) = series.as_deref_mut()
+            && *at == 0
+            && out.is_empty()
+        {
+            let e0 = self.mesh.stored_energy_j_m2(temps);
+            out.push(self.record(&forcing[0], shadow, temps, deep, e0, 0.0, *store_mm));
         }
-        let t_start = forcing[0].t_s;
         // Breakpoints: every forcing sample (where the interpolated forcing
         // has a kink). Sun/shadow transitions are not breakpoints: a step
         // takes the history's exact mean sunlit fraction over its span
         // (`mean_sun_fraction`), and the step control resolves the
         // transition like any other change of the drive.
-        let bps: Vec<f64> = forcing.iter().map(|f| f.t_s).collect();
-        let mut w = Work::new(n);
-        let mut g = vec![0.0; n - 1];
-        let capacity_mm = self.water_capacity_mm();
-        let mut store_mm = 0.0f64;
-        let mut new = temps.clone();
-        let mut prev_inc = vec![0.0; n];
-        let mut prev_h = f64::NAN;
-        let mut energy_in = 0.0;
-        let mut series = Vec::new();
-        let mut next_rec = 0usize; // index into forcing of the next record
-        let mut accepted = 0usize;
-        let mut rejected = 0usize;
-        let s = &self.settings;
-        let mut h_try = match s.tol_k {
-            Some(_) => s.step_s.min(60.0),
-            None => s.step_s,
-        };
-        let e0 = self.mesh.stored_energy_j_m2(&temps);
-        let mut t = t_start;
-        if record {
-            series.push(self.record(&forcing[0], shadow, &temps, deep, e0, 0.0, store_mm));
-            next_rec = 1;
-        }
-        for seg in bps.windows(2) {
-            let (a, b) = (seg[0], seg[1]);
-            debug_assert!((t - a).abs() <= 1e-9 * a.abs().max(1.0));
-            t = a;
+        while *at < until {
+            let (a, b) = (forcing[*at].t_s, forcing[*at + 1].t_s);
+            let mut t = a;
             while t < b {
                 let mut h = h_try.min(s.step_s);
                 let last = t + h >= b - 1e-9 * (b - a).max(1e-9);
@@ -768,36 +877,37 @@ impl SlabModel {
                 let sunlit = mean_sun_fraction(shadow, t, t_new, s.shadow_ramp);
                 let mut drive = self.step_drive(&f, sunlit);
                 if capacity_mm > 0.0 {
-                    wet_drive(&mut drive, store_mm, f.precip_mm_h, f.air_temp_k, h);
+                    wet_drive(&mut drive, *store_mm, f.precip_mm_h, f.air_temp_k, h);
                 }
-                self.conductances(&temps, &mut g);
-                new.copy_from_slice(&temps);
+                self.conductances(temps, &mut g);
+                new.copy_from_slice(temps);
                 if prev_h.is_finite() {
                     // Newton starts from the linear extrapolation of the
                     // last accepted step (the implicit step's root does not
                     // depend on the start; fewer iterations reach it).
-                    let r = h / prev_h;
+                    let r = h / *prev_h;
                     new[0] = (temps[0] + r * prev_inc[0]).max(1.0);
                     new[n - 1] = (temps[n - 1] + r * prev_inc[n - 1]).max(1.0);
                     if let Some(d) = deep {
                         new[n - 1] = d;
                     }
                 }
-                let ok = self.implicit_step(&temps, &mut new, h, &g, &drive, deep, &mut w);
+                let ok = self.implicit_step(temps, &mut new, h, &g, &drive, deep, &mut w);
                 if !ok {
                     if h <= s.min_step_s {
+                        *newton += w.newton;
                         return Err(ThermError::NoConvergence {
                             t_s: t,
                             why: format!("Newton did not converge at the smallest step {h} s"),
                         });
                     }
-                    rejected += 1;
-                    h_try = (h * 0.25).max(s.min_step_s);
+                    *rejected += 1;
+                    *h_try = (h * 0.25).max(s.min_step_s);
                     continue;
                 }
                 // Local error estimate  h²/2·|T''| ≈ h/(h + h_prev)·|Δ − (h/h_prev)·Δ_prev|.
                 if let Some(tol) = s.tol_k {
-                    let hp = if prev_h.is_finite() { prev_h } else { h };
+                    let hp = if prev_h.is_finite() { *prev_h } else { h };
                     let mut err = 0.0f64;
                     for i in 0..n {
                         let inc = new[i] - temps[i];
@@ -810,20 +920,20 @@ impl SlabModel {
                         4.0
                     };
                     if err > tol && h > s.min_step_s {
-                        rejected += 1;
-                        h_try = (h * fac.clamp(0.1, 0.9)).max(s.min_step_s);
+                        *rejected += 1;
+                        *h_try = (h * fac.clamp(0.1, 0.9)).max(s.min_step_s);
                         continue;
                     }
-                    h_try = h * fac.clamp(0.2, 4.0);
+                    *h_try = h * fac.clamp(0.2, 4.0);
                     if last {
                         // Keep the pre-truncation step suggestion sensible.
-                        h_try = h_try.max(h);
+                        *h_try = h_try.max(h);
                     }
                 }
                 // Accept. The step's fluxes are needed only for the energy
                 // record and the water store (a third of a solve's flux
                 // evaluations otherwise).
-                if record || capacity_mm > 0.0 {
+                if series.is_some() || capacity_mm > 0.0 {
                     let (sf, _) = balance::surface_fluxes(
                         &drive,
                         self.material.thermal_emissivity,
@@ -841,10 +951,10 @@ impl SlabModel {
                     } else {
                         0.0
                     };
-                    energy_in += h * (sf.net_w_m2 - lost + back);
+                    *energy_in += h * (sf.net_w_m2 - lost + back);
                     if capacity_mm > 0.0 {
-                        store_mm = update_store_mm(
-                            store_mm,
+                        *store_mm = update_store_mm(
+                            *store_mm,
                             capacity_mm,
                             f.precip_mm_h,
                             sf.latent_w_m2,
@@ -856,34 +966,32 @@ impl SlabModel {
                 for i in 0..n {
                     prev_inc[i] = new[i] - temps[i];
                 }
-                prev_h = h;
+                *prev_h = h;
                 temps.copy_from_slice(&new);
                 t = t_new;
-                accepted += 1;
+                *accepted += 1;
             }
-            if record && next_rec < forcing.len() && forcing[next_rec].t_s <= t {
-                let e = self.mesh.stored_energy_j_m2(&temps);
-                series.push(self.record(
-                    &forcing[next_rec],
-                    shadow,
-                    &temps,
-                    deep,
-                    e,
-                    energy_in,
-                    store_mm,
-                ));
-                next_rec += 1;
+            *at += 1;
+            if let Some(out) = series.as_deref_mut() {
+                let e = self.mesh.stored_energy_j_m2(temps);
+                out.push(self.record(&forcing[*at], shadow, temps, deep, e, *energy_in, *store_mm));
             }
         }
-        Ok(ThermSolution {
-            surface_temp_k: temps[0],
-            water_store_mm: store_mm,
-            profile_k: temps,
+        *newton += w.newton;
+        Ok(())
+    }
+
+    /// The solution a march's final state stands for.
+    pub fn finish(state: MarchState, series: Vec<StepRecord>) -> ThermSolution {
+        ThermSolution {
+            surface_temp_k: state.temps[0],
+            water_store_mm: state.store_mm,
+            profile_k: state.temps,
             series,
-            steps_accepted: accepted,
-            steps_rejected: rejected,
-            newton_iterations: w.newton,
-        })
+            steps_accepted: state.accepted,
+            steps_rejected: state.rejected,
+            newton_iterations: state.newton,
+        }
     }
 
     #[allow(clippy::too_many_arguments)]

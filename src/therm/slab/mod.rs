@@ -46,8 +46,9 @@
 //! alone decides how finely a transition is resolved.
 //!
 //! **Spin-up.** The march starts from a steady state ([`SpinUpStart`]): by
-//! default the steady state under the *time-mean* surface drive of the whole
-//! forcing series (the pixel's sun/shadow history included); optionally, as
+//! default the steady state under the *time-mean* surface drive of the
+//! first 24 h of the forcing (the whole series when it is shorter; the
+//! pixel's sun/shadow history included); optionally, as
 //! in THERM, under the first forcing sample. For a linear slab under
 //! periodic forcing the mean of the periodic solution is exactly the steady
 //! state under the mean forcing (the heat equation commutes with time
@@ -66,6 +67,9 @@ mod settings;
 pub use grid::Mesh;
 pub use history::{SunHistory, mean_sun_fraction, sun_fraction};
 pub use interp::{forcing_at, validate_forcing};
-pub use march::{SlabModel, StepRecord, ThermSolution, solve_surface, update_store_mm};
+pub use march::{
+    MarchState, SPIN_UP_MEAN_WINDOW_S, SlabModel, StepRecord, ThermSolution, solve_surface,
+    update_store_mm,
+};
 pub use material::{BackBoundary, SlabMaterial};
 pub use settings::{SpinUpStart, ThermError, ThermSettings};

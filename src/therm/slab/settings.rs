@@ -9,8 +9,9 @@ use crate::therm::balance::Convection;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SpinUpStart {
-    /// Steady state under the time-mean surface drive of the whole forcing
-    /// series, with the sun/shadow flag of each sample (see the module docs).
+    /// Steady state under the time-mean surface drive of the first 24 h of
+    /// the forcing series (all of it when shorter), with the sun/shadow flag
+    /// of each sample (see the module docs).
     #[default]
     MeanForcing,
     /// Steady state under the first forcing sample and its sun flag (the

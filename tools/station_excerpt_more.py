@@ -1,0 +1,345 @@
+#!/usr/bin/env python3
+"""Writes the station-day excerpts whose skin temperature is measured by an
+infrared thermometer (IRT) rather than derived from the upwelling longwave
+(tools/station_excerpt.py writes the others). Same output format
+(tests/data/stations/README.md): an irsig plain weather CSV with the
+measured forcing plus `x_` columns; here `x_skin_temp_c` is the IRT reading
+and `x_lw_up_w_m2` is empty (not measured), and the header says
+`skin_source: ir_thermometer`.
+
+Station-days (the compared day is the whole local day named; the day before
+it, measured, is the 24-h spin-up):
+
+  bnd-19980517  NOAA ATDD/ARL Bondville, IL (Champaign) flux site, 1998 --
+  bnd-19980725  the Noah LSM's test forcing (forcing98_with_validation.dat,
+  bnd-19980801  30-min, LST = UTC-6, stamps at the END of each half hour):
+                bare residue-covered soil before emergence (May 17, hot,
+                clear); a calm clear night after a sunny day (Jul 25); the
+                crop at full cover and peak transpiration (Aug 1, latent
+                heat flux up to 525 W/m2).
+  cdp-20020110  Col de Porte (1325 m, French Alps), snow-covered meadow,
+                clear and calm (Morin et al. 2012 forcing via GEOtop's test
+                data: hourly, UTC, stamps at the END of each hour; the snow
+                surface temperature from the CRYOBSCLIM.CDP hourly file).
+
+Raw inputs: tools/data/stations-raw/ holds unchanged line excerpts of the
+Noah and Col de Porte forcing files and the surface-temperature column of the
+Col de Porte hourly netCDF for the same hours (cdp_surface_temp_2002-01.csv,
+written by --cdp-nc from the full 120 MB file, which is not committed).
+
+Standard library only. Run:
+    python3 tools/station_excerpt_more.py [--cdp-nc CDP_hourly_19930801_20170731.nc]
+"""
+import argparse
+import datetime as dt
+import pathlib
+import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import station_excerpt as se  # noqa: E402  (helpers: fill_required, midday_albedo, fmt, iso)
+
+RAW = se.RAW
+OUT = se.OUT
+UTC = se.UTC
+
+# SHA-256 of the raw excerpts the committed station-days were written from
+# (station_excerpt.check_raw warns when an input differs).
+RAW_SHA256 = {
+    "noah98_bondville_excerpt.dat": "42f4bebcd20a94cfca4fe4fb39ac55e47d88e21e09e8796749e307d55d575bcd",
+    "cdp_meteo0001_2002-01.txt": "5f3ea8e641ad1583b1f723a49cec235e9d52e51260f6146da078e6ad7b3ab171",
+    "cdp_surface_temp_2002-01.csv": "76b03c0ba288135fbcd308580b8d3b43c42100264f83519d3cbfad5e40ef2360",
+    "de-tha_bigleaf_DE_Tha_Jun_2014_doy157-158.csv": "d0f4e774187ac5571e3991d690245d0e96f890092419560071f234d6ba1f17bc",
+}
+se.RAW_SHA256.update(RAW_SHA256)
+
+NOAH_COLS = ("jday time w_speed w_dir ta rh pres rg par_in par_out rnet ghf rain wet irt "
+             "t2 t4 t8 t16 t32 t64 u_bar uw u2 v2 w2 h le co2 lw_in sm5 sm20 sm60").split()
+
+
+def read_noah98(path):
+    """Noah LSM forcing98_with_validation.dat (User's Guide 2.7.1, sec. 6.1):
+    33 columns, 30-min records, `time` = LST (UTC-6) hhmm at the END of the
+    half hour; missing = -6999. Returns records with UTC 'end' times."""
+    recs = []
+    for ln in se.check_raw(path).read_text().splitlines():
+        f = ln.split()
+        if len(f) != len(NOAH_COLS):
+            continue
+        v = dict(zip(NOAH_COLS, (float(x) for x in f)))
+        num = lambda k: None if v[k] <= -6000 else v[k]
+        hhmm = int(v["time"])
+        lst_end = (dt.datetime(1998, 1, 1) + dt.timedelta(days=int(v["jday"]) - 1,
+                                                           hours=hhmm // 100, minutes=hhmm % 100))
+        end = (lst_end + dt.timedelta(hours=6)).replace(tzinfo=UTC)
+        rain_in = num("rain")
+        recs.append({"end": end, "span": dt.timedelta(minutes=30),
+                     "ghi": num("rg"), "dni": None, "dhi": None, "sw_up": None,
+                     "lw_dn": num("lw_in"), "lw_up": None,
+                     "t_air_c": num("ta"), "rh": num("rh"),
+                     # u_bar: vector-mean wind at 6 m, the LSM's wind
+                     "wind": num("u_bar"), "p_hpa": num("pres"),
+                     "precip": None if rain_in is None else rain_in * 25.4 * 2.0,
+                     "irt": num("irt"), "le": num("le"), "h": num("h"), "g": num("ghf"),
+                     "rnet": num("rnet"),
+                     "par_in": num("par_in"), "par_out": num("par_out"),
+                     "w_speed": num("w_speed")})
+    # As the Noah driver does (User's Guide sec. 6.1): where the 6-m u_bar is
+    # missing, the 10-m propeller wind times a reduction factor; here the
+    # median ratio u_bar / w_speed of the excerpt's records with both.
+    ratios = sorted(r["wind"] / r["w_speed"] for r in recs
+                    if r["wind"] is not None and r["w_speed"] and r["w_speed"] > 0.5)
+    factor = ratios[len(ratios) // 2]
+    n_sub = 0
+    for r in recs:
+        if r["wind"] is None and r["w_speed"] is not None:
+            r["wind"] = factor * r["w_speed"]
+            r["wind_sub"] = True
+            n_sub += 1
+    print(f"noah98: u_bar missing in {n_sub} records, 10-m wind x {factor:.3f} used")
+    return recs
+
+
+def read_cdp(meteo_path, ts_path):
+    """Col de Porte: GEOtop meteo file (Date dd/mm/YYYY HH:MM, hourly, UTC,
+    end of the hour; Prec mm/h, Ws m/s, RH %, Tair degC, SWdir SWdif SW W/m2
+    (horizontal), LW W/m2 down) + the surface temperature (K) and snow depth
+    (cm) of the CRYOBSCLIM.CDP hourly file for the same stamps."""
+    ts = {}
+    for ln in se.check_raw(ts_path).read_text().splitlines()[1:]:
+        t, tk, sd = ln.split(",")
+        ts[t] = (float(tk) if tk else None, float(sd) if sd else None)
+    recs = []
+    lines = se.check_raw(meteo_path).read_text().splitlines()
+    head = lines[0].split(",")
+    for ln in lines[1:]:
+        v = dict(zip(head, ln.split(",")))
+        end = dt.datetime.strptime(v["Date"], "%d/%m/%Y %H:%M").replace(tzinfo=UTC)
+        tk, sd = ts.get(end.strftime("%Y-%m-%dT%H:%M"), (None, None))
+        recs.append({"end": end, "span": dt.timedelta(hours=1),
+                     "ghi": float(v["SW"]), "dni": None, "dhi": float(v["SWdif"]),
+                     "sw_up": None, "lw_dn": float(v["LW"]), "lw_up": None,
+                     "t_air_c": float(v["Tair"]), "rh": float(v["RH"]), "wind": float(v["Ws"]),
+                     "p_hpa": None, "precip": float(v["Prec"]),
+                     "irt": None if tk is None else tk - 273.15, "snow_cm": sd})
+    return recs
+
+
+# PPFD to global shortwave: PAR is about 0.46 of the global irradiance and
+# 1 W/m2 of daylight PAR is about 4.57 umol/(m2 s) (McCree 1972), so
+# GHI ~ PPFD / 2.10 (uncertain by about 5 %: the PAR fraction varies with
+# sky and sun).
+PPFD_PER_GHI = 0.46 * 4.57
+
+
+def read_bigleaf(path):
+    """Rows of a bigleaf FLUXNET2015 excerpt (half-hourly; `hour` = START of
+    the half hour in local standard time, CET = UTC+1 for DE-Tha; Tair degC,
+    VPD kPa, pressure kPa, wind m/s, PPFD umol/m2/s, LW_up/LW_down, LE, H,
+    G W/m2). RH from VPD and the FAO-56 saturation vapour pressure."""
+    import math
+
+    lines = [ln for ln in se.check_raw(path).read_text().splitlines() if not ln.startswith("#")]
+    head = lines[0].split(",")
+    recs = []
+    for ln in lines[1:]:
+        v = dict(zip(head, (float(x) for x in ln.split(","))))
+        start = (dt.datetime(int(v["year"]), 1, 1) + dt.timedelta(days=int(v["doy"]) - 1, hours=v["hour"])
+                 - dt.timedelta(hours=1)).replace(tzinfo=UTC)
+        es = 0.6108 * math.exp(17.27 * v["Tair"] / (v["Tair"] + 237.3))
+        recs.append({"end": start + dt.timedelta(minutes=30), "span": dt.timedelta(minutes=30),
+                     "ghi": max(v["PPFD"], 0.0) / PPFD_PER_GHI, "dni": None, "dhi": None, "sw_up": None,
+                     "lw_dn": v["LW_down"], "lw_up": v["LW_up"], "t_air_c": v["Tair"],
+                     "rh": 100.0 * max(es - v["VPD"], 0.0) / es, "wind": v["wind"],
+                     "p_hpa": 10.0 * v["pressure"], "precip": 2.0 * v["precip"],
+                     "le": v["LE"], "h": v["H"], "g": v["G"]})
+    return recs
+
+
+def rows_of(recs, t0, t1):
+    """One row per record whose interval centre lies in [t0, t1)."""
+    out = []
+    for r in recs:
+        c = r["end"] - r["span"] / 2
+        if t0 <= c < t1:
+            out.append(dict(r, time=c))
+    return out
+
+
+def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, heights, eps=None):
+    """Writes one station-day. The skin temperature is the IRT reading
+    (`irt`), or with `eps` derived from the measured up- and downwelling
+    longwave as tools/station_excerpt.py does."""
+    filled = se.fill_required(spin) + se.fill_required(day)
+    for r in spin + day:
+        if eps is not None:
+            r["irt"] = (se.skin_temp_c(r["lw_up"], r["lw_dn"], eps)
+                        if r["lw_up"] is not None and r["lw_dn"] is not None else None)
+    out_rows = [(r, True) for r in spin] + [(r, False) for r in day]
+    compare_from, compare_to = day[0]["time"], day[-1]["time"]
+    spin_up_h = (compare_from - spin[0]["time"]).total_seconds() / 3600
+    has_p = any(r["p_hpa"] is not None for r in day)
+    cols = ["time", "air_temp_c", "rh_percent", "wind_m_s"] + (["pressure_hpa"] if has_p else []) + [
+        "cloud_fraction", "ghi_w_m2", "dni_w_m2", "dhi_w_m2", "sky_temp_c", "precip_mm_h",
+        "x_lw_up_w_m2", "x_lw_dn_w_m2", "x_sw_up_w_m2", "x_skin_temp_c", "x_spinup",
+        "x_le_w_m2", "x_h_w_m2", "x_g_w_m2"]
+    hdr = [
+        f"# {name}: irsig plain weather CSV (docs/weather-format.md) written by tools/station_excerpt_more.py",
+        *[f"# {s}" for s in source_lines],
+        f"# lat: {meta['lat']:.5f}",
+        f"# lon: {meta['lon']:.5f}",
+        f"# elevation_m: {meta['elev']:.0f}",
+        f"# compare_from: {se.iso(compare_from)}",
+        f"# compare_to: {se.iso(compare_to)}",
+        f"# spin_up_h: {spin_up_h:g}",
+        f"# wind_height_m: {heights[0]:g}",
+        f"# air_height_m: {heights[1]:g}",
+        *(["# skin_source: ir_thermometer"] if eps is None else
+          [f"# emissivity: {eps}  ({eps_irt_note})", "# skin_source: longwave"]),
+        f"# skin: {eps_irt_note}",
+        "# Times: UTC, centre of each averaging interval. Irradiances and longwave are interval means.",
+        "# sky_temp_c = (LWdn/sigma)^(1/4) - 273.15 (effective sky temperature of the measured LWdn).",
+        *(["# x_skin_temp_c: the infrared thermometer's surface temperature as published (no emissivity",
+           "#   correction applied here); x_lw_up_w_m2 and x_sw_up_w_m2: not measured (empty)."] if eps is None else
+          ["# x_skin_temp_c = ((LWup - (1-eps)*LWdn)/(eps*sigma))^(1/4) - 273.15, sigma = 5.670374419e-8;",
+           "#   x_sw_up_w_m2: not measured (empty)."]),
+        "# x_le_w_m2, x_h_w_m2, x_g_w_m2: measured latent, sensible and ground heat flux where the source has",
+        "#   them (eddy covariance, not closure-corrected; positive away from the surface, G into the ground).",
+        "# cloud_fraction: required by the reader today; unused (0) because sky_temp_c and the irradiances are measured.",
+        "# precip_mm_h: measured (0 on these days).",
+        "# x_ columns are ignored by the weather reader; x_spinup = 1 marks spin-up rows (not compared).",
+        *[f"# note: {n}" for n in notes],
+    ]
+    if filled:
+        hdr.append(f"# note: {filled} value(s) of air temperature/RH/wind linearly interpolated over short gaps")
+    lines = hdr + [",".join(cols)]
+    for r, copy in out_rows:
+        sky = None if r["lw_dn"] is None else (r["lw_dn"] / se.SIGMA) ** 0.25 - 273.15
+        clip = lambda v: None if v is None else max(v, 0.0)
+        cells = [se.iso(r["time"]), se.fmt(r["t_air_c"]), se.fmt(min(r["rh"], 100.0), 1), se.fmt(r["wind"])]
+        if has_p:
+            cells.append(se.fmt(r["p_hpa"], 1))
+        cells += ["0", se.fmt(clip(r["ghi"]), 1), se.fmt(clip(r["dni"]), 1), se.fmt(clip(r["dhi"]), 1),
+                  se.fmt(sky), se.fmt(r["precip"] or 0.0, 2)]
+        cells += [se.fmt(r["lw_up"], 1), se.fmt(r["lw_dn"], 1), "", se.fmt(r["irt"]), "1" if copy else "0",
+                  se.fmt(r.get("le"), 1), se.fmt(r.get("h"), 1), se.fmt(r.get("g"), 1)]
+        lines.append(",".join(cells))
+    p = OUT / f"{name}.csv"
+    p.write_text("\n".join(lines) + "\n")
+    n_skin = sum(1 for r in day if r["irt"] is not None)
+    print(f"{p.relative_to(se.ROOT)}: {len(out_rows)} rows, compare {se.iso(compare_from)} .. "
+          f"{se.iso(compare_to)} ({n_skin} with skin), spin-up {spin_up_h:g} h")
+
+
+def cdp_surface_temp_from_nc(nc_path, out_path, t0, t1):
+    """Extracts Surface_temperature and Snow_depth for [t0, t1) from the
+    CRYOBSCLIM.CDP hourly netCDF-4 file (needs h5py; run once)."""
+    import h5py  # only for this one-off extraction
+
+    f = h5py.File(nc_path, "r")
+    base = dt.datetime(1960, 8, 1)
+    t = f["time"][:]
+    ts, sd = f["Surface_temperature"][:], f["Snow_depth"][:]
+    lines = ["time_utc_end_of_hour,surface_temperature_k,snow_depth_cm"]
+    for i, s in enumerate(t):
+        tt = base + dt.timedelta(seconds=int(s))
+        if t0 <= tt < t1:
+            v = lambda x: "" if x < -9e6 else f"{x:.2f}"
+            lines.append(f"{tt:%Y-%m-%dT%H:%M},{v(ts[i])},{v(sd[i])}")
+    pathlib.Path(out_path).write_text("\n".join(lines) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cdp-nc", type=pathlib.Path,
+                    help="CDP_hourly_19930801_20170731.nc: re-extract the surface temperature excerpt")
+    a = ap.parse_args()
+    if a.cdp_nc:
+        cdp_surface_temp_from_nc(a.cdp_nc, RAW / "cdp_surface_temp_2002-01.csv",
+                                 dt.datetime(2002, 1, 9, 0), dt.datetime(2002, 1, 11, 1))
+
+    # --- Bondville (ATDD/ARL flux site), 1998: three local days ---
+    recs = read_noah98(RAW / "noah98_bondville_excerpt.dat")
+    bnd = {"lat": 40.01, "lon": -88.37, "elev": 219}
+    src = ["source: NOAA ATDD/ARL Bondville (Champaign), IL flux site of T. Meyers, 1998, 30-min means, as",
+           "        distributed with the Noah LSM 2.7 (github.com/NOAA-EMC/NoahLSM test/forcing98_with_validation.dat;",
+           "        see tests/data/stations/README.md)",
+           "data: NOAA Air Resources Laboratory, U.S. Government work (public domain)"]
+    irt_note = ("infrared thermometer surface temperature (IRT column of the Noah LSM forcing file; "
+                "instrument emissivity setting not stated)")
+    lst = lambda y, m, d: dt.datetime(y, m, d, 6, tzinfo=UTC)  # local (CST) midnight in UTC
+    days = [
+        ("bnd-19980517", lst(1998, 5, 17),
+         ["bare soil with crop residue before emergence (no-till maize/soybean rotation; PAR albedo 0.11-0.12)",
+          "clear, hot (air 15-31 C, IRT up to 38 C), light wind; latent heat flux up to 205 W/m2"]),
+        ("bnd-19980725", lst(1998, 7, 25),
+         ["crop at full cover (PAR albedo 0.04); calm (6-m wind 0.1-2 m/s) and clear night 00-06 LST after",
+          "the sunny July 24; cloud arrives in the evening of July 25 (LWdn 315 -> 388 W/m2)"]),
+        ("bnd-19980801", lst(1998, 8, 1),
+         ["crop at full cover, peak transpiration: eddy-covariance latent heat flux up to 525 W/m2 at midday,",
+          "sensible heat flux under 90 W/m2; clear (LWdn / sigma Ta^4 about 0.82)"]),
+    ]
+    for name, t0, notes in days:
+        spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
+        day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
+        n_sub = sum(1 for r in spin + day if r.get("wind_sub"))
+        sub_note = ([f"{n_sub} half-hours without the 6-m u_bar: 10-m propeller wind x the excerpt's median "
+                     "u_bar/w_speed ratio (the Noah driver's substitution)"] if n_sub else [])
+        write_ir_station(name, spin, day, bnd, irt_note, src,
+                         notes + sub_note + ["LST = UTC-6; the compared window is the local day (06:15-05:45 UTC)",
+                                  "heights: air temperature and RH 3 m, wind (u_bar) 6 m; DNI/DHI not measured "
+                                  "(irsig splits GHI)",
+                                  "site 40.01 N, 88.37 W as the Noah LSM guide states; elevation 219 m (AmeriFlux "
+                                  "US-Bo1; only the measured pressure depends on it)"],
+                         (6.0, 3.0))
+
+    # --- DE-Tha (Tharandt, spruce forest), 2014-06-07 ---
+    recs = read_bigleaf(RAW / "de-tha_bigleaf_DE_Tha_Jun_2014_doy157-158.csv")
+    t0 = dt.datetime(2014, 6, 6, 23, tzinfo=UTC)  # local (CET) midnight
+    spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
+    day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
+    write_ir_station(
+        "de-tha-20140607", spin, day, {"lat": 50.9626, "lon": 13.5651, "elev": 380},
+        "closed spruce canopy, typical broadband value (bigleaf's own DE-Tha example uses 0.98)",
+        ["source: FLUXNET2015 DE-Tha (Anchor Station Tharandt, Norway spruce forest), half-hourly, as shipped in",
+         "        the R package bigleaf 0.8.2 (data set DE_Tha_Jun_2014; github.com/cran/bigleaf data/)",
+         "        (see tests/data/stations/README.md)",
+         "data: FLUXNET2015 (Pastorello et al. 2020), TU Dresden; CC-BY-4.0; bigleaf is GPL (>= 2)"],
+        ["closed Norway spruce forest (canopy about 27 m; sensors on the 42-m tower, Gruenwald & Bernhofer 2007)",
+         "clear, warm (air 17-28 C); eddy-covariance latent heat flux up to 270 W/m2",
+         "GHI = PPFD / 2.10 (PAR fraction 0.46 x 4.57 umol/J, McCree 1972): shortwave not in the data set, "
+         "uncertain by about 5 %",
+         "RH from VPD and the FAO-56 saturation vapour pressure; LW_down is FLUXNET's LW_IN_F (measured, "
+         "gap-filled where missing)",
+         "times: local standard time CET (UTC+1), hour = start of the half hour (the PPFD-weighted mean "
+         "hour is 11.7 CET on both days, solar noon 12.1 CET)"],
+        (42.0, 42.0), eps=0.98)
+
+    # --- Col de Porte, 2002-01-10 (snow, clear, calm) ---
+    recs = read_cdp(RAW / "cdp_meteo0001_2002-01.txt", RAW / "cdp_surface_temp_2002-01.csv")
+    t0 = dt.datetime(2002, 1, 10, tzinfo=UTC)
+    spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
+    day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
+    p_est = 1013.25 * (1 - 2.25577e-5 * 1325) ** 5.25588
+    for r in spin + day:
+        r["p_hpa"] = p_est
+    write_ir_station(
+        "cdp-20020110", spin, day, {"lat": 45.30, "lon": 5.77, "elev": 1325},
+        "snow surface temperature of the CRYOBSCLIM.CDP hourly file (infrared radiometer; Lejeune et al. 2019)",
+        ["source: Col de Porte (Chartreuse, France), CNRM/CEN: forcing of Morin et al. 2012 (doi:10.1594/PANGAEA.774249)",
+         "        as GEOtop's test input, and the CRYOBSCLIM.CDP hourly file (Lejeune et al. 2019, doi:10.17178/CRYOBSCLIM.CDP.2018),",
+         "        both via github.com/EURAC-Ecohydro/GEOtopExamples tests/ColdelaPorte/obss (see tests/data/stations/README.md)",
+         "data: Meteo-France - CNRS, CNRM, Centre d'Etudes de la Neige; Morin et al. 2012 data CC-BY-3.0"],
+        ["snow-covered meadow, 37 cm of settled snow (hourly snow depth 37 cm both days); no snowfall",
+         "clear and calm both days (LWdn 220-230 W/m2, wind 0.3-0.6 m/s mean); air -3 to +3.5 C, snow surface -16 to -7 C",
+         "the site is ringed by mountains and forest: the measured GHI already carries the horizon mask",
+         "(direct sun only about 10:00-15:00 UTC in January); DHI measured, DNI left to irsig",
+         f"pressure not in the forcing file: {p_est:.1f} hPa = standard atmosphere at 1325 m",
+         "times: UTC, hourly means stamped at the end of the hour (checked against the horizon mask: the",
+         "direct beam correlates 0.88 with the sun above the mask for hour-ending UTC, 0.42 for hour-ending CET)",
+         "heights: the files do not state the sensor heights above the snow; taken as 2 m for wind and air"],
+        (2.0, 2.0))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
