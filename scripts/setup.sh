@@ -13,8 +13,9 @@ if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi
 # (`irsig batch merge`); Slurm and munge for the batch runner's job arrays
 # (scripts/slurm-test.sh starts a throw-away one-node cluster); gdal-bin
 # (gdalinfo, gdal_translate, gdaltransform) for the tests that read the
-# georeferenced outputs.
-PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv libnetcdf-dev slurm-wlm munge gdal-bin"
+# georeferenced outputs; chromium (headless) for the test that opens
+# `irsig report`'s HTML page (tests/report.rs).
+PKGS="libembree-dev libclang-dev clang pkg-config build-essential ca-certificates python3 python3-venv libnetcdf-dev slurm-wlm munge gdal-bin chromium"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -111,58 +111,35 @@ pub fn not_regular(path: &Path) -> Option<&'static str> {
         .map(|m| kind_of(&m))
 }
 
-/// The path policy for files a model refers to (docs/reliability.md):
-/// `rel`, relative to `folder`, must stay inside `folder`'s tree. Refused:
-/// an absolute path (or a Windows drive/UNC prefix), a `..` that climbs
-/// above `folder`, and a path whose symbolic links lead out of `folder`
-/// (checked on the canonical paths when the file exists). Returns the
-/// joined path, or why it is refused.
-pub fn inside_folder(folder: &Path, rel: &Path) -> Result<std::path::PathBuf, String> {
-    use std::path::Component;
-    let mut depth = 0usize;
-    for c in rel.components() {
-        match c {
-            Component::Prefix(_) | Component::RootDir => {
-                return Err("is an absolute path".into());
-            }
-            Component::ParentDir => {
-                if depth == 0 {
-                    return Err("climbs out of the model's folder with `..`".into());
-                }
-                depth -= 1;
-            }
-            Component::Normal(_) => depth += 1,
-            Component::CurDir => {}
-        }
-    }
-    let s = rel.to_string_lossy();
-    if s.starts_with('\\') || s.as_bytes().get(1) == Some(&b':') {
-        return Err("is an absolute path".into());
-    }
-    let file = folder.join(rel);
-    if let (Ok(f), Ok(d)) = (file.canonicalize(), folder_or_cwd(folder).canonicalize())
-        && !f.starts_with(&d)
-    {
-        return Err("leads out of the model's folder through a symbolic link".into());
-    }
-    Ok(file)
-}
-
-/// The path policy for files a scene refers to (docs/reliability.md, "Path
-/// policy"): `p`, relative to `folder` (the referring file's folder) or
+/// The one path policy for the files a file refers to (docs/reliability.md,
+/// "Path policy"): the files a scene names, a material library's emissivity
+/// tables and a glTF model's external buffers (its caller decodes the URI
+/// first). `p`, relative to `folder` (the referring file's folder) or
 /// absolute, must lie in `folder`'s tree or in one of the `allow`ed folders
-/// (each relative to `folder` or absolute), judged on the lexically
-/// normalised path and, when the file exists, again on the canonical one
-/// (a symbolic link may not lead out). A `file:` URI is refused (write a
-/// path). Returns `folder.join(p)`, or why it is refused (nothing is read).
+/// (each relative to `folder` or absolute; a model's buffers have none),
+/// judged on the lexically normalised path and, when the file exists, again
+/// on the canonical one (a symbolic link may not lead out). A `file:` URI
+/// and a Windows drive or UNC path (`C:…`, `\\…`) are refused (write a
+/// relative path). Returns `folder.join(p)`, or why it is refused (nothing
+/// is read).
 pub fn within(
     folder: &Path,
     p: &Path,
     allow: &[std::path::PathBuf],
 ) -> Result<std::path::PathBuf, String> {
-    if p.to_string_lossy().starts_with("file:") {
+    let s = p.to_string_lossy();
+    if s.starts_with("file:") {
         return Err("is a `file:` URI: expected a path".into());
     }
+    let b = s.as_bytes();
+    if s.starts_with('\\') || (b.len() > 1 && b[0].is_ascii_alphabetic() && b[1] == b':') {
+        return Err("is an absolute (Windows drive or UNC) path: expected a relative path".into());
+    }
+    let others = if allow.is_empty() {
+        ""
+    } else {
+        " and the allowed folders"
+    };
     let base = std::path::absolute(folder_or_cwd(folder)).map_err(|e| e.to_string())?;
     let roots: Vec<std::path::PathBuf> = std::iter::once(normalise(&base))
         .chain(allow.iter().map(|a| normalise(&base.join(a))))
@@ -171,9 +148,9 @@ pub fn within(
     let lexical = normalise(&base.join(p));
     if !roots.iter().any(|r| lexical.starts_with(r)) {
         return Err(if p.is_absolute() {
-            "is an absolute path outside the allowed folders".into()
+            format!("is an absolute path outside its folder tree{others}")
         } else {
-            "climbs out of the allowed folders with `..`".into()
+            format!("climbs out of its folder tree{others} with `..`")
         });
     }
     if let Ok(canonical) = file.canonicalize() {
@@ -182,7 +159,9 @@ pub fn within(
             .filter_map(|r| r.canonicalize().ok())
             .any(|r| canonical.starts_with(r));
         if !inside {
-            return Err("leads out of the allowed folders through a symbolic link".into());
+            return Err(format!(
+                "leads out of its folder tree{others} through a symbolic link"
+            ));
         }
     }
     Ok(file)
@@ -243,23 +222,26 @@ mod tests {
     }
 
     #[test]
-    fn inside_folder_refuses_escapes() {
+    fn within_refuses_escapes() {
         let d = tempfile::tempdir().unwrap();
         let sub = d.path().join("m");
         std::fs::create_dir(&sub).unwrap();
         std::fs::write(sub.join("a.bin"), b"x").unwrap();
-        assert!(inside_folder(&sub, Path::new("a.bin")).is_ok());
-        assert!(inside_folder(&sub, Path::new("x/../a.bin")).is_ok());
+        assert!(within(&sub, Path::new("a.bin"), &[]).is_ok());
+        assert!(within(&sub, Path::new("x/../a.bin"), &[]).is_ok());
         for bad in [
             "/etc/passwd",
             "../a.bin",
             "x/../../a.bin",
             "../../../../etc/passwd",
+            "C:/Windows/win.ini",
+            "\\\\server\\share\\a.bin",
+            "file:///etc/passwd",
         ] {
-            assert!(inside_folder(&sub, Path::new(bad)).is_err(), "{bad}");
+            assert!(within(&sub, Path::new(bad), &[]).is_err(), "{bad}");
         }
         std::os::unix::fs::symlink("/etc/passwd", sub.join("l")).unwrap();
-        let e = inside_folder(&sub, Path::new("l")).unwrap_err();
+        let e = within(&sub, Path::new("l"), &[]).unwrap_err();
         assert!(e.contains("symbolic link"), "{e}");
     }
 }

@@ -311,3 +311,60 @@ fn planes_flag_selects_the_written_planes() {
     );
     assert!(!bad.exists() && !bad.with_extension("json").exists());
 }
+
+#[test]
+fn envi_band_centre_and_fwhm_are_the_responses() {
+    // An asymmetric triangle 8-9-12 um: centroid (8 + 9 + 12)/3 um (a
+    // triangle's centre of mass), half-maximum crossings at 8.5 and 10.5 um.
+    let tri =
+        irsig::radiometry::SpectralResponse::from_csv_str("8,0\n9,1\n12,0\n", "t.csv").unwrap();
+    assert!((tri.centroid_um() - 29.0 / 3.0).abs() < 1e-12);
+    assert!((tri.fwhm_um() - 2.0).abs() < 1e-12);
+    let lwir = irsig::radiometry::SpectralResponse::lwir();
+    assert!((lwir.centroid_um() - 11.0).abs() < 1e-9 && (lwir.fwhm_um() - 6.0).abs() < 1e-8);
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("tri.csv");
+    std::fs::write(&csv, "wavelength_um,response\n8,0\n9,1\n12,0\n").unwrap();
+    let exr = dir.path().join("t.exr");
+    let out = irsig()
+        .arg("render")
+        .arg(scene())
+        .arg("-o")
+        .arg(&exr)
+        .args(["--envi", "-q", "--set", "files.allow=[\"/\"]"])
+        .args([
+            "--set",
+            "sensor.width_px=16",
+            "--set",
+            "sensor.height_px=12",
+        ])
+        .args([
+            "--set",
+            &format!("sensor.band={{ response_file = \"{}\" }}", csv.display()),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let hdr = std::fs::read_to_string(exr.with_extension("hdr")).unwrap();
+    let field = |k: &str| -> Vec<f64> {
+        let line = hdr
+            .lines()
+            .find(|l| l.starts_with(&format!("{k} =")))
+            .unwrap_or_else(|| panic!("no {k} in {hdr}"));
+        line.split_once('{')
+            .unwrap()
+            .1
+            .trim_end_matches('}')
+            .split(',')
+            .map(|v| v.trim().parse().unwrap())
+            .collect()
+    };
+    let (wl, fwhm) = (field("wavelength"), field("fwhm"));
+    assert!(wl.len() > 3 && wl.len() == fwhm.len());
+    assert!(wl.iter().all(|&c| (c - 29.0 / 3.0).abs() < 1e-6), "{wl:?}");
+    assert!(fwhm.iter().all(|&w| (w - 2.0).abs() < 1e-6), "{fwhm:?}");
+}

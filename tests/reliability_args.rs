@@ -486,23 +486,39 @@ fn devices_fifos_and_folders_are_refused_at_once() {
             "{path}: {err}"
         );
     }
-    // A scene naming a device as its material library.
-    let scene = std::fs::read_to_string(root().join("scenes/plate/scene.toml"))
-        .unwrap()
-        .replace("\"../materials.toml\"", "\"/dev/zero\"")
-        .replace("allow = [\"..\"]", "allow = [\"/\"]");
+    // A scene naming a device as its material library, a mesh or its
+    // band's response file (each said "`/dev/zero` not found").
     let plate = d.path().join("plate");
     std::fs::create_dir(&plate).unwrap();
-    std::fs::write(plate.join("scene.toml"), scene).unwrap();
-    let (code, err) = irsig_within(
-        &["check", plate.join("scene.toml").to_str().unwrap()],
-        limit,
-    );
-    assert_eq!(code, 1, "{err}");
-    assert!(
-        err.contains("/dev/zero") && err.contains("character device"),
-        "{err}"
-    );
+    let original = std::fs::read_to_string(root().join("scenes/plate/scene.toml"))
+        .unwrap()
+        .replace("allow = [\"..\"]", "allow = [\"/\"]");
+    let mats = format!("\"{}\"", root().join("scenes/materials.toml").display());
+    let objs = format!("\"{}/", root().join("scenes/plate/obj").display());
+    for (from, to) in [
+        ("\"../materials.toml\"", "\"/dev/zero\""),
+        ("\"obj/plate.obj\"", "\"/dev/zero\""),
+        (
+            "band = \"lwir\"",
+            "band = { response_file = \"/dev/zero\" }",
+        ),
+    ] {
+        assert!(original.contains(from), "{from}");
+        let scene = original
+            .replace(from, to)
+            .replace("\"../materials.toml\"", &mats)
+            .replace("\"obj/", &objs);
+        std::fs::write(plate.join("scene.toml"), scene).unwrap();
+        let (code, err) = irsig_within(
+            &["check", plate.join("scene.toml").to_str().unwrap()],
+            limit,
+        );
+        assert_eq!(code, 1, "{to}: {err}");
+        assert!(
+            err.contains("/dev/zero") && err.contains("character device"),
+            "{to}: {err}"
+        );
+    }
     // A batch spec whose scene is /dev/zero.
     let spec = d.path().join("spec.toml");
     std::fs::write(
@@ -877,6 +893,93 @@ fn implausible_surface_temperatures_are_reported() {
     );
 }
 
+/// Finding 5 (materials), the real range: the issue's in-range
+/// `internal_power_w_m2 = -1000` (on the plate scene's concrete ground, a
+/// calm night at −20 to −10 °C air) cools the ground to ~100 K. `irsig
+/// render` warns, naming the plausible 150-600 K range, the material and
+/// the dominant flux term (the internal power), and still writes the image
+/// (exit 0); with `--strict` it is refused and nothing is written. Before,
+/// such a render ended with exit 0 and no word.
+#[test]
+fn a_material_cooled_below_150_k_is_named_with_its_flux_term() {
+    let d = tempfile::tempdir().unwrap();
+    let plate = root().join("scenes/plate");
+    std::fs::create_dir(d.path().join("obj")).unwrap();
+    for f in ["ground.obj", "plate.obj"] {
+        std::fs::copy(plate.join("obj").join(f), d.path().join("obj").join(f)).unwrap();
+    }
+    let edit = |text: String, pairs: &[(&str, &str)]| {
+        pairs.iter().fold(text, |t, (from, to)| {
+            assert!(t.contains(from), "{from} not in the sample file");
+            t.replacen(from, to, 1)
+        })
+    };
+    let mats = std::fs::read_to_string(root().join("scenes/materials.toml")).unwrap();
+    let at = mats.find("[material.concrete]").unwrap();
+    let (head, tail) = mats.split_at(at);
+    let tail = edit(
+        tail.to_string(),
+        &[(
+            "\nspecularity",
+            "\ninternal_power_w_m2 = -1000.0\nspecularity",
+        )],
+    );
+    std::fs::write(d.path().join("mats.toml"), format!("{head}{tail}")).unwrap();
+    let scene = edit(
+        std::fs::read_to_string(plate.join("scene.toml")).unwrap(),
+        &[
+            ("\"../materials.toml\"", "\"mats.toml\""),
+            ("local = 2001-08-08T13:00:00", "local = 2001-08-08T04:00:00"),
+            ("wind_m_s = 2.0", "wind_m_s = 0.0"),
+            ("air_min_c = 17.0", "air_min_c = -20.0"),
+            ("air_max_c = 29.0", "air_max_c = -10.0"),
+            ("dew_point_c = 14.0", "dew_point_c = -25.0"),
+            ("width_px = 256", "width_px = 8"),
+            ("height_px = 256", "height_px = 8"),
+        ],
+    );
+    let f = d.path().join("scene.toml");
+    std::fs::write(&f, scene).unwrap();
+    let out = d.path().join("cold.tif");
+    let args = [
+        "render",
+        f.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ];
+    let run = irsig(&args);
+    let err = String::from_utf8_lossy(&run.stderr).into_owned();
+    assert!(run.status.success(), "{err}");
+    assert!(out.is_file());
+    for want in [
+        "warning: ",
+        "outside the plausible 150 to 600 K",
+        "on material `concrete`",
+        "largest flux term is internal_w_m2 = -1000 W/m²",
+    ] {
+        assert!(err.contains(want), "no `{want}` in: {err}");
+    }
+    // The reported pixel's temperature is below the range.
+    let k: f64 = err
+        .split(" K on material")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no temperature in: {err}"));
+    assert!(k < 150.0, "{err}");
+    let strict = d.path().join("strict.tif");
+    let mut args = args.to_vec();
+    args[3] = strict.to_str().unwrap();
+    args.push("--strict");
+    let err = refused(&irsig(&args));
+    assert!(
+        err.contains("refused with --strict") && err.contains("material `concrete`"),
+        "{err}"
+    );
+    assert!(!strict.exists(), "--strict wrote {}", strict.display());
+}
+
 /// Finding 4 (decompression): a gzip-compressed table is inflated only up
 /// to the size its trailer declares, and a declared size above the 2 GiB
 /// bound is refused before inflating.
@@ -897,6 +1000,133 @@ fn gzip_tables_inflate_no_further_than_they_declare() {
             .unwrap_err()
             .to_string();
         assert!(e.contains("bomb.atm.gz") && e.contains(want), "{e}");
+    }
+}
+
+/// A little-endian GeoTIFF (WGS 84 geographic, 0.001° pixels at 43° N,
+/// 77.6° W) of `width`×`height` 32-bit float samples in one strip of
+/// `strip` (already compressed with `compression`).
+fn float_tiff(width: u32, height: u32, compression: u16, strip: &[u8]) -> Vec<u8> {
+    let short = |v: &[u16]| {
+        (
+            3u16,
+            v.len() as u32,
+            v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        )
+    };
+    let long = |v: u32| (4u16, 1u32, v.to_le_bytes().to_vec());
+    let double = |v: &[f64]| {
+        (
+            12u16,
+            v.len() as u32,
+            v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        )
+    };
+    let n = 13u32;
+    let ifd_end = 8 + 2 + 12 * n + 4;
+    // Values longer than 4 bytes follow the IFD: pixel scale (24 bytes),
+    // tie point (48), GeoKey directory (32); then the strip.
+    let data_at = ifd_end + 24 + 48 + 32;
+    // (tag, (field type, count, value bytes)).
+    type Entry = (u16, (u16, u32, Vec<u8>));
+    let entries: Vec<Entry> = vec![
+        (256, long(width)),
+        (257, long(height)),
+        (258, short(&[32])),
+        (259, short(&[compression])),
+        (262, short(&[1])),
+        (273, long(data_at)),
+        (277, short(&[1])),
+        (278, long(height)),
+        (279, long(strip.len() as u32)),
+        (339, short(&[3])),
+        (33550, double(&[0.001, 0.001, 0.0])),
+        (33922, double(&[0.0, 0.0, 0.0, -77.6, 43.0, 0.0])),
+        (
+            34735,
+            short(&[1, 1, 0, 3, 1024, 0, 1, 2, 1025, 0, 1, 1, 2048, 0, 1, 4326]),
+        ),
+    ];
+    assert_eq!(entries.len() as u32, n);
+    let mut b = b"II*\0".to_vec();
+    b.extend_from_slice(&8u32.to_le_bytes());
+    b.extend_from_slice(&(n as u16).to_le_bytes());
+    let mut extra = Vec::new();
+    for (tag, (ty, count, bytes)) in &entries {
+        b.extend_from_slice(&tag.to_le_bytes());
+        b.extend_from_slice(&ty.to_le_bytes());
+        b.extend_from_slice(&count.to_le_bytes());
+        if bytes.len() <= 4 {
+            let mut v = bytes.clone();
+            v.resize(4, 0);
+            b.extend_from_slice(&v);
+        } else {
+            b.extend_from_slice(&(ifd_end + extra.len() as u32).to_le_bytes());
+            extra.extend_from_slice(bytes);
+        }
+    }
+    b.extend_from_slice(&0u32.to_le_bytes());
+    b.extend_from_slice(&extra);
+    assert_eq!(b.len(), data_at as usize);
+    b.extend_from_slice(strip);
+    b
+}
+
+/// Finding 4 (DEM): a 3 MB deflate bomb in a DEM was refused only after
+/// the decoder had allocated and inflated ~2.1 GB. The declared decoded
+/// size is now checked against what the compressed strips can hold before
+/// anything is allocated or inflated: a deflate strip of under 1 kB declaring
+/// 8192×16384 float pixels (512 MiB, inside the 2²⁷-pixel bound) is refused
+/// with both sizes; an uncompressed strip shorter than declared, and one
+/// that runs past the end of the file, likewise. (Without the check the
+/// decoder allocated the 512 MiB and failed only at the end of the
+/// inflated data.) Well-formed small rasters, deflate and uncompressed,
+/// are read.
+#[test]
+fn a_dem_deflate_bomb_is_refused_before_inflating() {
+    use std::io::Write;
+    let parse =
+        |b: &[u8]| match irsig::scene::terrain::raster::parse_raster(Path::new("bomb.tif"), b) {
+            Ok(_) => panic!("accepted"),
+            Err(e) => e.to_string(),
+        };
+    let zlib = |raw: &[u8]| {
+        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
+        z.write_all(raw).unwrap();
+        z.finish().unwrap()
+    };
+    let bomb = zlib(&vec![0u8; 64 << 10]);
+    assert!(bomb.len() < 1000, "{}", bomb.len());
+    let e = parse(&float_tiff(8192, 16384, 8, &bomb));
+    assert!(
+        e.contains("bomb.tif")
+            && e.contains("declare 536870912 bytes")
+            && e.contains("refused before inflating"),
+        "{e}"
+    );
+    // Uncompressed: the strip must hold every declared byte.
+    let e = parse(&float_tiff(64, 64, 1, &[0u8; 4 * 64 * 63]));
+    assert!(
+        e.contains("declare 16384 bytes") && e.contains("16128 bytes"),
+        "{e}"
+    );
+    // A strip that runs past the end of the file.
+    let mut b = float_tiff(4, 4, 1, &[0u8; 64]);
+    b.truncate(b.len() - 1);
+    let e = parse(&b);
+    assert!(e.contains("runs past the end of the"), "{e}");
+    // Well-formed (deflate and uncompressed): read.
+    let heights: Vec<u8> = (0..64 * 64)
+        .flat_map(|i| (100.0f32 + i as f32).to_le_bytes())
+        .collect();
+    for b in [
+        float_tiff(64, 64, 8, &zlib(&heights)),
+        float_tiff(64, 64, 1, &heights),
+    ] {
+        let r = irsig::scene::terrain::raster::parse_raster(Path::new("ok.tif"), &b)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((r.width, r.height), (64, 64));
+        assert_eq!(r.data[64 * 64 - 1], 100.0 + 4095.0);
     }
 }
 

@@ -29,9 +29,7 @@ const STATIONS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stations
 const MATERIALS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/materials.toml");
 
 // Materials per station-day, from the library as a user would pick them:
-// E39 and Bondville are green grass, Alamosa dry sparse grass on sandy soil.
-/// ARM SGP E39 (Morrison, OK), 2023-06-01: summer, green vegetation, albedo 0.16.
-const SGP_E39_MATERIAL: &str = "grass_irrigated";
+// Bondville is green grass, Alamosa dry sparse grass on sandy soil.
 /// NOAA SURFRAD Bondville, IL, 1995-05-10: grass, overcast and wet, albedo 0.15.
 const BON_MATERIAL: &str = "grass_irrigated";
 /// NOAA SURFRAD Alamosa, CO, 2016-01-01: winter, snow-free, dormant sparse
@@ -118,17 +116,11 @@ fn stats(e: &[f64]) -> Stats {
 }
 
 /// Anemometer height of a station, m: the file's `# wind_height_m:` where
-/// it states one, else SURFRAD's 10 m or ARM E39's 3 m.
-fn wind_height_m(name: &str, meta: &HashMap<String, String>) -> String {
-    if let Some(h) = meta.get("wind_height_m") {
-        return h.clone();
-    }
-    if name.starts_with("sgp-e39") {
-        "3"
-    } else {
-        "10"
-    }
-    .to_string()
+/// it states one, else SURFRAD's 10 m.
+fn wind_height_m(meta: &HashMap<String, String>) -> String {
+    meta.get("wind_height_m")
+        .cloned()
+        .unwrap_or_else(|| "10".to_string())
 }
 
 /// Air-temperature height, m: the file's `# air_height_m:`, else 2 m (what
@@ -175,10 +167,9 @@ fn compare(name: &str, material: &str) -> (Stats, Stats, Stats) {
             "--spin-up-h",
             m("spin_up_h"),
             // Measurement heights: SURFRAD 10 m (air temperature, RH and
-            // wind on the 10-m tower); ARM E39 ECORSF about 3 m; the IRT
-            // files state theirs.
+            // wind on the 10-m tower); the IRT files state theirs.
             "--wind-height-m",
-            &wind_height_m(name, &x.meta),
+            &wind_height_m(&x.meta),
             "--air-height-m",
             &air_height_m(&x.meta),
             "--csv",
@@ -235,19 +226,13 @@ fn check(name: &str, material: &str) {
     );
 }
 
-/// Summer, vegetated: ARM SGP E39, 2023-06-01 (repeated-day spin-up).
-#[test]
-fn station_sgp_e39_20230601_summer_grass() {
-    check("sgp-e39-20230601", SGP_E39_MATERIAL);
-}
-
 /// Late spring, grass, overcast: SURFRAD Bondville, 1995-05-10 (repeated-day spin-up).
 #[test]
 fn station_bon_19950510_spring_grass_overcast() {
     check("bon-19950510", BON_MATERIAL);
 }
 
-/// Winter, snow-free, dry: SURFRAD Alamosa, 2016-01-01 (measured 2015-12-31 as spin-up).
+/// Winter, snow-free, dry: SURFRAD Alamosa, 2016-01-01 (repeated-day spin-up).
 #[test]
 fn station_slv_20160101_winter_dry() {
     check("slv-20160101", SLV_MATERIAL);
@@ -306,12 +291,7 @@ fn station_excerpts_are_consistent() {
     const SIGMA: f64 = 5.670_374_419e-8;
     // de-tha-20140607 (FLUXNET DE-Tha, spruce forest) has no test of its
     // own: the library has no forest material (docs/validation-stations.md).
-    for name in [
-        "sgp-e39-20230601",
-        "bon-19950510",
-        "slv-20160101",
-        "de-tha-20140607",
-    ] {
+    for name in ["bon-19950510", "slv-20160101", "de-tha-20140607"] {
         let path = format!("{STATIONS}{name}.csv");
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(!text.contains("# skin_source: ir_thermometer"), "{name}");

@@ -13,7 +13,7 @@ header lines. Standard library only.
 
 Prints one summary line per file (several files may be given; they all use
 --material unless --material is given as FILE=NAME pairs, e.g.
---material sgp-e39-20230601=grass_irrigated).
+--material bon-19950510=grass_irrigated).
 """
 import argparse
 import csv
@@ -46,8 +46,8 @@ def run_irsig(irsig, materials, material, path, meta, step):
            "--to", meta["compare_to"], "--step", str(step), "--spin-up-h", meta["spin_up_h"],
            # Measurement heights as tests/therm_stations.rs passes them: the
            # file's own (`wind_height_m`, `air_height_m`), else SURFRAD's
-           # 10 m / ARM E39's 3 m wind and 2 m air.
-           "--wind-height-m", meta.get("wind_height_m", "3" if path.name.startswith("sgp-e39") else "10"),
+           # 10 m wind and 2 m air.
+           "--wind-height-m", meta.get("wind_height_m", "10"),
            "--air-height-m", meta.get("air_height_m", "2"),
            "--csv"]
     p = subprocess.run(cmd, capture_output=True, text=True)

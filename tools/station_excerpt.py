@@ -7,28 +7,29 @@ sources and docs/validation-stations.md for the method.
 
 Station-days (UTC):
 
-  sgp-e39-20230601  ARM SGP E39 (Morrison, OK), summer, vegetated. SEBS
-                    (4-component radiation) + ECORSF (air temperature, RH,
-                    pressure, wind), 30-min means. One day only: the 24-h
-                    spin-up repeats that day (rows flagged x_spinup_copy=1).
   bon-19950510      NOAA SURFRAD Bondville, IL, grass, late spring
                     (overcast, wet). QCrad file, 3-min means -> 15-min.
-                    One day only: same repeated-day spin-up.
+                    One day only: the 24-h spin-up repeats that day
+                    (x_spinup = 1 rows, measurement columns blank).
   slv-20160101      NOAA SURFRAD Alamosa, CO, winter, snow-free. 1-min
-                    means -> 15-min; 2015-12-31 is the spin-up day,
-                    2016-01-01 the compared day (48 h continuous).
+                    means -> 15-min. One day only: same repeated-day
+                    spin-up (the measured 2015-12-31, slv15365.dat, is
+                    a file of a repository reserved for independent
+                    checking, issue #30, and is not used).
 
-Raw inputs: tools/data/stations-raw/ holds the ARM and Bondville files
-(small). The two Alamosa files (340 kB each) are not committed; pass
---surfrad-dir DIR with slv15365.dat and slv16001.dat (sources in the README)
-to rewrite slv-20160101.csv, otherwise its committed excerpt is kept.
+Raw inputs: tools/data/stations-raw/ holds the Bondville file (small). The
+Alamosa file (340 kB) is not committed; pass --surfrad-dir DIR with
+slv16001.dat (source in the README) to rewrite slv-20160101.csv, otherwise
+its committed excerpt is kept. (The ARM SGP E39 day once written here was
+removed: its files are ARM-DOE/ACT's test data, reserved for independent
+checking.)
 
 Skin temperature from the measured longwave (e.g. Wang & Liang 2009,
 Remote Sens. Environ. 113, 1556):
     LWup = eps*sigma*Ts^4 + (1 - eps)*LWdn
     Ts   = ((LWup - (1 - eps)*LWdn) / (eps*sigma))^(1/4)
 
-Standard library only (a minimal netCDF-3 classic reader is included).
+Standard library only.
 Run:
     python3 tools/station_excerpt.py [--surfrad-dir DIR]
 """
@@ -37,7 +38,6 @@ import datetime as dt
 import hashlib
 import math
 import pathlib
-import struct
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -48,10 +48,7 @@ UTC = dt.timezone.utc
 
 # SHA-256 of the raw inputs the committed excerpts were written from.
 RAW_SHA256 = {
-    "sgpsebsE39.b1.20230601.000000.cdf": "028933e6e222cf4d61b61069b2da946e7ae09d3917e750d2f7356bafc946aef7",
-    "sgpecorsfE39.b1.20230601.000000.nc": "be8adda54eff8c730ed7c0dca06bb05f2716c4d77d5281fa01ac89a971e99013",
     "bon_19950510.qdat": "64fc9c1cb3cc80f33863802d032f5b71bcbb48848d07091b6de6f7f3c0c8c10b",
-    "slv15365.dat": "8ff4c2494ce8615fa54cc05d75716b1b2fec7b6579f5b1cd0a5da17f3dbdb044",
     "slv16001.dat": "8d681d07c9161812db4f82d0c43d24f002234cf5c9bbba147b39cb038c550f83",
 }
 
@@ -64,97 +61,6 @@ def check_raw(path):
     if want and h != want:
         print(f"warning: {path}: sha256 {h} differs from the recorded {want}", file=sys.stderr)
     return path
-
-# ---------------------------------------------------------------------------
-# netCDF-3 classic / 64-bit-offset reader (enough for ARM b1 files).
-# Format: https://docs.unidata.ucar.edu/netcdf-c/current/file_format_specifications.html
-# ---------------------------------------------------------------------------
-_NC_TYPES = {1: ("b", 1), 2: ("c", 1), 3: ("h", 2), 4: ("i", 4), 5: ("f", 4), 6: ("d", 8)}
-
-
-def read_nc3(path):
-    """Returns (global_attrs, {name: (attrs, values)}); values is a flat list
-    (a scalar variable gives a one-element list)."""
-    b = pathlib.Path(path).read_bytes()
-    if b[:3] != b"CDF" or b[3] not in (1, 2):
-        raise ValueError(f"{path}: not a netCDF-3 classic file")
-    off64 = b[3] == 2
-    pos = 4
-
-    def u32():
-        nonlocal pos
-        v = struct.unpack(">I", b[pos:pos + 4])[0]
-        pos += 4
-        return v
-
-    def name():
-        nonlocal pos
-        n = u32()
-        s = b[pos:pos + n].decode()
-        pos += (n + 3) // 4 * 4
-        return s
-
-    def values(t, n):
-        nonlocal pos
-        code, size = _NC_TYPES[t]
-        raw = b[pos:pos + n * size]
-        pos += (n * size + 3) // 4 * 4
-        if code == "c":
-            return raw.decode(errors="replace").rstrip("\x00")
-        return list(struct.unpack(f">{n}{code}", raw))
-
-    def attrs():
-        tag, n = u32(), u32()
-        out = {}
-        if tag == 0 and n == 0:
-            return out
-        for _ in range(n):
-            k = name()
-            t = u32()
-            v = values(t, u32())
-            out[k] = v[0] if isinstance(v, list) and len(v) == 1 else v
-        return out
-
-    numrecs = u32()
-    tag, ndims = u32(), u32()
-    dims = []
-    for _ in range(ndims if tag else 0):
-        dims.append((name(), u32()))
-    gatts = attrs()
-    tag, nvars = u32(), u32()
-    specs = []
-    for _ in range(nvars if tag else 0):
-        vname = name()
-        dimids = [u32() for _ in range(u32())]
-        vatts = attrs()
-        t = u32()
-        vsize = u32()
-        begin = struct.unpack(">Q" if off64 else ">I", b[pos:pos + (8 if off64 else 4)])[0]
-        pos += 8 if off64 else 4
-        specs.append((vname, dimids, vatts, t, vsize, begin))
-    is_rec = lambda s: bool(s[1]) and dims[s[1][0]][1] == 0
-    rec_vars = [s for s in specs if is_rec(s)]
-    recsize = sum(s[4] for s in rec_vars)
-    if len(rec_vars) == 1:  # the one record variable is not padded
-        code, size = _NC_TYPES[rec_vars[0][3]]
-        recsize = size * math.prod(dims[d][1] for d in rec_vars[0][1][1:])
-    out = {}
-    for vname, dimids, vatts, t, vsize, begin in specs:
-        code, size = _NC_TYPES[t]
-        if code == "c":
-            continue
-        if is_rec((vname, dimids)):
-            per = math.prod(dims[d][1] for d in dimids[1:])
-            vals = []
-            for r in range(numrecs):
-                o = begin + r * recsize
-                vals += struct.unpack(f">{per}{code}", b[o:o + per * size])
-        else:
-            n = math.prod(dims[d][1] for d in dimids)
-            vals = list(struct.unpack(f">{n}{code}", b[begin:begin + n * size]))
-        out[vname] = (vatts, vals)
-    return gatts, out
-
 
 # ---------------------------------------------------------------------------
 # Records: dicts with 'end' (UTC end of the averaging interval), 'span'
@@ -224,61 +130,6 @@ def read_qcrad(path):
     return recs
 
 
-def _arm_time(vars_):
-    attrs, t = vars_["time"]
-    base = dt.datetime.strptime(attrs["units"].split("since")[1].strip()[:19], "%Y-%m-%d %H:%M:%S")
-    return [base.replace(tzinfo=UTC) + dt.timedelta(seconds=s) for s in t]
-
-
-def _arm_get(vars_, k, i, allow_below_min_as_zero=False):
-    """Value i of ARM variable k, None if missing or failing a 'Bad' QC test
-    (bits 1-3: missing, below valid_min, above valid_max). With
-    allow_below_min_as_zero, a value failing only bit 2 (a small negative
-    night-time shortwave offset) becomes 0."""
-    attrs, vals = vars_[k]
-    v = vals[i]
-    miss = attrs.get("missing_value", -9999.0)
-    qc = vars_.get("qc_" + k, (None, None))[1]
-    q = qc[i] if qc is not None else 0
-    if v == miss or q & 1 or q & 4 or not math.isfinite(v):
-        return None
-    if q & 2:
-        return 0.0 if allow_below_min_as_zero else None
-    return float(v)
-
-
-def read_arm_e39(sebs_path, ecor_path):
-    """ARM SGP E39: SEBS radiation + ECORSF meteorology, 30-min means.
-    ECORSF time_bounds put each stamp at the END of its 30 min; SEBS (same
-    facility, same averaging) is taken to follow the same convention."""
-    ga_s, s = read_nc3(check_raw(sebs_path))
-    ga_e, e = read_nc3(check_raw(ecor_path))
-    ts, te = _arm_time(s), _arm_time(e)
-    if ts != te:
-        raise ValueError("SEBS and ECORSF time stamps differ")
-    tb = e["time_bounds"][1]
-    if tb[1] - tb[0] != 1800.0 or tb[1] != e["time"][1][0]:
-        raise ValueError("ECORSF time_bounds: expected 30-min intervals ending at the stamp")
-    recs = []
-    for i, t in enumerate(ts):
-        ta = _arm_get(e, "air_temperature", i)
-        p = _arm_get(e, "air_pressure", i)
-        recs.append({"end": t, "span": dt.timedelta(minutes=30),
-                     "ghi": _arm_get(s, "down_short_hemisp", i, True),
-                     "dni": None, "dhi": None,
-                     "sw_up": _arm_get(s, "up_short_hemisp", i, True),
-                     "lw_dn": _arm_get(s, "down_long", i),
-                     "lw_up": _arm_get(s, "up_long", i),
-                     "t_air_c": None if ta is None else ta - 273.15,
-                     "rh": _arm_get(e, "relative_humidity", i),
-                     "wind": _arm_get(e, "mean_wind", i),
-                     "p_hpa": None if p is None else 10.0 * p})
-    meta = {"lat": s["lat"][1][0], "lon": s["lon"][1][0], "elev": s["alt"][1][0],
-            "sebs": ga_s.get("datastream", ""), "ecor": ga_e.get("datastream", ""),
-            "ecor_doi": ga_e.get("doi", "")}
-    return meta, recs
-
-
 # ---------------------------------------------------------------------------
 FIELDS = ["ghi", "dni", "dhi", "sw_up", "lw_dn", "lw_up", "t_air_c", "rh", "wind", "p_hpa"]
 
@@ -308,11 +159,6 @@ def resample(recs, minutes):
         if len(rs) * 2 >= per_bin:
             rows.append(row)
     return rows
-
-
-def centre_stamps(recs):
-    """30-min ARM means: one row per record, stamped at its centre."""
-    return [dict({f: r[f] for f in FIELDS}, time=r["end"] - r["span"] / 2, n=1) for r in recs]
 
 
 def fill_required(rows, keys=("t_air_c", "rh", "wind")):
@@ -452,23 +298,8 @@ def write_station(name, rows, meta, eps, eps_note, source_lines, notes, spinup=N
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--surfrad-dir", type=pathlib.Path,
-                    help="directory with slv15365.dat and slv16001.dat (SURFRAD Alamosa)")
+                    help="directory with slv16001.dat (SURFRAD Alamosa)")
     a = ap.parse_args()
-
-    # --- ARM SGP E39, 2023-06-01 (summer, vegetated) ---
-    meta, recs = read_arm_e39(RAW / "sgpsebsE39.b1.20230601.000000.cdf",
-                              RAW / "sgpecorsfE39.b1.20230601.000000.nc")
-    rows = centre_stamps(recs)
-    write_station(
-        "sgp-e39-20230601", rows, meta, 0.98,
-        "closed green grass canopy, typical broadband value; see docs/validation-stations.md",
-        ["source: ARM SGP E39 (Morrison, OK): sgpsebsE39.b1.20230601 (SEBS) + sgpecorsfE39.b1.20230601 (ECORSF),",
-         "        via github.com/ARM-DOE/arm-test-data data/ (see tests/data/stations/README.md)",
-         "data: Atmospheric Radiation Measurement (ARM) user facility, U.S. DOE Office of Science; free and open, acknowledge ARM"],
-        ["DNI/DHI not measured at E39: irsig splits the measured GHI (Erbs et al. 1982)",
-         "SEBS night-time shortwave below valid_min (small negative offsets) set to 0",
-         "a convective shower passes about 21:30-22:30 UTC (RH 100 %, air temperature -10 K in 1 h)"],
-        spinup=None)
 
     # --- SURFRAD Bondville, 1995-05-10 (late spring, grass) ---
     recs = read_qcrad(RAW / "bon_19950510.qdat")
@@ -491,27 +322,22 @@ def main():
          "overcast and humid all day: LWdn within a few W/m2 of LWup, small diurnal cycle"],
         spinup=None)
 
-    # --- SURFRAD Alamosa, 2015-12-31 (spin-up) + 2016-01-01 (winter, snow-free) ---
+    # --- SURFRAD Alamosa, 2016-01-01 (winter, snow-free), repeated-day spin-up ---
     if not a.surfrad_dir:
         print("tests/data/stations/slv-20160101.csv: kept (no --surfrad-dir)")
         return 0
-    _, r1, q1 = read_surfrad_dat(a.surfrad_dir / "slv15365.dat")
-    meta, r2, q2 = read_surfrad_dat(a.surfrad_dir / "slv16001.dat")
-    rows = resample(r1 + r2, 15)
+    meta, recs, q = read_surfrad_dat(a.surfrad_dir / "slv16001.dat")
     split = dt.datetime(2016, 1, 1, tzinfo=UTC)
-    spin = [r for r in rows if split - dt.timedelta(days=1) <= r["time"] < split]
-    day = [r for r in rows if split <= r["time"] < split + dt.timedelta(days=1)]
+    day = [r for r in resample(recs, 15) if split <= r["time"] < split + dt.timedelta(days=1)]
     write_station(
         "slv-20160101", day, meta, 0.95,
         "snow-free sparse dry grass on sandy soil, typical broadband value; see docs/validation-stations.md",
-        ["source: NOAA SURFRAD Alamosa, CO (slv), daily files slv15365.dat + slv16001.dat (1-min means),",
-         "        via github.com/jadchaar/SURFRAD-Data-Modeling ftp_files/slv15365.dat and",
-         "        github.com/pvlib/pvlib-python tests/data/surfrad-slv16001.dat (see tests/data/stations/README.md)",
+        ["source: NOAA SURFRAD Alamosa, CO (slv), daily file slv16001.dat (1-min means),",
+         "        via github.com/pvlib/pvlib-python tests/data/surfrad-slv16001.dat (see tests/data/stations/README.md)",
          "data: NOAA Global Monitoring Laboratory, U.S. Government work (public domain)"],
-        [f"{q1 + q2} 1-min values carry SURFRAD qc 2 (questionable) and were kept",
-         "2015-12-31 is measured (x_spinup = 1 rows keep their measurements); 2016-01-01 is compared",
-         "clear sky both days; the file header gives the west longitude 105.92 as a positive number"],
-        spinup=spin)
+        [f"{q} 1-min values carry SURFRAD qc 2 (questionable) and were kept",
+         "clear sky; the file header gives the west longitude 105.92 as a positive number"],
+        spinup=None)
     return 0
 
 

@@ -248,6 +248,36 @@ def _point_coords(points, meta: dict, frame_dims=()) -> dict:
     return out
 
 
+def _spatial_ref(meta: dict) -> dict:
+    """The CF grid-mapping coordinate ``spatial_ref`` as rioxarray and
+    GDAL read it: the output CRS's WKT (``crs_wkt``, ``spatial_ref``) and,
+    for a nadir view, the image's affine transform (``GeoTransform``,
+    GDAL's six coefficients: pixel corners to map x, y; rotated where the
+    image is, e.g. by UTM grid convergence). ``x``/``y`` stay image column
+    and row, so ``ds.rio.crs`` is the CRS and ``ds.rio.transform()`` the
+    image's transform, and ``ds.rio.to_raster`` writes a georeferenced
+    GeoTIFF. Empty without a CRS."""
+    g = meta.get("georef") or {}
+    crs = g.get("crs") or {}
+    wkt = crs.get("wkt")
+    if not wkt:
+        return {}
+    attrs = {"crs_wkt": wkt, "spatial_ref": wkt, "long_name": crs.get("name", "")}
+    gt = g.get("geotransform")
+    if gt:
+        attrs["GeoTransform"] = " ".join(repr(float(v)) for v in gt)
+    return {"spatial_ref": ((), _np.int64(0), attrs)}
+
+
+def _grid_mapped(ds: _xr.Dataset) -> _xr.Dataset:
+    """Points every image variable at ``spatial_ref`` (if there is one)."""
+    if "spatial_ref" in ds.coords:
+        for v in ds.data_vars.values():
+            if "y" in v.dims and "x" in v.dims:
+                v.attrs["grid_mapping"] = "spatial_ref"
+    return ds
+
+
 def _frame_attrs(meta: dict) -> dict:
     attrs = {k: meta[k] for k in _FLAT_ATTRS if k in meta}
     attrs["camera"] = _json.dumps(meta.get("camera"))
@@ -275,9 +305,10 @@ def _dataset(frame: dict) -> _xr.Dataset:
     meta = _json.loads(frame["meta"])
     planes = frame["planes"]
     h, w = planes[0][2].shape
-    coords = {**_xy_coords(h, w), **_point_coords(frame["points"], meta)}
+    coords = {**_xy_coords(h, w), **_point_coords(frame["points"], meta), **_spatial_ref(meta)}
     ds = _xr.Dataset(_variables(planes), coords=coords, attrs=_frame_attrs(meta))
     _name_materials(ds, meta)
+    _grid_mapped(ds)
     ds.coords["time"] = ((), _utc64(meta["image_time_utc"]), {"long_name": "image time (UTC)"})
     return ds
 
@@ -316,6 +347,10 @@ def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
     }
     for k, (u, ln) in per_frame.items():
         variables[k] = _xr.Variable((dim,), _np.array([m[k] for m in metas]), {"units": u, "long_name": ln})
+    # One grid mapping where every frame has the same CRS and transform.
+    refs = [_spatial_ref(m) for m in metas]
+    if refs[0] and all(r == refs[0] for r in refs[1:]):
+        coords.update(refs[0])
     if dim != "time":
         coords["time"] = (dim, _np.array([_utc64(m["image_time_utc"]) for m in metas]), {"long_name": "image time (UTC)"})
     attrs = {k: v for k, v in _frame_attrs(metas[0]).items() if all(
@@ -324,7 +359,7 @@ def _stacked(frames: list, dim: str, coord, coord_attrs: dict) -> _xr.Dataset:
     attrs["image_time_local"] = _json.dumps([m["image_time_local"] for m in metas])
     attrs["atmosphere"] = _json.dumps([m.get("atmosphere") for m in metas])
     attrs.pop("air_temperature_k", None)
-    return _name_materials(_xr.Dataset(variables, coords=coords, attrs=attrs), metas[0])
+    return _grid_mapped(_name_materials(_xr.Dataset(variables, coords=coords, attrs=attrs), metas[0]))
 
 
 def material_mask(ds: _xr.Dataset, name: str) -> _xr.DataArray:

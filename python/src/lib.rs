@@ -424,6 +424,7 @@ fn image_to_py<'py>(
     meta["estimators"] = image.estimators.into();
     meta["atmosphere"] = serde_json::to_value(&image.atmosphere).unwrap_or_default();
     meta["stats"] = serde_json::to_value(&frame.stats).unwrap_or_default();
+    meta["georef"] = serde_json::to_value(&image.georef).unwrap_or_default();
     let d = PyDict::new(py);
     d.set_item("planes", planes)?;
     d.set_item("points", points)?;

@@ -259,3 +259,99 @@ def test_map_grid_geotiff_has_crs_and_xy_equal_to_gdaltransform(nadir):
     ux, uy, _ = pipe.transform(gx[inner], gy[inner], gz[inner])
     err = np.hypot(ux - X[inner], uy - Y[inner])
     assert err.max() <= jitter + 1e-3, (err.max(), jitter)
+
+
+#: The same plate seen at 40 deg from nadir: a perspective image, no affine
+#: transform.
+OBLIQUE = {
+    **NADIR,
+    "sensor.pose": "{altitude={altitude_m=61.5,view_zenith_deg=40.0,azimuth_deg=225.0,target_m=[0.0,0.0,1.5]}}",
+}
+
+
+def test_oblique_geotiff_geolocation_arrays_read_by_gdal(tmp_path):
+    """An oblique view's GeoTIFF keeps its GCPs (with their CRS) and
+    carries GDAL's GEOLOCATION metadata pointing at ``o_geo.tif``'s map_x
+    and map_y bands (named relative to the file; Debian 12's GDAL 3.6
+    opens that name from the working directory): ``gdaltransform -geoloc``
+    takes pixel centres to the map coordinates of ``o_geo.tif`` within
+    1 cm, pixels that see sky (NaN) included in the arrays."""
+    import shutil
+    import subprocess
+
+    rasterio = pytest.importorskip("rasterio")
+    run_cli("render", PLATE, "-o", tmp_path / "o.tif", "-q", *set_args(OBLIQUE))
+    assert not (tmp_path / "o_map.tif").exists()
+    with rasterio.open(tmp_path / "o.tif") as src:
+        gcps, gcp_crs = src.gcps
+        assert len(gcps) > 10 and gcp_crs.to_epsg() == 32618
+        tags = src.tags(ns="GEOLOCATION")
+        h, w = src.height, src.width
+    assert tags["X_DATASET"] == "o_geo.tif" and tags["Y_DATASET"] == "o_geo.tif"
+    assert (tags["X_BAND"], tags["Y_BAND"]) == ("3", "4")
+    assert tags["GEOREFERENCING_CONVENTION"] == "PIXEL_CENTER"
+    assert rasterio.crs.CRS.from_wkt(tags["SRS"]).to_epsg() == 32618
+    with rasterio.open(tmp_path / "o_geo.tif") as g:
+        assert list(g.descriptions)[2:] == ["map_x", "map_y"]
+        mx, my = g.read(3), g.read(4)
+    # The view sees sky above the horizon (NaN: no hit) and ground below.
+    ok = np.isfinite(mx)
+    assert ok.any() and not ok.all()
+    gdaltransform = shutil.which("gdaltransform")
+    if gdaltransform is None:
+        pytest.skip("gdaltransform (gdal-bin) is not installed")
+    # Every pixel whose 3x3 neighbourhood sees ground (GDAL interpolates
+    # between array values, so a NaN neighbour makes NaN).
+    inner = ok.copy()
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            inner &= np.roll(np.roll(ok, dr, axis=0), dc, axis=1)
+    inner[[0, -1], :] = False
+    inner[:, [0, -1]] = False
+    pts = [(int(c), int(r)) for r, c in zip(*np.nonzero(inner))]
+    assert len(pts) > 100
+    out = subprocess.run(
+        [gdaltransform, "-geoloc", str(tmp_path / "o.tif")],
+        input="".join(f"{c + 0.5} {r + 0.5}\n" for c, r in pts),
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=tmp_path,
+    ).stdout.split("\n")
+    for (c, r), line in zip(pts, out):
+        x, y = map(float, line.split()[:2])
+        assert abs(mx[r, c] - x) < 0.01 and abs(my[r, c] - y) < 0.01, (c, r, x, y, mx[r, c], my[r, c])
+
+
+def test_map_grid_off(tmp_path):
+    run_cli("render", PLATE, "-o", tmp_path / "n.tif", "-q", "--map-grid", "off", *set_args(NADIR))
+    assert (tmp_path / "n.tif").exists() and not (tmp_path / "n_map.tif").exists()
+    j = json.loads((tmp_path / "n.json").read_text())
+    assert "n_map.tif" not in j["files"]
+
+
+def test_dataset_has_rio_crs_and_transform(nadir, tmp_path):
+    """A rendered Dataset carries the CF grid mapping ``spatial_ref``:
+    rioxarray reads the CLI GeoTIFF's CRS and (nadir) affine transform
+    from it, and ``rio.to_raster`` writes a GeoTIFF that rasterio places
+    where the CLI's is; an oblique view gets the CRS and no transform."""
+    rasterio = pytest.importorskip("rasterio")
+    pytest.importorskip("rioxarray")
+    import irsig
+
+    d, _ = nadir
+    ds = irsig.render(irsig.Scene.load(PLATE, overrides=NADIR), threads=2)
+    assert ds.rio.crs.to_epsg() == 32618
+    assert ds["apparent_temperature"].attrs["grid_mapping"] == "spatial_ref"
+    with rasterio.open(d / "n.tif") as src:
+        want = src.transform
+    got = ds.rio.transform()
+    assert np.allclose(list(got)[:6], list(want)[:6], rtol=0, atol=1e-6), (got, want)
+    ds["apparent_temperature"].rio.to_raster(tmp_path / "t.tif")
+    with rasterio.open(tmp_path / "t.tif") as out:
+        assert out.crs.to_epsg() == 32618
+        assert np.allclose(list(out.transform)[:6], list(want)[:6], rtol=0, atol=1e-6)
+        assert np.array_equal(out.read(1), ds["apparent_temperature"].values, equal_nan=True)
+    ob = irsig.render(irsig.Scene.load(PLATE, overrides=OBLIQUE), threads=2)
+    assert ob.rio.crs.to_epsg() == 32618
+    assert "GeoTransform" not in ob["spatial_ref"].attrs

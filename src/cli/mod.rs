@@ -11,6 +11,7 @@ pub mod crosscheck;
 pub mod log;
 pub mod probe;
 pub mod render;
+pub mod report;
 pub mod sequence;
 pub mod sun;
 pub mod therm;
@@ -87,6 +88,10 @@ pub enum Command {
     Therm(therm::Args),
     /// Atmosphere tables: list them, show what a geometry uses.
     Atmos(atmos::Args),
+    /// Write a self-contained HTML page of a render (x.json): each plane
+    /// with a colour bar, hover read-out and histogram, the material table,
+    /// sun, sensor and atmosphere.
+    Report(report::Args),
     /// Print a shell completion script (e.g. `irsig completions bash >
     /// ~/.local/share/bash-completion/completions/irsig`).
     Completions {
@@ -113,6 +118,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Sun(a) => sun::run(a),
         Command::Therm(a) => therm::run(a),
         Command::Atmos(a) => atmos::run(a),
+        Command::Report(a) => report::run(a),
         Command::Completions { shell } => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "irsig", &mut std::io::stdout());

@@ -7,7 +7,8 @@ use std::path::PathBuf;
 
 use super::log::{ProgressReporter, note};
 use crate::output::exr::ExrCompression;
-use crate::output::frame::{Formats, write_rendered};
+use crate::output::frame::{Formats, MapGrid, QuicklookOptions, write_rendered};
+use crate::output::quicklook::Colormap;
 use crate::render::{Progress, prepare_conditions, prepare_static, render_conditions};
 use crate::trace::Backend;
 
@@ -47,6 +48,24 @@ pub struct Args {
     /// Also write the EXR (x.exr), when -o names a .tif.
     #[arg(long)]
     pub exr: bool,
+    /// The north-up map-grid GeoTIFF (x_map.tif, the planes resampled at
+    /// the GSD: bilinear, nearest for material/facet/case/dn): `auto`
+    /// writes it for nadir views whose transform is rotated (a north-up
+    /// view's x.tif is a map grid already; an oblique view's x.tif carries
+    /// GCPs and GDAL GEOLOCATION metadata pointing at x_geo.tif); `off`
+    /// never.
+    #[arg(long, value_enum, default_value_t = MapGrid::Auto, value_name = "auto|off")]
+    pub map_grid: MapGrid,
+    /// The PNG quicklook's colour map: grey, or inferno (perceptually
+    /// uniform); a colour bar with the stretch's ends and the unit is drawn
+    /// below the image.
+    #[arg(long, value_enum, default_value_t = Colormap::Grey, value_name = "grey|inferno")]
+    pub colormap: Colormap,
+    /// The quicklook's stretch (2-98 percentiles) spans at least this many
+    /// kelvin of apparent temperature about the median (0: never widened),
+    /// so a scene with a 1 K contrast is not shown black and white.
+    #[arg(long, default_value_t = 2.0, value_name = "K")]
+    pub quicklook_min_span_k: f64,
     /// Write only these planes to the EXR and the GeoTIFF (comma-separated,
     /// e.g. `--planes band_radiance,apparent_temperature,material`;
     /// default: all). The PNG, the ENVI cubes and the geolocation are not
@@ -92,6 +111,17 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let mut formats =
         Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?.with_planes(&a.planes)?;
     formats.exr_compression = a.exr_compression;
+    formats.map_grid = a.map_grid;
+    if !(a.quicklook_min_span_k.is_finite() && (0.0..=1000.0).contains(&a.quicklook_min_span_k)) {
+        anyhow::bail!(
+            "--quicklook-min-span-k {}: expected kelvin in 0 .. 1000",
+            a.quicklook_min_span_k
+        );
+    }
+    formats.quicklook = QuicklookOptions {
+        colormap: a.colormap,
+        min_span_k: a.quicklook_min_span_k,
+    };
     crate::output::check_output_file(&a.output)?;
     let overrides = parse_overrides(&a.set)?;
     let pool = thread_pool(a.threads)?;

@@ -23,18 +23,19 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use serde::Serialize;
 
+use super::OutputSet;
 use super::envi::{list, write_cube};
 use super::exr::{Attr, ExrCompression, write_exr, write_exr_planes};
 use super::geotiff::{
     Band, Placement, is_class_plane, north_up_grid, placement, resample_affine, write_geotiff,
 };
-use super::{OutputSet, quicklook::write_png};
+use super::quicklook::{Colormap, QuicklookStyle, percentile_stretch, write_quicklook};
 use crate::render::{Frame, Rendered, Stats};
 use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 
 /// The formats of a render's output (the PNG and the JSON are always
 /// written).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Formats {
     pub exr: bool,
     pub geotiff: bool,
@@ -45,6 +46,103 @@ pub struct Formats {
     /// The EXR's compression (lossless); `None`: the scene's
     /// (`output.exr_compression`, default zips).
     pub exr_compression: Option<ExrCompression>,
+    /// Whether a GeoTIFF's nadir view also gets the north-up map grid
+    /// (`x_map.tif`).
+    pub map_grid: MapGrid,
+    /// How the PNG quicklook is drawn.
+    pub quicklook: QuicklookOptions,
+}
+
+/// The PNG quicklook's colour map and smallest stretch span.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuicklookOptions {
+    pub colormap: Colormap,
+    /// The stretch spans at least this many kelvin of apparent temperature
+    /// about the scene's median (converted to radiance, see
+    /// [`min_span_radiance`]); 0: the plain 2-98 % stretch.
+    pub min_span_k: f64,
+}
+
+impl Default for QuicklookOptions {
+    fn default() -> Self {
+        QuicklookOptions {
+            colormap: Colormap::Grey,
+            min_span_k: 2.0,
+        }
+    }
+}
+
+/// The band-averaged radiance span (W m⁻² sr⁻¹ µm⁻¹) of `span_k` kelvin
+/// centred on the median of the finite `apparent_temp_k` values:
+/// B̄(T + span/2) − B̄(T − span/2), B̄(T) = ∫_lo^hi B_λ(λ, T) dλ / (hi − lo)
+/// (Planck's law over the band's support, a flat response; for a
+/// `response_file` band the slope differs by the response's weighting, a
+/// display choice, not a measurement). 0 when there is no finite
+/// temperature.
+pub fn min_span_radiance(apparent_temp_k: &[f32], (lo_um, hi_um): (f64, f64), span_k: f64) -> f32 {
+    let mut t: Vec<f32> = apparent_temp_k
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .collect();
+    let usable = span_k > 0.0 && hi_um > lo_um;
+    if t.is_empty() || !usable {
+        return 0.0;
+    }
+    t.sort_by(f32::total_cmp);
+    let med = t[t.len() / 2] as f64;
+    let b = |temp_k: f64| {
+        crate::radiometry::planck::planck_band_integral_w_m2_sr(lo_um, hi_um, temp_k)
+            / (hi_um - lo_um)
+    };
+    (b(med + 0.5 * span_k) - b((med - 0.5 * span_k).max(1.0))) as f32
+}
+
+/// Writes the PNG quicklook of the `sensor_radiance` plane of `p` at
+/// `path` (see [`write_quicklook`]); returns the summary's description of
+/// it.
+fn write_sensor_quicklook(
+    set: &mut OutputSet,
+    path: &Path,
+    p: &crate::render::planes::Planes,
+    band_um: (f64, f64),
+    opts: QuicklookOptions,
+) -> anyhow::Result<String> {
+    let ql = p
+        .get("sensor_radiance")
+        .expect("render writes sensor_radiance");
+    let unit = "W m-2 sr-1 um-1";
+    let min_span = p.get("apparent_temperature").map_or(0.0, |t| {
+        min_span_radiance(&t.data, band_um, opts.min_span_k)
+    });
+    let style = QuicklookStyle {
+        colormap: opts.colormap,
+        min_span,
+        caption: format!("sensor_radiance [{unit}]"),
+    };
+    let s = write_quicklook(set, path, (p.width, p.height), &ql.data, &style)?;
+    Ok(format!(
+        "sensor_radiance, linear 2-98 percentile stretch widened to at least {} K of apparent temperature ({min_span} {unit}): {} .. {} {unit}; colour map {}, colour bar below the image",
+        opts.min_span_k,
+        s.lo,
+        s.hi,
+        serde_json::to_value(opts.colormap)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap_or_default()
+    ))
+}
+
+/// When the GeoTIFF output adds the planes resampled onto a north-up map
+/// grid (`x_map.tif`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum MapGrid {
+    /// For nadir views whose affine transform is rotated (a north-up one
+    /// is a map grid already; an oblique view has no affine transform).
+    #[default]
+    Auto,
+    /// Never.
+    Off,
 }
 
 impl Formats {
@@ -186,16 +284,15 @@ pub fn write_frame(
     let mut set = OutputSet::new(&json_path)?;
     let p = &frame.planes;
     write_exr(&mut set, exr, p, &[], compression)?;
-    let ql = p
-        .get("sensor_radiance")
-        .expect("render writes sensor_radiance");
-    let s = write_png(
+    let quicklook = write_sensor_quicklook(
         &mut set,
         &exr.with_extension("png"),
-        p.width,
-        p.height,
-        &ql.data,
-        "sensor_radiance W m-2 sr-1 um-1",
+        p,
+        (0.0, 0.0),
+        QuicklookOptions {
+            min_span_k: 0.0,
+            ..Default::default()
+        },
     )?;
     if envi {
         super::envi::write_envi(
@@ -206,10 +303,6 @@ pub fn write_frame(
             "irsig planes",
         )?;
     }
-    let quicklook = format!(
-        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
-        s.lo, s.hi
-    );
     commit_with_json(set, &json_path, |files| summary_of(quicklook, files))
 }
 
@@ -274,6 +367,27 @@ fn class_colour(class: u32) -> [u8; 3] {
         _ => (c, 40.0, x),
     };
     [r as u8, g as u8, b as u8]
+}
+
+/// GDAL's `GEOLOCATION` metadata (RFC 4) for an image whose pixels' map
+/// coordinates are bands 3 (`map_x`) and 4 (`map_y`) of the file `geo_name`
+/// beside it, one value per pixel centre, in `g`'s CRS.
+fn geolocation_metadata(g: &Georef, geo_name: &str) -> Vec<(String, String)> {
+    [
+        ("SRS", g.crs.wkt.as_str()),
+        ("X_DATASET", geo_name),
+        ("X_BAND", "3"),
+        ("Y_DATASET", geo_name),
+        ("Y_BAND", "4"),
+        ("PIXEL_OFFSET", "0"),
+        ("LINE_OFFSET", "0"),
+        ("PIXEL_STEP", "1"),
+        ("LINE_STEP", "1"),
+        ("GEOREFERENCING_CONVENTION", "PIXEL_CENTER"),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.to_string()))
+    .collect()
 }
 
 /// ENVI `map info` (and `coordinate system string`) for an affine
@@ -371,21 +485,13 @@ pub fn write_rendered(
     let geoloc_cell = std::cell::OnceCell::new();
     let geoloc = || geoloc_cell.get_or_init(|| geolocate(&geo, g.ground_origin_m, gx, gy, gz));
 
-    let ql = p
-        .get("sensor_radiance")
-        .expect("render writes sensor_radiance");
-    let s = write_png(
+    let quicklook = write_sensor_quicklook(
         &mut set,
         &path.with_extension("png"),
-        w,
-        h,
-        &ql.data,
-        "sensor_radiance W m-2 sr-1 um-1",
+        p,
+        r.band_um,
+        formats.quicklook,
     )?;
-    let quicklook = format!(
-        "sensor_radiance, linear 2-98 percentile stretch {} .. {} W m-2 sr-1 um-1",
-        s.lo, s.hi
-    );
     let common_meta: Vec<(String, String)> = vec![
         ("irsig_version".into(), crate::version::LONG_VERSION.into()),
         ("scene".into(), r.scene.clone()),
@@ -457,6 +563,18 @@ pub fn write_rendered(
             })
             .collect();
         let place = placement(g, w, &geoloc().map_x_m, &geoloc().map_y_m, 10);
+        // Without an affine transform GDAL's GEOLOCATION metadata points
+        // to the per-pixel map coordinates in `x_geo.tif` (GDAL RFC 4
+        // geolocation arrays; `gdalwarp -geoloc`, `gdaltransform -geoloc`).
+        let geo_name = sibling(path, "_geo", "tif")
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let domains = if g.geotransform.is_none() {
+            vec![("GEOLOCATION", geolocation_metadata(g, &geo_name))]
+        } else {
+            Vec::new()
+        };
         write_geotiff(
             &mut set,
             &path.with_extension("tif"),
@@ -465,6 +583,7 @@ pub fn write_rendered(
             Some(&g.crs),
             &place,
             &common_meta,
+            &domains,
         )?;
         let geo_bands = [
             Band {
@@ -496,12 +615,14 @@ pub fn write_rendered(
             Some(&g.crs),
             &place,
             &common_meta,
+            &[],
         )?;
         // A nadir view whose transform is rotated (UTM grid convergence, a
         // yawed camera) also gets the planes on a north-up map grid at its
         // GSD, which GIS tools turn into x/y coordinates.
         if let Some((gt, ogt, ow, oh)) = g
             .geotransform
+            .filter(|_| formats.map_grid == MapGrid::Auto)
             .and_then(|gt| north_up_grid(gt, w, h).map(|(o, ow, oh)| (gt, o, ow, oh)))
         {
             let data: Vec<Vec<f32>> = kept
@@ -543,11 +664,17 @@ pub fn write_rendered(
                 Some(&g.crs),
                 &Placement::Affine(ogt),
                 &meta,
+                &[],
             )?;
         }
     }
     if formats.envi {
-        let (lo, hi) = r.band_um;
+        let (centre, fwhm) = r.band_centre_fwhm_um;
+        // ENVI's default display stretch: the quicklook's 2-98 % percentiles.
+        let s = p
+            .get("sensor_radiance")
+            .map(|pl| percentile_stretch(&pl.data))
+            .unwrap_or(super::quicklook::Stretch { lo: 0.0, hi: 1.0 });
         let geo_fields = envi_georef_fields(g, geoloc(), w);
         let mut common = vec![
             ("acquisition time".to_string(), time.clone()),
@@ -559,7 +686,7 @@ pub fn write_rendered(
         ];
         common.extend(geo_fields);
         // Radiance cube: the radiances at the sensor's band, each band
-        // labelled with the band's centre and width.
+        // labelled with the response-weighted centre and the FWHM.
         let rad: Vec<_> = radiance_cube_planes().filter_map(|n| p.get(n)).collect();
         let names: Vec<String> = rad
             .iter()
@@ -575,11 +702,11 @@ pub fn write_rendered(
             ("wavelength units".to_string(), "Micrometers".to_string()),
             (
                 "wavelength".into(),
-                list(rad.iter().map(|_| format!("{:.6}", (lo + hi) / 2.0))),
+                list(rad.iter().map(|_| format!("{centre:.6}"))),
             ),
             (
                 "fwhm".into(),
-                list(rad.iter().map(|_| format!("{:.6}", hi - lo))),
+                list(rad.iter().map(|_| format!("{fwhm:.6}"))),
             ),
             ("data units".into(), "W m-2 sr-1 um-1".into()),
             (
@@ -678,11 +805,8 @@ pub fn write_rendered(
             let mut fields = vec![
                 ("data units".to_string(), "counts".to_string()),
                 ("wavelength units".into(), "Micrometers".into()),
-                (
-                    "wavelength".into(),
-                    list([format!("{:.6}", (lo + hi) / 2.0)]),
-                ),
-                ("fwhm".into(), list([format!("{:.6}", hi - lo)])),
+                ("wavelength".into(), list([format!("{centre:.6}")])),
+                ("fwhm".into(), list([format!("{fwhm:.6}")])),
             ];
             let dn_path = sibling(path, "_dn", "img");
             let desc = format!("irsig sensor counts, {}, {time}", r.band);

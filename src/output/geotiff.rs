@@ -126,8 +126,10 @@ fn geokeys(crs: &CrsInfo) -> (Vec<u16>, Vec<f64>, String) {
 
 /// Writes `bands` (all (`width`, `height`)) as a GeoTIFF at `path` (f32 or
 /// f64 samples), placed by `placement` in `crs`, with `metadata` (name,
-/// value) as dataset metadata items; the file is staged in the output set
-/// `out`.
+/// value) as dataset metadata items and `domains` (domain, items) as items
+/// of GDAL's other metadata domains (e.g. `GEOLOCATION`); the file is
+/// staged in the output set `out`.
+#[allow(clippy::too_many_arguments)]
 pub fn write_geotiff<T>(
     out: &mut OutputSet,
     path: &Path,
@@ -136,6 +138,7 @@ pub fn write_geotiff<T>(
     crs: Option<&CrsInfo>,
     placement: &Placement,
     metadata: &[(String, String)],
+    domains: &[(&str, Vec<(String, String)>)],
 ) -> Result<(), OutputError>
 where
     T: GeoTiffSample,
@@ -168,6 +171,16 @@ where
             xml_escape(k),
             xml_escape(v)
         );
+    }
+    for (domain, items) in domains {
+        for (k, v) in items {
+            xml += &format!(
+                "  <Item name=\"{}\" domain=\"{}\">{}</Item>\n",
+                xml_escape(k),
+                xml_escape(domain),
+                xml_escape(v)
+            );
+        }
     }
     for (i, b) in bands.iter().enumerate() {
         xml += &format!(

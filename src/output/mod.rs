@@ -11,7 +11,9 @@ pub mod exr;
 pub mod exr_zip;
 pub mod frame;
 pub mod geotiff;
+pub mod glyphs;
 pub mod quicklook;
+pub mod report;
 pub mod sequence;
 pub mod set;
 

@@ -268,6 +268,7 @@ pub fn write_frame(
         envi: out.envi,
         planes: None,
         exr_compression: out.exr_compression,
+        ..Default::default()
     };
     write_rendered(&exr, &f.image, formats, Some(frame_info))?;
     Ok(entry)

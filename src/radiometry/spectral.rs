@@ -240,6 +240,55 @@ impl SpectralResponse {
             .sum()
     }
 
+    /// The response-weighted centre wavelength, µm:
+    /// λ̄ = ∫ λ R(λ) dλ / ∫ R(λ) dλ, exact for the piecewise-linear R (on a
+    /// segment [x0, x1] where R runs from r0 to r1,
+    /// ∫ λ R dλ = (x1 − x0)/6 · (x0 (2 r0 + r1) + x1 (r0 + 2 r1))). For an
+    /// ideal band the midpoint.
+    pub fn centroid_um(&self) -> f64 {
+        let (w, r) = (&self.wavelength_um, &self.response);
+        let (mut m0, mut m1) = (0.0, 0.0);
+        for i in 0..w.len().saturating_sub(1) {
+            let (x0, x1, r0, r1) = (w[i], w[i + 1], r[i], r[i + 1]);
+            m0 += 0.5 * (x1 - x0) * (r0 + r1);
+            m1 += (x1 - x0) / 6.0 * (x0 * (2.0 * r0 + r1) + x1 * (r0 + 2.0 * r1));
+        }
+        if m0 > 0.0 {
+            m1 / m0
+        } else {
+            let (lo, hi) = self.support_um();
+            0.5 * (lo + hi)
+        }
+    }
+
+    /// The full width at half maximum, µm: the distance between the first
+    /// and the last wavelengths where the piecewise-linear R crosses half
+    /// its peak (linear interpolation; the outermost crossings, so a
+    /// double-peaked response gets its whole width). For an ideal band its
+    /// width.
+    pub fn fwhm_um(&self) -> f64 {
+        let (w, r) = (&self.wavelength_um, &self.response);
+        let half = 0.5 * r.iter().copied().fold(0.0, f64::max);
+        let peaked = half > 0.0;
+        if !peaked || w.len() < 2 {
+            return 0.0;
+        }
+        let cross = |i: usize| {
+            let (x0, x1, r0, r1) = (w[i], w[i + 1], r[i], r[i + 1]);
+            if r1 == r0 {
+                x0
+            } else {
+                x0 + (half - r0) / (r1 - r0) * (x1 - x0)
+            }
+        };
+        let n = w.len() - 1;
+        let first = (0..n).find(|&i| r[i] < half && r[i + 1] >= half);
+        let last = (0..n).rev().find(|&i| r[i] >= half && r[i + 1] < half);
+        let lo = first.map_or(w[0], cross);
+        let hi = last.map_or(w[n], cross);
+        hi - lo
+    }
+
     /// Wavelength range (µm) outside which R = 0.
     pub fn support_um(&self) -> (f64, f64) {
         let i0 = self.response.iter().position(|&x| x > 0.0).unwrap_or(0);

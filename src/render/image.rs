@@ -24,6 +24,11 @@ pub struct Rendered {
     /// The band's spectral support, µm (lowest, highest wavelength of
     /// non-zero response).
     pub band_um: (f64, f64),
+    /// The response-weighted band centre and the response's full width at
+    /// half maximum, µm ([`crate::radiometry::SpectralResponse::centroid_um`],
+    /// [`crate::radiometry::SpectralResponse::fwhm_um`]): the ENVI
+    /// headers' `wavelength` and `fwhm`.
+    pub band_centre_fwhm_um: (f64, f64),
     /// The atmosphere table, why, and how it followed the weather.
     pub atmosphere: super::atmosphere::AtmosphereReport,
     /// Material names, by index (the `material` plane's values).
@@ -82,6 +87,7 @@ pub fn render_conditions(
         band: st.band.label.clone(),
         estimators: cond.estimators.to_string(),
         band_um: st.scene.response.support_um(),
+        band_centre_fwhm_um: (st.scene.response.centroid_um(), st.scene.response.fwhm_um()),
         atmosphere: cond.atmosphere_report.clone(),
         materials: st.scene.materials.iter().map(|m| m.name.clone()).collect(),
         overrides: st.scene.overrides.clone(),

@@ -122,7 +122,7 @@ fn weather_plain_csv() {
         "weather-csv",
         vec![
             head("tests/data/stations/bon-19950510.csv", 40),
-            head("tests/data/stations/sgp-e39-20230601.csv", 40),
+            head("tests/data/stations/bnd-19980725.csv", 40),
             head("tests/data/stations/slv-20160101.csv", 40),
         ],
         parse_plain_csv,

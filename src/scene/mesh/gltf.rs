@@ -729,8 +729,9 @@ impl Reader<'_> {
 }
 
 /// A buffer URI's bytes: `data:…;base64,…`, or a relative (or `file:`)
-/// path inside the glTF file's folder tree ([`crate::files::inside_folder`]:
-/// no absolute path, no `..` above it, no symbolic link out of it); no
+/// path inside the glTF file's folder tree (the project's one path policy,
+/// [`crate::files::within`] with no further allowed folder: no path outside
+/// it, no `..` above it, no symbolic link out of it); no
 /// network scheme. Nothing of a refused file is read, so no error can show
 /// its bytes.
 fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
@@ -774,7 +775,7 @@ fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     let rel = percent_encoding::percent_decode_str(rel)
         .decode_utf8()
         .map_err(|e| format!("URI `{uri}` decodes to invalid UTF-8: {e}"))?;
-    let file = crate::files::inside_folder(dir, Path::new(&*rel)).map_err(|why| {
+    let file = crate::files::within(dir, Path::new(&*rel), &[]).map_err(|why| {
         format!(
             "URI `{uri}` {why}: a model may only refer to files in its own folder or below \
              (docs/reliability.md, path policy)"

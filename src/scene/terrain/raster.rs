@@ -238,6 +238,7 @@ pub fn parse_raster(path: &Path, bytes: &[u8]) -> Result<Raster, SceneError> {
              extract it with `gdal_translate -b 1 in.tif out.tif`"
         )));
     }
+    declared_size_fits(&mut dec, bytes.len() as u64, width, height).map_err(err)?;
     let f64_tag =
         |dec: &mut Decoder<Cursor<&[u8]>>, tag: Tag| -> Result<Option<Vec<f64>>, SceneError> {
             match dec.find_tag(tag).map_err(tiff_err)? {
@@ -347,6 +348,86 @@ pub fn parse_raster(path: &Path, bytes: &[u8]) -> Result<Raster, SceneError> {
         data,
         inverse,
     })
+}
+
+/// The most bytes one compressed byte can decode to, by TIFF compression
+/// method (tag 259): none 1; PackBits 64 (a 2-byte run code emits at most
+/// 128 bytes, TIFF 6.0 §9); LZW 4096 (a code of at least 9 bits emits at
+/// most 4096 bytes, TIFF 6.0 §13; a loose bound); Deflate 1032 (a match of
+/// at most 258 bytes per at least 2 bits, RFC 1951 §3.2.5). `None` for a
+/// method the decoder does not support (it refuses those itself).
+fn max_expansion(compression: u16) -> Option<u64> {
+    match compression {
+        1 => Some(1),
+        32773 => Some(64),
+        5 => Some(4096),
+        8 | 32946 => Some(1032),
+        _ => None,
+    }
+}
+
+/// The raster's declared decoded size (rows of `width` samples of
+/// BitsPerSample bits, padded to bytes, times `height`) checked, before
+/// anything is allocated or inflated, against what its compressed strips or
+/// tiles can hold: every chunk must lie inside the file, and the declared
+/// size may not exceed the chunks' bytes times the method's largest
+/// expansion ([`max_expansion`]). A decompression bomb (a few kB of deflate
+/// declaring 2²⁷ pixels) is refused here with both sizes; the decoder then
+/// inflates no chunk beyond its declared size (it reads exactly that much).
+fn declared_size_fits(
+    dec: &mut Decoder<Cursor<&[u8]>>,
+    file_len: u64,
+    width: u32,
+    height: u32,
+) -> Result<(), String> {
+    let tiff_err = |e: tiff::TiffError| format!("cannot read the GeoTIFF: {e}");
+    let bits = u64::from(
+        dec.find_tag_unsigned::<u16>(Tag::BitsPerSample)
+            .map_err(tiff_err)?
+            .unwrap_or(1),
+    );
+    let compression = dec
+        .find_tag_unsigned::<u16>(Tag::Compression)
+        .map_err(tiff_err)?
+        .unwrap_or(1);
+    let declared = (u64::from(width) * bits).div_ceil(8) * u64::from(height);
+    let tiled = dec
+        .find_tag(Tag::TileByteCounts)
+        .map_err(tiff_err)?
+        .is_some();
+    let (what, offsets, counts) = if tiled {
+        ("tile", Tag::TileOffsets, Tag::TileByteCounts)
+    } else {
+        ("strip", Tag::StripOffsets, Tag::StripByteCounts)
+    };
+    let list = |dec: &mut Decoder<Cursor<&[u8]>>, tag: Tag| -> Result<Vec<u64>, String> {
+        match dec.find_tag(tag).map_err(tiff_err)? {
+            Some(v) => v.into_u64_vec().map_err(tiff_err),
+            None => Err(format!("no {tag:?} tag: expected the {what}s' positions")),
+        }
+    };
+    let (offsets, counts) = (list(dec, offsets)?, list(dec, counts)?);
+    let mut compressed = 0u64;
+    for (i, (&at, &n)) in offsets.iter().zip(&counts).enumerate() {
+        if at.checked_add(n).is_none_or(|end| end > file_len) {
+            return Err(format!(
+                "{what} {i} ({n} bytes at byte {at}) runs past the end of the {file_len}-byte file"
+            ));
+        }
+        compressed = compressed.saturating_add(n);
+    }
+    if let Some(k) = max_expansion(compression)
+        && declared > compressed.saturating_mul(k)
+    {
+        return Err(format!(
+            "{width}x{height} pixels of {bits} bits declare {declared} bytes, but its {} {what}(s) \
+             hold {compressed} bytes of compression method {compression}, which decode to at \
+             most {} bytes: a truncated file or a decompression bomb (refused before inflating)",
+            counts.len(),
+            compressed.saturating_mul(k)
+        ));
+    }
+    Ok(())
 }
 
 /// Samples as f32, NaN where equal to the no-data value (compared in the
