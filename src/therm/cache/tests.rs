@@ -1,0 +1,273 @@
+//! Tests of the memoising cache and its checkpoints.
+
+use super::*;
+use crate::therm::slab::{BackBoundary, solve_surface};
+use rayon::prelude::*;
+
+fn forcing() -> Vec<Forcing> {
+    (0..=96)
+        .map(|i| {
+            let t = i as f64 * 900.0;
+            let ph = (t / 86400.0 * std::f64::consts::TAU).sin();
+            Forcing {
+                t_s: t,
+                air_temp_k: 290.0 + 6.0 * ph,
+                sky_temp_k: 265.0,
+                wind_speed_m_s: 2.0,
+                dni_w_m2: (700.0 * ph).max(0.0),
+                dhi_w_m2: (80.0 * ph).max(0.0),
+                ghi_w_m2: (600.0 * ph).max(0.0),
+                sun_dir_enu: [0.3 * ph, -0.5, ph],
+                dew_point_k: crate::therm::forcing::DRY_AIR_DEW_POINT_K,
+                pressure_pa: 101_325.0,
+                precip_mm_h: 0.0,
+                ground_temp_k: None,
+            }
+        })
+        .collect()
+}
+
+fn mats() -> Vec<SlabMaterial> {
+    [(0.2, 1.4), (0.0005, 200.0), (0.05, 0.3)]
+        .iter()
+        .map(|&(l, k)| SlabMaterial {
+            density_kg_m3: 2000.0,
+            specific_heat_j_kgk: 900.0,
+            conductivity_w_mk: k,
+            thickness_m: l,
+            solar_absorptivity: 0.7,
+            thermal_emissivity: 0.9,
+            back: BackBoundary::Insulated,
+            internal_power_w_m2: 0.0,
+            ground_albedo: None,
+            surface: crate::therm::surface::SurfaceKind::default(),
+        })
+        .collect()
+}
+
+fn history(shade_from: usize) -> SunHistory {
+    SunHistory {
+        start_s: 86400 - 47 * 1800,
+        interval_s: 1800,
+        sunlit: (0..48).map(|i| i < shade_from).collect(),
+    }
+}
+
+/// 48 h of the test forcing's diurnal cycle, every 30 min, starting
+/// 12 h into it (so the sun is up over hours 12-24 and 36-48).
+fn two_days() -> Vec<Forcing> {
+    let day = forcing();
+    (0..=96)
+        .map(|i| Forcing {
+            t_s: i as f64 * 1800.0,
+            ..day[(2 * i + 48) % 96]
+        })
+        .collect()
+}
+
+/// A history over [`two_days`] (30-min samples) shaded over `shade`.
+fn shaded(shade: std::ops::Range<usize>) -> SunHistory {
+    SunHistory {
+        start_s: 0,
+        interval_s: 1800,
+        sunlit: (0..=96).map(|i| !shade.contains(&i)).collect(),
+    }
+}
+
+#[test]
+fn a_march_resumed_from_a_checkpoint_is_the_march_that_did_not_stop() {
+    let f = two_days();
+    let m = mats()[0];
+    let flat = Orientation {
+        slope_deg: 0.0,
+        aspect_deg: 0.0,
+    };
+    // Histories alike until the last hours (a shadow arriving at 42 h
+    // or 44 h), and one that differs on the first day.
+    let (a, b, c) = (shaded(84..97), shaded(88..97), shaded(30..36));
+    let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+    let sa = cache.solve(0, &m, flat, Some(&a), 1, &f).unwrap();
+    let after_a = cache.stats();
+    assert!(after_a.checkpoints >= 3, "{after_a:?}");
+    assert_eq!(after_a.resumed, 0);
+    let sb = cache.solve(0, &m, flat, Some(&b), 1, &f).unwrap();
+    let sc = cache.solve(0, &m, flat, Some(&c), 1, &f).unwrap();
+    let st = cache.stats();
+    assert_eq!(
+        st.resumed, 1,
+        "b resumes from a's checkpoint, c cannot: {st:?}"
+    );
+    assert!(
+        3 * sb.steps_accepted < 2 * sa.steps_accepted,
+        "b marches only its last hours: {} vs {} steps",
+        sb.steps_accepted,
+        sa.steps_accepted
+    );
+    // Bit for bit what a cache that solves b alone, and the plain
+    // march, give.
+    for (h, s) in [(&b, &sb), (&a, &sa), (&c, &sc)] {
+        let alone = ThermCache::new(ThermSettings::default(), 0.5, false)
+            .solve(0, &m, flat, Some(h), 1, &f)
+            .unwrap();
+        let plain = solve_surface(&m, flat, Some(h), &f, &ThermSettings::default(), false).unwrap();
+        assert_eq!(s.profile_k, alone.profile_k);
+        assert_eq!(s.profile_k, plain.profile_k);
+        assert_eq!(s.surface_temp_k.to_bits(), plain.surface_temp_k.to_bits());
+    }
+    // The shadow changes the answer (the test is not vacuous).
+    assert!((sa.surface_temp_k - sb.surface_temp_k).abs() > 0.05);
+}
+
+#[test]
+fn quantised_orientations_share_an_entry_and_solve_the_quantised_facet() {
+    let f = forcing();
+    let m = mats()[0];
+    let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+    let a = Orientation {
+        slope_deg: 30.1,
+        aspect_deg: 179.9,
+    };
+    let b = Orientation {
+        slope_deg: 29.9,
+        aspect_deg: 180.2,
+    };
+    let ta = cache.surface_temp_k(0, &m, a, None, 7, &f).unwrap();
+    let tb = cache.surface_temp_k(0, &m, b, None, 7, &f).unwrap();
+    assert_eq!(ta.to_bits(), tb.to_bits());
+    let st = cache.stats();
+    assert_eq!((st.hits, st.misses, st.entries), (1, 1, 1));
+    assert!(st.steps > 0 && st.newton_iterations >= st.steps);
+    // Equals a direct solve at the quantised orientation (30°, 180°).
+    let direct = SlabModel::new(
+        &m,
+        Orientation {
+            slope_deg: 30.0,
+            aspect_deg: 180.0,
+        },
+        &ThermSettings::default(),
+    )
+    .unwrap()
+    .solve(&f, None, false)
+    .unwrap();
+    assert_eq!(direct.surface_temp_k.to_bits(), ta.to_bits());
+    // Horizontal facets ignore aspect; an all-sunlit history is no history.
+    let h0 = Orientation {
+        slope_deg: 0.1,
+        aspect_deg: 90.0,
+    };
+    let h1 = Orientation {
+        slope_deg: 0.0,
+        aspect_deg: 270.0,
+    };
+    assert_eq!(
+        cache.key(0, h0, None, 7),
+        cache.key(0, h1, Some(&history(48)), 7)
+    );
+    // Different history, material or weather: different keys.
+    assert_ne!(
+        cache.key(0, a, None, 7),
+        cache.key(0, a, Some(&history(40)), 7)
+    );
+    assert_ne!(cache.key(0, a, None, 7), cache.key(1, a, None, 7));
+    assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, None, 8));
+}
+
+#[test]
+fn concurrent_use_is_deterministic_and_solves_each_key_once() {
+    let f = forcing();
+    let mats = mats();
+    // 600 requests over 3 materials × 4 orientations × 3 histories = 36 keys,
+    // orientations jittered within the quantum.
+    let reqs: Vec<(u32, Orientation, usize)> = (0..600)
+        .map(|i| {
+            let jitter = ((i * 37) % 9) as f64 * 0.02 - 0.08;
+            (
+                (i % 3) as u32,
+                Orientation {
+                    slope_deg: 15.0 * ((i / 3) % 4) as f64 + jitter,
+                    aspect_deg: 90.0 + jitter,
+                },
+                [48, 44, 30][(i / 12) % 3],
+            )
+        })
+        .collect();
+    let run = |threads: usize| {
+        let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let temps: Vec<u64> = pool.install(|| {
+            reqs.par_iter()
+                .map(|&(m, o, s)| {
+                    cache
+                        .surface_temp_k(m, &mats[m as usize], o, Some(&history(s)), 1, &f)
+                        .unwrap()
+                        .to_bits()
+                })
+                .collect()
+        });
+        (temps, cache.stats())
+    };
+    let (t1, s1) = run(1);
+    let (t4, s4) = run(4);
+    assert_eq!(t1, t4);
+    assert_eq!(s1.misses, 36);
+    assert_eq!(s4.misses, 36);
+    assert_eq!(s4.hits + s4.misses, 600);
+    assert_eq!(s4.entries, 36);
+}
+
+/// Height keys: ground level is 0 m exactly; a quantised height is
+/// within 2.5 % of the reference height z + 2 m; the wind at the
+/// facet then differs by < 1 % (log law, z0 = 0.03 m).
+#[test]
+fn height_quantum() {
+    assert_eq!(ThermCache::quantise_height(0.0), (0, 0.0));
+    for z in [0.3, 2.0, 8.5, 40.0, 300.0] {
+        let (_, zq) = ThermCache::quantise_height(z);
+        assert!(
+            ((zq + 2.0) / (z + 2.0)).ln().abs() <= 0.025 + 1e-12,
+            "{z} -> {zq}"
+        );
+        let u = |h: f64| ((h + 2.0) / 0.03f64).ln();
+        assert!((u(zq) / u(z) - 1.0).abs() < 0.01);
+    }
+    assert_eq!(ThermCache::quantise_height(f64::NAN), (0, 0.0));
+}
+
+/// A facet whose sky is 30 % hidden (by walls at the ground's
+/// temperature, here the air's) loses less longwave to the 265-K sky
+/// than an open one and ends warmer; a hidden fraction below half a
+/// quantum shares the open facet's entry; the cached solve is the slab
+/// model's with the quantised fraction.
+#[test]
+fn blocked_sky_is_keyed_and_warms_at_night() {
+    let f = forcing();
+    let m = mats()[0];
+    let cache = ThermCache::new(ThermSettings::default(), 5.0, false);
+    let o = Orientation::HORIZONTAL;
+    let open = cache
+        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.0)
+        .unwrap();
+    let tiny = cache
+        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.004)
+        .unwrap();
+    assert!(Arc::ptr_eq(&open, &tiny));
+    let walled = cache
+        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.301)
+        .unwrap();
+    assert!(
+        walled.surface_temp_k > open.surface_temp_k + 0.5,
+        "{} vs {}",
+        walled.surface_temp_k,
+        open.surface_temp_k
+    );
+    let direct = SlabModel::new(&m, o, cache.settings())
+        .unwrap()
+        .with_blocked_sky(0.30)
+        .solve(&f, None, false)
+        .unwrap();
+    assert_eq!(walled.surface_temp_k, direct.surface_temp_k);
+    assert_eq!(cache.stats().misses, 2);
+}
