@@ -904,8 +904,7 @@ impl ThermCache {
             model.advance(&mut state, forcing, Some(h), cp.at, None)?;
             self.prefix_put(prefix(cp), &state);
         }
-        model.advance(&mut state, forcing, Some(h), forcing.len() - 1, None)?;
-        let mut sol = SlabModel::finish(state, Vec::new());
+        let mut sol = model.march_on(state, forcing, Some(h), false)?;
         // The counters say the work this solve did.
         sol.steps_accepted -= base.0;
         sol.steps_rejected -= base.1;

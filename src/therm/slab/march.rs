@@ -728,11 +728,8 @@ impl SlabModel {
         shadow: Option<&SunHistory>,
         record: bool,
     ) -> Result<ThermSolution, ThermError> {
-        let mut state = self.initial_state(forcing, shadow)?;
-        let mut series = Vec::new();
-        let rec = if record { Some(&mut series) } else { None };
-        self.advance(&mut state, forcing, shadow, forcing.len() - 1, rec)?;
-        Ok(Self::finish(state, series))
+        let state = self.initial_state(forcing, shadow)?;
+        self.march_on(state, forcing, shadow, record)
     }
 
     /// Marches an explicit initial node profile (length [`Self::nodes`])
@@ -744,7 +741,20 @@ impl SlabModel {
         shadow: Option<&SunHistory>,
         record: bool,
     ) -> Result<ThermSolution, ThermError> {
-        let mut state = self.start_state(init_k, forcing)?;
+        let state = self.start_state(init_k, forcing)?;
+        self.march_on(state, forcing, shadow, record)
+    }
+
+    /// Marches `state` on to the last forcing sample and returns the
+    /// solution there (with the record of every sample reached when
+    /// `record`; see [`Self::advance`]).
+    pub fn march_on(
+        &self,
+        mut state: MarchState,
+        forcing: &[Forcing],
+        shadow: Option<&SunHistory>,
+        record: bool,
+    ) -> Result<ThermSolution, ThermError> {
         let mut series = Vec::new();
         let rec = if record { Some(&mut series) } else { None };
         self.advance(&mut state, forcing, shadow, forcing.len() - 1, rec)?;
