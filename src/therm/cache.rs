@@ -39,6 +39,12 @@ use super::slab::{
 
 const SHARDS: usize = 64;
 
+/// The shard of a 64-bit hash: from bits the map's own slot choice does
+/// not use (the solved entries and the checkpoint states alike).
+fn shard_of(hash: u64) -> usize {
+    ((hash >> 32) as usize) % SHARDS
+}
+
 /// The memoisation key. Built by [`ThermCache::key`].
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ThermKey {
@@ -784,8 +790,7 @@ impl ThermCache {
         read: impl Fn(&Result<Arc<ThermSolution>, ThermError>) -> R,
     ) -> R {
         let hash = q.hash64();
-        // The shard from bits the map's own slot choice does not use.
-        let shard = &self.shards[((hash >> 32) as usize) % SHARDS];
+        let shard = &self.shards[shard_of(hash)];
         let slot: Slot = {
             let mut map = shard.lock().unwrap_or_else(|e| e.into_inner());
             let bucket = map.entry(hash).or_default();
@@ -968,7 +973,7 @@ impl ThermCache {
     /// The checkpoint state of `k`, if one was kept.
     fn prefix_get(&self, k: &PrefixKey) -> Option<Arc<MarchState>> {
         let hash = Self::prefix_hash(k);
-        let shard = &self.prefixes[((hash >> 32) as usize) % SHARDS];
+        let shard = &self.prefixes[shard_of(hash)];
         let map = shard.lock().unwrap_or_else(|e| e.into_inner());
         map.get(&hash)?
             .iter()
@@ -988,7 +993,7 @@ impl ThermCache {
             return;
         }
         let hash = Self::prefix_hash(&k);
-        let shard = &self.prefixes[((hash >> 32) as usize) % SHARDS];
+        let shard = &self.prefixes[shard_of(hash)];
         let mut map = shard.lock().unwrap_or_else(|e| e.into_inner());
         let bucket = map.entry(hash).or_default();
         if bucket.iter().any(|(key, _)| *key == k) {
