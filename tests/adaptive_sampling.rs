@@ -43,9 +43,9 @@ fn errors(a: &Planes, b: &Planes) -> Vec<f64> {
 }
 
 /// An adaptive 8×8 render against the uniform 8×8 render (its converged
-/// value at that density): the refined pixels are the uniform render's
-/// pixels (the same samples; 1e-3 K for the packet grouping of their
-/// rays), the others within the refinement threshold's reach — far closer
+/// value at that density): the refined pixels' refined cells are the
+/// uniform render's samples, their other cells one sample each and the
+/// unrefined pixels one sample, within the refinement threshold's reach — far closer
 /// than a 1-sample render, with a fraction of the samples.
 #[test]
 fn adaptive_approaches_uniform_at_the_same_density() {
@@ -63,10 +63,21 @@ fn adaptive_approaches_uniform_at_the_same_density() {
     );
     assert!(s.adaptive_pixels_refined > 0 && s.adaptive_pixels_coarse > 0);
     assert_eq!(s.adaptive_refined_density, 8);
+    // (8×8 in 4×4 cells of 2×2: 16 first-level samples per refined pixel,
+    // 3 more per refined cell, the coarse sample reused where it lies)
     assert_eq!(
-        s.samples,
-        32 * 32 + s.adaptive_pixels_refined * 63,
-        "one coarse sample per pixel, 63 more per refined pixel"
+        s.adaptive_cells_refined + s.adaptive_cells_coarse,
+        16 * s.adaptive_pixels_refined
+    );
+    assert!(s.adaptive_cells_refined > 0 && s.adaptive_cells_coarse > 0);
+    let (lo, hi) = (
+        32 * 32 + s.adaptive_pixels_refined * 16 + s.adaptive_cells_refined * 2,
+        32 * 32 + s.adaptive_pixels_refined * 16 + s.adaptive_cells_refined * 3,
+    );
+    assert!(
+        (lo..=hi).contains(&s.samples),
+        "one coarse sample per pixel, 16 per refined pixel, 2-3 per refined cell: {} not in {lo}..={hi}",
+        s.samples
     );
     // (at 32², over half the pixels are edge or border pixels)
     assert!(s.samples * 10 < uniform.stats.samples * 6, "{}", s.samples);

@@ -19,18 +19,32 @@
 //!    coarse samples is refined in whichever pixel it crosses. The
 //!    image's border pixels are always refined (an edge between a border
 //!    pixel's centre and the image's edge has no neighbour to show it).
-//! 3. **Refinement.** A refined pixel traces the rest of its `n`×`n`
-//!    stratified grid (its coarse sample is one of them and is reused) and
-//!    takes the mean over all `n`² samples, as a uniform render does (the
+//! 3. **Refinement, in two levels.** A refined pixel's `n`×`n` grid is
+//!    cut into 4×4 cells (of (`n`/4)² samples; single samples when `n` is
+//!    not a multiple of 4). First level: the sample nearest each cell's
+//!    centre, traced with its own history and solved. A cell is refined
+//!    when its first-level sample differs ([`differ`], the temperature
+//!    criterion ×[`CELL_THRESHOLD_FACTOR`]) from a neighbouring cell's, from
+//!    the neighbouring pixel's coarse sample across the pixel's edge, or
+//!    from the coarse sample at its corner; a refined cell traces all its
+//!    samples (second level), an unrefined one stands for its cell with its
+//!    one sample (weighted by the cell's samples). The pixel's value is the
+//!    mean over the `n`×`n` positions, as a uniform render's (the
 //!    uniform-pixel collapse of [`super::pixel::representatives`]
-//!    included). Geometry (primary and specular rays) is traced for every
-//!    sample; sun/shadow histories only on a sub-grid of stride `n`/4
-//!    (4×4 per pixel) and for every specular background: each other sample
-//!    takes the history of the nearest sub-grid sample on its plane and
-//!    material (the coarse sample included), or traces its own where none
-//!    is. So an object edge is resolved at `n`×`n`, a shadow edge inside a
-//!    plane at 4×4 (its temperature step is the smaller error: BENCHMARKS.md).
-//!    An unrefined pixel is its coarse sample's value.
+//!    included), each shared sample's radiometry evaluated once. So an
+//!    object edge is resolved at `n`×`n` where it crosses, at a quarter or
+//!    less of the samples.
+//! 4. **Histories of the second level.** Geometry (primary and specular
+//!    rays) is traced for every second-level sample; its sun/shadow
+//!    history is that of the nearest first-level or coarse sample on its
+//!    plane and material — if the sample's own sun rays at the traced
+//!    history samples of the last hour ([`RECENT_CHECK_S`]: the image time
+//!    and e.g. 20, 40 and 60 min before it) give the same flags. Otherwise
+//!    (a shadow edge of now or of the last hour between the two, or no
+//!    donor) and for every specular background it traces its own. An
+//!    older shadow edge inside a cell is left at the first level's
+//!    resolution (its temperature step has decayed; BENCHMARKS.md). An
+//!    unrefined pixel is its coarse sample's value.
 //!
 //! What it leaves out: a feature that no coarse sample sees (narrower
 //! than the pixel pitch and between two pixel centres, e.g. a thin pole
@@ -54,7 +68,6 @@ use super::prepare::{Conditions, Static};
 use super::{
     BLOCK, Counters, Frame, ProgressFn, Sample, Stage, StageProgress, Stats, Surface, band_target,
     block_pixels, cancel, sample_camera, solve_temperatures, trace_block, trace_geometry,
-    trace_histories,
 };
 use crate::sensor::camera::Camera;
 
@@ -169,7 +182,7 @@ fn coarse_band(
 }
 
 /// Whether two surfaces lie on one plane of one material (a sample may
-/// take the other's sun/shadow history: module docs, step 3).
+/// take the other's sun/shadow history: module docs, step 4).
 fn same_plane(a: &Surface, b: &Surface) -> bool {
     a.material == b.material
         && a.normal.dot(b.normal) >= SAME_PLANE_COS
@@ -177,71 +190,228 @@ fn same_plane(a: &Surface, b: &Surface) -> bool {
             <= PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
 }
 
-/// Steps 1-3 for the samples `px` of one refined pixel (its `n`×`n` grid,
-/// row-major, less the coarse sample `coarse`): every primary and
-/// specular ray; the sun/shadow histories of the samples on a sub-grid
-/// of stride `n`/4 (the coarse sample's row and column among them) and of
-/// every specular background; each other sample takes the history of the
-/// nearest sub-grid sample (or the coarse one) on its plane and material,
-/// and traces its own where there is none.
-fn refine_pixel(
+/// Cells per axis of a refined pixel's first level (module docs, step 3).
+const CELLS: u32 = 4;
+
+/// A cell's temperature criterion is `refine_threshold_k` times this: a
+/// cell is 1/16 of its pixel, so a temperature step left inside an
+/// unrefined cell moves the pixel's mean by at most a 16th of it (measured:
+/// 10 % fewer samples than 1x, the same error at 48², BENCHMARKS.md).
+const CELL_THRESHOLD_FACTOR: f64 = 4.0;
+
+/// How far back (s) a sample that takes a neighbour's sun/shadow history
+/// checks it against its own sun rays (module docs, step 4).
+const RECENT_CHECK_S: i64 = 3600;
+
+/// A refined pixel's `n`×`n` grid as cells: (cells per axis, cell side in
+/// samples). `n` a multiple of [`CELLS`]: 4×4 cells; otherwise every
+/// sample is a cell.
+fn layout(n: u32) -> (u32, u32) {
+    if n.is_multiple_of(CELLS) {
+        (CELLS, n / CELLS)
+    } else {
+        (n, 1)
+    }
+}
+
+/// The grid position (0..n, along one axis) of cell `i`'s first-level
+/// sample, for cells of side `s`: the grid sample nearest its centre.
+fn cell_centre(i: u32, s: u32) -> u32 {
+    i * s + s / 2
+}
+
+/// The history samples a donated history is checked at: the traced ones
+/// within [`RECENT_CHECK_S`] of the image time (the image time included).
+fn recent_samples(cond: &Conditions) -> Vec<usize> {
+    let Some(last) = cond.suns.len().checked_sub(1) else {
+        return Vec::new();
+    };
+    let every = cond.coarse_every.max(1);
+    let t_last = cond.suns[last].t_s;
+    (0..=last / every)
+        .map(|q| last - q * every)
+        .take_while(|&k| t_last - cond.suns[k].t_s <= RECENT_CHECK_S)
+        .collect()
+}
+
+/// Step 3's first level for refined pixel (`x`, `y`): the sample nearest
+/// the centre of each of its cells, traced with its own history (row-major
+/// over the cells).
+fn level_one(
     st: &Static,
     cond: &Conditions,
     cam: &Camera,
-    (px, centre): (&[(u32, u32)], (u32, u32)),
+    (x, y): (u32, u32),
     n: u32,
-    coarse: &Sample,
     c: &Counters,
 ) -> Vec<Sample> {
-    let mut samples = trace_geometry(st, cam, px, c);
-    let stride = (n / 4).max(1);
-    let on_sub =
-        |(x, y): (u32, u32)| x % n % stride == n / 2 % stride && y % n % stride == n / 2 % stride;
-    super::trace_sample_histories(st, cond, &mut samples, |i| on_sub(px[i]), c);
-    // The donors: the sub-grid samples and the coarse one, with their
-    // grid positions.
-    let mut donors: Vec<((u32, u32), &Surface)> = coarse
-        .surface
-        .as_ref()
-        .map(|s| (centre, s))
-        .into_iter()
+    let (m, s) = layout(n);
+    let pos: Vec<(u32, u32)> = (0..m)
+        .flat_map(|j| (0..m).map(move |i| (x * n + cell_centre(i, s), y * n + cell_centre(j, s))))
         .collect();
-    donors.extend(
-        samples
-            .iter()
-            .zip(px)
-            .filter(|&(_, &p)| on_sub(p))
-            .filter_map(|(s, &p)| s.surface.as_ref().map(|s| (p, s))),
-    );
-    let given: Vec<Option<super::sunflags::SunFlags>> = samples
+    let mut out = trace_geometry(st, cam, &pos, c);
+    super::trace_sample_histories(st, cond, &mut out, |_| true, c);
+    out
+}
+
+/// Which cells of a refined pixel are refined (module docs, step 3): a
+/// cell whose first-level sample differs from a neighbouring cell's — a
+/// neighbour beyond the pixel's edge is that neighbouring pixel's coarse
+/// sample (`nb`, in [`NEIGHBOURS`] order; `None` outside the image) — or
+/// from the coarse sample at its corner.
+fn refined_cells(
+    l1: &[Sample],
+    coarse: &Sample,
+    nb: &[Option<&Sample>; 8],
+    n: u32,
+    threshold_k: f64,
+) -> Vec<bool> {
+    let (m, s) = layout(n);
+    let mi = m as i64;
+    let at = |i: i64, j: i64| &l1[(j * mi + i) as usize];
+    let side = |v: i64| (v >= mi) as i64 - (v < 0) as i64;
+    let beyond = |i: i64, j: i64| -> Option<&Sample> {
+        let k = NEIGHBOURS.iter().position(|&q| q == (side(i), side(j)))?;
+        nb[k]
+    };
+    let mut out = vec![false; (m * m) as usize];
+    for j in 0..mi {
+        for i in 0..mi {
+            let a = at(i, j);
+            out[(j * mi + i) as usize] = NEIGHBOURS.iter().any(|&(dx, dy)| {
+                let (ii, jj) = (i + dx, j + dy);
+                if (0..mi).contains(&ii) && (0..mi).contains(&jj) {
+                    differ(a, at(ii, jj), threshold_k)
+                } else {
+                    beyond(ii, jj).is_some_and(|o| differ(a, o, threshold_k))
+                }
+            });
+        }
+    }
+    // The coarse sample lies at the corner of the cells around the centre
+    // (or inside one when the cells are single samples).
+    let c0 = n / 2;
+    let hi = (c0 / s).min(m - 1);
+    let lo = if c0.is_multiple_of(s) {
+        hi.saturating_sub(1)
+    } else {
+        hi
+    };
+    for j in lo..=hi {
+        for i in lo..=hi {
+            let k = (j * m + i) as usize;
+            out[k] |= differ(coarse, &l1[k], threshold_k);
+        }
+    }
+    out
+}
+
+/// Where the sample of each grid position of a refined pixel is, in the
+/// list [coarse, first level (cells row-major), second level].
+type Slot = u32;
+
+/// Step 3's second level and step 4 for refined pixel (`x`, `y`): every
+/// other sample of its refined cells, traced (primary and specular rays);
+/// each takes the sun/shadow history of the nearest first-level or coarse
+/// sample on its plane and material if its own sun rays at the `recent`
+/// history samples agree with it, and traces its own otherwise (every
+/// specular background traces its own). Returns the new samples and the
+/// [`Slot`] of each of the `n`×`n` positions (row-major).
+#[allow(clippy::too_many_arguments)]
+fn level_two(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    (x, y): (u32, u32),
+    n: u32,
+    (coarse, l1, cells): (&Sample, &[Sample], &[bool]),
+    recent: &[usize],
+    c: &Counters,
+) -> (Vec<Sample>, Vec<Slot>) {
+    let (m, s) = layout(n);
+    let c0 = n / 2;
+    let first = 1 + (m * m) as Slot;
+    let mut slots = Vec::with_capacity((n * n) as usize);
+    let mut pos = Vec::new();
+    for gy in 0..n {
+        for gx in 0..n {
+            let (i, j) = (gx / s, gy / s);
+            let cell = j * m + i;
+            let at_centre = gx == cell_centre(i, s) && gy == cell_centre(j, s);
+            slots.push(if (gx, gy) == (c0, c0) {
+                0
+            } else if at_centre || !cells[cell as usize] {
+                1 + cell
+            } else {
+                pos.push((x * n + gx, y * n + gy));
+                first + (pos.len() - 1) as Slot
+            });
+        }
+    }
+    let mut fine = trace_geometry(st, cam, &pos, c);
+    // The donors: the first-level samples and the coarse one, with their
+    // grid positions (within the pixel).
+    let donors: Vec<((u32, u32), &Surface)> = (0..m * m)
+        .map(|k| {
+            (
+                (cell_centre(k % m, s), cell_centre(k / m, s)),
+                &l1[k as usize],
+            )
+        })
+        .chain(std::iter::once(((c0, c0), coarse)))
+        .filter_map(|(p, smp)| smp.surface.as_ref().map(|surf| (p, surf)))
+        .collect();
+    let given: Vec<Option<&Surface>> = fine
         .iter()
-        .zip(px)
-        .map(|(s, &p)| {
-            let surf = s.surface.as_ref().filter(|_| !on_sub(p))?;
+        .zip(&pos)
+        .map(|(smp, &(px, py))| {
+            let surf = smp.surface.as_ref()?;
+            let p = (px - x * n, py - y * n);
             let dist = |q: (u32, u32)| p.0.abs_diff(q.0).pow(2) + p.1.abs_diff(q.1).pow(2);
             donors
                 .iter()
                 .filter(|(_, d)| same_plane(surf, d))
                 .min_by_key(|(q, _)| dist(*q))
-                .map(|(_, d)| d.history.clone())
+                .map(|&(_, d)| d)
         })
         .collect();
-    let mut targets: Vec<&mut Surface> = Vec::new();
-    for ((s, &p), h) in samples.iter_mut().zip(px).zip(given) {
-        if on_sub(p) {
-            continue;
-        }
-        if let Some(surf) = s.surface.as_mut() {
-            match h {
-                Some(h) => surf.history = h,
-                None => targets.push(surf),
-            }
+    let checked: Vec<&Surface> = fine
+        .iter()
+        .zip(&given)
+        .filter(|(_, g)| g.is_some())
+        .filter_map(|(smp, _)| smp.surface.as_ref())
+        .collect();
+    let flags = super::sun_flags_at(st, cond, &checked, recent, c);
+    let r = recent.len();
+    let mut agree = flags
+        .chunks(r.max(1))
+        .zip(given.iter().flatten())
+        .map(|(f, d)| {
+            f.iter()
+                .zip(recent)
+                .all(|(&lit, &k)| d.history.get(k) == lit)
+        });
+    let own: Vec<bool> = given
+        .iter()
+        .map(|g| match g {
+            Some(_) => !agree.next().unwrap_or(false),
+            None => true,
+        })
+        .collect();
+    let histories: Vec<Option<super::sunflags::SunFlags>> = given
+        .iter()
+        .zip(&own)
+        .map(|(g, &o)| g.filter(|_| !o).map(|d| d.history.clone()))
+        .collect();
+    super::add(&c.donated, histories.iter().flatten().count());
+    for (smp, h) in fine.iter_mut().zip(histories) {
+        if let (Some(surf), Some(h)) = (smp.surface.as_mut(), h) {
+            surf.history = h;
         }
     }
-    trace_histories(st, cond, &mut targets, c);
-    samples
+    super::trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
+    (fine, slots)
 }
-
 /// Renders one frame with adaptive sampling (module docs); `n` =
 /// `render.supersample` > 1. The frame keeps no samples.
 pub fn render_adaptive(
@@ -271,8 +441,9 @@ pub fn render_adaptive(
     let radiometry = StageProgress::new(progress, Stage::Radiometry, (w * h) as u64);
     let quiet = StageProgress::new(None, Stage::Thermal, 0);
     let counters = Counters::default();
-    let c = ((n / 2) * n + n / 2) as usize;
-    let per = (n * n - 1) as usize;
+    let per1 = (layout(n).0 * layout(n).0) as usize;
+    let recent = recent_samples(cond);
+    let cell_threshold_k = threshold_k * CELL_THRESHOLD_FACTOR;
     let chunk_pixels = (band_target() as usize / (n * n) as usize).max(1);
     let dims = (w, h, n);
     let mut cur = match bands.first() {
@@ -334,35 +505,62 @@ pub fn render_adaptive(
         stats.adaptive_pixels_refined += refined.len() as u64;
         stats.adaptive_pixels_coarse += (band_rows * wu - refined.len()) as u64;
         // The refined pixels' values, a chunk of pixels (about a band of
-        // samples) at a time.
+        // samples) at a time: first level, its temperatures, second level,
+        // its temperatures, radiometry.
         let mut values: Vec<PixelValues> = Vec::with_capacity(refined.len());
+        let xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
         for chunk in refined.chunks(chunk_pixels) {
             let t0 = Instant::now();
-            let traced: Vec<Vec<Sample>> = chunk
+            let l1: Vec<Vec<Sample>> = chunk
                 .par_iter()
                 .map(|&i| {
                     if cancel::cancelled() {
                         return Vec::new();
                     }
-                    let (x, y) = ((i % wu) as u32, y0 + (i / wu) as u32);
-                    let px: Vec<(u32, u32)> = (0..n)
-                        .flat_map(|j| (0..n).map(move |k| (x * n + k, y * n + j)))
-                        .filter(|&p| p != centre(x, y, n))
-                        .collect();
-                    refine_pixel(
+                    level_one(st, cond, &cam, xy(i), n, &counters)
+                })
+                .collect();
+            cancel::check()?;
+            let mut l1: Vec<Sample> = l1.into_iter().flatten().collect();
+            stats.seconds.trace += t0.elapsed().as_secs_f64();
+            stats.samples += l1.len() as u64;
+            solve_temperatures(st, cond, &mut l1, &mut stats, &quiet)?;
+            let t1 = Instant::now();
+            let two: Vec<(Vec<Sample>, Vec<Slot>)> = chunk
+                .par_iter()
+                .enumerate()
+                .map(|(k, &i)| {
+                    if cancel::cancelled() {
+                        return (Vec::new(), Vec::new());
+                    }
+                    let (x, y) = xy(i);
+                    let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
+                    let mine = &l1[k * per1..(k + 1) * per1];
+                    let cells = refined_cells(mine, &cur[i], &nb, n, cell_threshold_k);
+                    let refined_here = cells.iter().filter(|&&r| r).count();
+                    super::add(&counters.cells_refined, refined_here);
+                    super::add(&counters.cells_coarse, cells.len() - refined_here);
+                    level_two(
                         st,
                         cond,
                         &cam,
-                        (&px, centre(x, y, n)),
+                        (x, y),
                         n,
-                        &cur[i],
+                        (&cur[i], mine, &cells),
+                        &recent,
                         &counters,
                     )
                 })
                 .collect();
             cancel::check()?;
-            let mut fine: Vec<Sample> = traced.into_iter().flatten().collect();
-            stats.seconds.trace += t0.elapsed().as_secs_f64();
+            let mut offsets = Vec::with_capacity(two.len() + 1);
+            offsets.push(0);
+            let (fines, slots): (Vec<Vec<Sample>>, Vec<Vec<Slot>>) = two.into_iter().unzip();
+            for f in &fines {
+                offsets.push(offsets.last().copied().unwrap_or(0) + f.len());
+            }
+            let mut fine: Vec<Sample> = fines.into_iter().flatten().collect();
+            stats.seconds.trace += t1.elapsed().as_secs_f64();
             stats.samples += fine.len() as u64;
             solve_temperatures(st, cond, &mut fine, &mut stats, &quiet)?;
             let t2 = Instant::now();
@@ -371,15 +569,27 @@ pub fn render_adaptive(
                 .par_iter()
                 .enumerate()
                 .map_init(EvalMemo::default, |memo, (k, &i)| {
-                    let mine = &fine[k * per..(k + 1) * per];
-                    let px: Vec<&Sample> = (0..=per)
-                        .map(|j| match j.cmp(&c) {
-                            std::cmp::Ordering::Less => &mine[j],
-                            std::cmp::Ordering::Equal => &cur[i],
-                            std::cmp::Ordering::Greater => &mine[j - 1],
+                    let mine = &l1[k * per1..(k + 1) * per1];
+                    let two = &fine[offsets[k]..offsets[k + 1]];
+                    let get = |sl: Slot| -> &Sample {
+                        match sl as usize {
+                            0 => &cur[i],
+                            j if j <= per1 => &mine[j - 1],
+                            j => &two[j - 1 - per1],
+                        }
+                    };
+                    let px: Vec<&Sample> = slots[k].iter().map(|&sl| get(sl)).collect();
+                    let mut first = vec![usize::MAX; 1 + per1 + two.len()];
+                    let owner: Vec<usize> = (slots[k].iter().enumerate())
+                        .map(|(q, &sl)| {
+                            let f = &mut first[sl as usize];
+                            if *f == usize::MAX {
+                                *f = q;
+                            }
+                            *f
                         })
                         .collect();
-                    maker.pixel(&ctx, &px, n as usize, memo)
+                    maker.pixel_shared(&ctx, &px, Some(&owner), n as usize, memo)
                 })
                 .collect::<anyhow::Result<_>>()?;
             values.extend(vals);

@@ -268,14 +268,40 @@ impl PixelMaker<'_> {
         n: usize,
         memo: &mut pixel::EvalMemo,
     ) -> anyhow::Result<PixelValues> {
+        self.pixel_shared(ctx, px, None, n, memo)
+    }
+
+    /// [`Self::pixel`] where positions of the n×n grid may share one
+    /// sample (adaptive sampling's unrefined cells: [`super::adaptive`]):
+    /// `owner[k]` is the first position whose sample `px[k]` is, and each
+    /// shared sample is evaluated once and weighted by its positions.
+    pub fn pixel_shared(
+        &self,
+        ctx: &RadiometryContext,
+        px: &[&Sample],
+        owner: Option<&[usize]>,
+        n: usize,
+        memo: &mut pixel::EvalMemo,
+    ) -> anyhow::Result<PixelValues> {
         let c = (n / 2) * n + n / 2;
         let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
+        let mut evaluated = 1;
         let results: SmallVec<[SampleResult; 1]> = if uniform {
             smallvec::smallvec![ctx.evaluate_memo(px[c], memo)?]
         } else {
-            px.iter()
-                .map(|s| ctx.evaluate_memo(s, memo))
-                .collect::<anyhow::Result<_>>()?
+            let mut out: SmallVec<[SampleResult; 1]> = SmallVec::with_capacity(px.len());
+            evaluated = 0;
+            for (k, s) in px.iter().enumerate() {
+                let r = match owner.map(|o| o[k]) {
+                    Some(o) if o < k => out[o].clone(),
+                    _ => {
+                        evaluated += 1;
+                        ctx.evaluate_memo(s, memo)?
+                    }
+                };
+                out.push(r);
+            }
+            out
         };
         let res = |k: usize| &results[if uniform { 0 } else { k }];
         // (generic, not `&dyn Fn`: each plane's closure is inlined)
@@ -329,7 +355,7 @@ impl PixelMaker<'_> {
         for (t, f) in TERMS.iter().enumerate() {
             v[FIRST_TERM + t] = mean_of(np, |k| f(&res(k).terms));
         }
-        Ok((v, results.len()))
+        Ok((v, evaluated))
     }
 }
 

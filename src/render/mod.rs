@@ -139,6 +139,13 @@ pub struct Stats {
     pub adaptive_pixels_coarse: u64,
     pub adaptive_pixels_refined: u64,
     pub adaptive_refined_density: u32,
+    /// Adaptive sampling: cells (4×4 per refined pixel) refined to every
+    /// sample, cells that kept their one first-level sample, and samples
+    /// that took a neighbouring sample's sun/shadow history after their own
+    /// sun rays of the last hour agreed with it.
+    pub adaptive_cells_refined: u64,
+    pub adaptive_cells_coarse: u64,
+    pub adaptive_histories_shared: u64,
     pub thermal_solves: u64,
     pub thermal_cache_hits: u64,
     /// Over the distinct solves: accepted and rejected march steps, Newton
@@ -179,6 +186,9 @@ struct Counters {
     away: AtomicU64,
     pixels_corners: AtomicU64,
     pixels_refined: AtomicU64,
+    cells_refined: AtomicU64,
+    cells_coarse: AtomicU64,
+    donated: AtomicU64,
 }
 
 fn add(c: &AtomicU64, n: usize) {
@@ -411,6 +421,38 @@ fn adaptive_histories(
     trace_histories(st, cond, &mut targets, c);
     add(&c.pixels_corners, coarse);
     add(&c.pixels_refined, refined);
+}
+
+/// The sun flags of surface points at the history samples `idx` (traced
+/// samples: multiples of `coarse_every`), as [`trace_histories`] sets
+/// them: sunlit when the sun is up, the point's side faces it and nothing
+/// blocks the ray. Point `p`'s flag at `idx[j]` is `[p * idx.len() + j]`.
+fn sun_flags_at(
+    st: &Static,
+    cond: &Conditions,
+    points: &[&Surface],
+    idx: &[usize],
+    c: &Counters,
+) -> Vec<bool> {
+    let mut flags = vec![false; points.len() * idx.len()];
+    let (mut rays, mut of) = (Vec::new(), Vec::new());
+    for (p, s) in points.iter().enumerate() {
+        let origin = offset_origin(s.point, s.normal);
+        for (j, &k) in idx.iter().enumerate() {
+            let sun = &cond.suns[k];
+            if sun.up && s.normal.dot(sun.dir) > 0.0 {
+                rays.push(Ray::new(origin, sun.dir));
+                of.push(p * idx.len() + j);
+            }
+        }
+    }
+    let mut blocked = vec![false; rays.len()];
+    st.tracer.occluded(&rays, &mut blocked);
+    add(&c.solar, rays.len());
+    for (&i, &b) in of.iter().zip(&blocked) {
+        flags[i] = !b;
+    }
+    flags
 }
 
 /// Step 3 for a set of surface points: their sun/shadow histories.
@@ -780,6 +822,9 @@ impl Counters {
         stats.solar_skipped_facing_away += get(&self.away);
         stats.history_pixels_corners += get(&self.pixels_corners);
         stats.history_pixels_refined += get(&self.pixels_refined);
+        stats.adaptive_cells_refined += get(&self.cells_refined);
+        stats.adaptive_cells_coarse += get(&self.cells_coarse);
+        stats.adaptive_histories_shared += get(&self.donated);
     }
 }
 
