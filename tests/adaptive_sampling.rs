@@ -49,7 +49,7 @@ fn errors(a: &Planes, b: &Planes) -> Vec<f64> {
 /// than a 1-sample render, with a fraction of the samples.
 #[test]
 fn adaptive_approaches_uniform_at_the_same_density() {
-    let uniform = frame(&[("render.supersample", "8")]);
+    let uniform = frame(&[("render.supersample", "8"), ("render.sampling", "uniform")]);
     let one = frame(&[("render.supersample", "1")]);
     let adaptive = frame(&[
         ("render.supersample", "8"),
@@ -97,7 +97,7 @@ fn adaptive_approaches_uniform_at_the_same_density() {
     );
     assert!(rms(&ea) < 0.05 && max(&ea) < 1.0, "adaptive vs uniform");
     assert!(rms(&ea) < rms(&e1) / 4.0, "much closer than 1 spp");
-    // Uniform sampling stays as before (no adaptive counters).
+    // Uniform sampling (no adaptive counters).
     assert_eq!(uniform.stats.adaptive_pixels_refined, 0);
     assert_eq!(uniform.stats.adaptive_refined_density, 0);
 }

@@ -167,10 +167,12 @@ fn memoised_band_coefficients_match_the_spectral_loop() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let airfield = root.join("scenes/airfield/scene.toml");
     let terrain = root.join("scenes/terrain-km/scene.toml");
+    // (1 sample per pixel: the samples traced below are the image's pixels)
     let small = |px: u32| {
         vec![
             ("sensor.width_px".to_string(), px.to_string()),
             ("sensor.height_px".to_string(), px.to_string()),
+            ("render.supersample".to_string(), "1".to_string()),
         ]
     };
     let with = |mut v: Vec<(String, String)>, kv: &[(&str, &str)]| {

@@ -94,8 +94,11 @@ fn mwir_sharp_shadow_and_blurred_thermal_shadow_lwir_little_sun() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let now = "time.local=2001-08-08T13:30:00";
-    let mwir = render_kv(d, "mwir", &with(&[now]));
-    let lwir = render_kv(d, "lwir", &with(&[now, "sensor.band=lwir"]));
+    // (1 sample per pixel: a shadow edge lies between a sunlit and a
+    // shaded pixel, not inside a refined mixed one)
+    let one = "render.supersample=1";
+    let mwir = render_kv(d, "mwir", &with(&[now, one]));
+    let lwir = render_kv(d, "lwir", &with(&[now, one, "sensor.band=lwir"]));
     // Where the shadows were at 10:00 and 12:00 (sun_now does not depend
     // on the history length: 1 h keeps these renders cheap).
     let shadows_at = |t: &str| {
@@ -106,6 +109,7 @@ fn mwir_sharp_shadow_and_blurred_thermal_shadow_lwir_little_sun() {
                 &format!("time.local=2001-08-08T{t}:00"),
                 "render.history_hours=1",
                 "sensor.band=lwir",
+                one,
             ]),
         )
     };

@@ -132,7 +132,11 @@ fn check(img: &Img, (x, y): (u32, u32), what: &str) -> Value {
     assert_eq!(f(&pr["case"]) as f32, img.at("case", x, y), "{what}: case");
     let h = &hit["history"];
     let flags = h["sunlit"].as_str().expect("sunlit string");
-    assert_eq!(flags.len(), 37, "36 h at 60 min, both ends");
+    assert_eq!(
+        flags.len(),
+        145,
+        "48 h at 20 min (60-min samples bisected), both ends"
+    );
     assert_eq!(
         flags.ends_with('1') as u8 as f32,
         img.at("sun_now", x, y),

@@ -97,14 +97,26 @@ fn bisection_finds_the_transitions_of_the_fine_trace() {
 /// timing, so the sunlit flag at the image time is unchanged.
 #[test]
 fn old_transitions_share_a_key() {
+    // (at the 0.1 K step tolerance: the default 0.3 K lets two different
+    // histories' marches differ by their own step control)
     let base = [
         ("render.shadow_interval_min", "20"),
         ("render.shadow_resolution_min", "2.5"),
+        ("render.thermal_tol_k", "0.1"),
     ];
-    let exact = frame(&base);
-    let mut kv = base.to_vec();
-    kv.push(("render.shadow_key_recent_h", "2"));
-    let keyed = frame(&kv);
+    // (240 h: every transition of the 48-h history at full resolution)
+    let exact = frame(&[
+        base[0],
+        base[1],
+        base[2],
+        ("render.shadow_key_recent_h", "240"),
+    ]);
+    let keyed = frame(&[
+        base[0],
+        base[1],
+        base[2],
+        ("render.shadow_key_recent_h", "2"),
+    ]);
     assert!(
         keyed.stats.thermal_solves < exact.stats.thermal_solves,
         "{} solves keyed, {} exact",
@@ -128,6 +140,7 @@ fn old_transitions_share_a_key() {
 fn same_bits_for_one_and_two_threads() {
     let kv = [
         ("render.supersample", "4"),
+        ("render.sampling", "uniform"),
         ("render.shadow_interval_min", "60"),
         ("render.shadow_resolution_min", "2.5"),
         ("render.shadow_key_recent_h", "2"),

@@ -275,12 +275,18 @@ pub fn accuracy(
             d.shadow_key_recent_h.unwrap_or(240.0),
         ),
         ("render.spectral_step_cm1", d.spectral_step_cm1),
-        ("render.supersample", d.supersample as f64),
+        ("render.supersample", d.supersample() as f64),
         ("render.history_hours", d.history_hours),
     ]
     .iter()
     .map(|(k, v)| (k.to_string(), v.to_string()))
     .collect();
+    let mut defaults = defaults;
+    let sampling = match d.sampling {
+        crate::scene::spec::Sampling::Adaptive => "\"adaptive\"",
+        crate::scene::spec::Sampling::Uniform => "\"uniform\"",
+    };
+    defaults.push(("render.sampling".into(), sampling.into()));
     let selected = |k: &str| a.knobs.is_empty() || a.knobs.iter().any(|n| knob_named(k, n));
     // The reference: every knob at its converged value, or with
     // --others-at-default only the selected ones (the rest at the defaults).
@@ -319,7 +325,10 @@ pub fn accuracy(
             Ok((f.planes, wall, rays, solves, edge))
         })
     };
+    // (the reference and the ladders sample uniformly: every pixel at the
+    // reference's density; the defaults row samples as irsig does)
     let mut reference = reference;
+    reference.insert(0, ("render.sampling".into(), "\"uniform\"".into()));
     reference.extend(a.reference.iter().cloned());
     progress("reference");
     let (rp, rt, rr, rs, edge) = run_one(with(&reference))?;

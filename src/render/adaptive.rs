@@ -424,7 +424,7 @@ pub fn render_adaptive(
         ..Default::default()
     };
     let cam = sample_camera(st);
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     let threshold_k = st.scene.scene.render.refine_threshold_k;
     let (sw, sh) = (cam.width_px, cam.height_px);
     let (w, h) = (sw / n, sh / n);
@@ -627,4 +627,68 @@ pub fn render_adaptive(
         samples: Vec::new(),
         sample_width: sw,
     })
+}
+
+/// The samples of output pixel (`x`, `y`) as [`render_adaptive`] uses them
+/// (for `irsig probe`): the coarse samples of the pixel and its
+/// neighbours, traced in their blocks as the coarse pass traces them, and,
+/// if the pixel is refined, its first and second levels. Returns the
+/// samples of its grid positions (row-major; a shared sample repeated) and
+/// the grid's side: 1 for an unrefined pixel (its coarse sample alone),
+/// `n` for a refined one.
+pub fn pixel_samples(
+    st: &Static,
+    cond: &Conditions,
+    (x, y): (u32, u32),
+    stats: &mut Stats,
+) -> anyhow::Result<(Vec<Sample>, u32)> {
+    let cam = sample_camera(st);
+    let n = st.scene.scene.render.supersample().max(1);
+    let threshold_k = st.scene.scene.render.refine_threshold_k;
+    let (w, h) = (cam.width_px / n, cam.height_px / n);
+    let c = Counters::default();
+    let quiet = StageProgress::new(None, Stage::Thermal, 0);
+    // The coarse samples of the 3×3 neighbourhood (None outside the image).
+    let mut coarse: Vec<Option<Sample>> = Vec::with_capacity(9);
+    for (dx, dy) in std::iter::once((0, 0)).chain(NEIGHBOURS) {
+        let (px, py) = (x as i64 + dx, y as i64 + dy);
+        if px < 0 || py < 0 || px >= w as i64 || py >= h as i64 {
+            coarse.push(None);
+            continue;
+        }
+        let (px, py) = (px as u32, py as u32);
+        let block = block_pixels(px / BLOCK * BLOCK, py / BLOCK * BLOCK, w, h);
+        let fine: Vec<(u32, u32)> = block.iter().map(|&(a, b)| centre(a, b, n)).collect();
+        let k = block
+            .iter()
+            .position(|&q| q == (px, py))
+            .expect("a pixel lies in its block");
+        let mut s = vec![trace_block(st, cond, &cam, &fine, &c).swap_remove(k)];
+        solve_temperatures(st, cond, &mut s, stats, &quiet)?;
+        coarse.push(s.pop());
+    }
+    let me = coarse[0].clone().expect("the pixel is in the image");
+    let nb: [Option<&Sample>; 8] = std::array::from_fn(|k| coarse[k + 1].as_ref());
+    let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
+    if !border && !nb.iter().flatten().any(|o| differ(&me, o, threshold_k)) {
+        c.flush(stats);
+        return Ok((vec![me], 1));
+    }
+    let mut l1 = level_one(st, cond, &cam, (x, y), n, &c);
+    solve_temperatures(st, cond, &mut l1, stats, &quiet)?;
+    let cells = refined_cells(&l1, &me, &nb, n, threshold_k * CELL_THRESHOLD_FACTOR);
+    let recent = recent_samples(cond);
+    let (mut fine, slots) = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
+    solve_temperatures(st, cond, &mut fine, stats, &quiet)?;
+    let per1 = l1.len();
+    let out = slots
+        .iter()
+        .map(|&sl| match sl as usize {
+            0 => me.clone(),
+            j if j <= per1 => l1[j - 1].clone(),
+            j => fine[j - 1 - per1].clone(),
+        })
+        .collect();
+    c.flush(stats);
+    Ok((out, n))
 }

@@ -85,11 +85,24 @@ pub fn machine_memory_mib() -> Option<f64> {
 /// Estimates the peak memory of rendering `scene` (one frame).
 pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let sc = &scene.scene;
-    let n = sc.render.supersample.max(1) as f64;
+    let n = sc.render.supersample().max(1) as f64;
     let (w, h) = (sc.sensor.width_px as f64, sc.sensor.height_px as f64);
     let band = super::band_samples(sc.sensor.width_px * n as u32, n as u32) as f64;
-    let samples = w * n * h * n;
-    let held = samples.min(band);
+    let adaptive = sc.render.sampling == crate::scene::spec::Sampling::Adaptive && n > 1.0;
+    let (samples, held) = if adaptive {
+        // Adaptive sampling ([`super::adaptive`]) holds two bands of coarse
+        // samples (one per pixel) and one chunk of refined pixels (about a
+        // band of samples, plus their 16 first-level samples each); which
+        // pixels are refined is not known before the render, so `samples`
+        // counts the coarse ones.
+        let bt = super::band_target() as f64;
+        let coarse_band = ((bt / w).floor() / 16.0).floor().max(1.0) * 16.0 * w;
+        let refined = (bt * (1.0 + 16.0 / (n * n))).min(w * h * (n * n + 16.0));
+        (w * h, (w * h).min(2.0 * coarse_band) + refined)
+    } else {
+        let samples = w * n * h * n;
+        (samples, samples.min(band))
+    };
     // A history holds its transitions inline up to `INLINE_SWITCHES` (a
     // point with more takes a heap block; few do: sunrise, sunset and a
     // shadow or two a day), whatever its number of samples.

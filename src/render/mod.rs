@@ -216,7 +216,7 @@ pub fn thread_pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
 /// The supersampled camera in the tracer's local frame: n×n rays per
 /// output pixel.
 pub fn sample_camera(st: &Static) -> Camera {
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     st.scene.local_camera.supersampled(n)
 }
 
@@ -248,7 +248,7 @@ fn trace_block(
     // Solar histories: of every surface point, or (adaptive) of the
     // corner samples of each pixel first, then of the other samples only
     // in pixels whose corners differ.
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     let uniform = st.scene.scene.render.sampling == crate::scene::spec::Sampling::Uniform;
     if st.scene.scene.render.adaptive_histories && uniform && n >= 3 && BLOCK.is_multiple_of(n) {
         adaptive_histories(st, cond, pixels, n, &mut samples, c);
@@ -1000,7 +1000,7 @@ fn for_each_band(
 ) -> anyhow::Result<()> {
     let cam = sample_camera(st);
     let (w, h) = (cam.width_px, cam.height_px);
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     let blocks = (w.div_ceil(BLOCK) * h.div_ceil(BLOCK)) as u64;
     let trace_progress = StageProgress::new(progress, Stage::Trace, blocks);
     let therm_progress = StageProgress::new(progress, Stage::Thermal, (w * h) as u64);
@@ -1050,7 +1050,7 @@ pub fn trace_frame_with(
 /// The supersampled pixels of output pixel (`x`, `y`): n×n of them, row by
 /// row (the order in which [`pixel::assemble`] averages them).
 pub fn output_pixel_samples(st: &Static, x: u32, y: u32) -> Vec<(u32, u32)> {
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     (0..n)
         .flat_map(|j| (0..n).map(move |i| (x * n + i, y * n + j)))
         .collect()
@@ -1113,7 +1113,7 @@ pub fn render(st: &Static, cond: &Conditions) -> anyhow::Result<Frame> {
 /// (and keeps no samples).
 pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyhow::Result<Frame> {
     if st.scene.scene.render.sampling == crate::scene::spec::Sampling::Adaptive
-        && st.scene.scene.render.supersample > 1
+        && st.scene.scene.render.supersample() > 1
     {
         return adaptive::render_adaptive(st, cond, progress);
     }
@@ -1123,7 +1123,7 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
     };
     let cam = sample_camera(st);
     let sw = cam.width_px;
-    let n = st.scene.scene.render.supersample.max(1);
+    let n = st.scene.scene.render.supersample().max(1);
     let ctx = pixel::RadiometryContext::new(st, cond)?;
     let mut planes = assemble::FramePlanes::new(st, cond, sw / n, cam.height_px / n);
     let radiometry = StageProgress::new(

@@ -23,6 +23,7 @@ use super::{
 };
 use crate::radiometry::RadianceTerms;
 use crate::scene::LoadedScene;
+use crate::scene::spec::Sampling;
 use crate::therm::balance::Orientation;
 use crate::therm::cache::ThermCache;
 use crate::therm::slab::StepRecord;
@@ -41,7 +42,9 @@ pub struct PixelProbe {
     pub sun: SunReport,
     /// The frame's atmosphere table, why, and how it follows the weather.
     pub atmosphere: super::atmosphere::AtmosphereReport,
-    /// The pixel's n×n samples, row by row.
+    /// The pixel's n×n samples, row by row (`supersample` = n: with
+    /// adaptive sampling 1 for a pixel that kept its coarse sample, and a
+    /// refined pixel's unrefined cells repeat their one sample).
     pub samples: Vec<SampleReport>,
     /// What `irsig render` writes for this pixel.
     pub pixel_result: PixelResult,
@@ -363,11 +366,25 @@ pub fn probe(
             cam.height_px - 1
         );
     }
-    let px = output_pixel_samples(st, x, y);
     let mut stats = Stats::default();
-    let samples = trace_samples(st, cond, &px, &mut stats)?;
+    let ss = st.scene.scene.render.supersample().max(1);
+    // As the render samples the pixel: adaptive sampling's coarse sample
+    // alone (n = 1) or its two levels; uniform sampling's n×n grid.
+    // (a shared sample of an unrefined cell is reported at each grid
+    // position it stands for)
+    let px = output_pixel_samples(st, x, y);
+    let (samples, n, px) = if ss > 1 && st.scene.scene.render.sampling == Sampling::Adaptive {
+        let (samples, n) = super::adaptive::pixel_samples(st, cond, (x, y), &mut stats)?;
+        let px = if n == 1 {
+            vec![px[((ss / 2) * ss + ss / 2) as usize]]
+        } else {
+            px
+        };
+        (samples, n, px)
+    } else {
+        (trace_samples(st, cond, &px, &mut stats)?, ss, px)
+    };
     let rctx = RadiometryContext::new(st, cond)?;
-    let n = st.scene.scene.render.supersample.max(1);
     // As the render: a uniform pixel evaluates its centre sample only and
     // reports that result for each of its samples.
     let rep = representatives(&samples.iter().collect::<Vec<_>>(), n);

@@ -257,7 +257,7 @@ pub(super) fn validate(src: &TomlSource, s: &Scene) -> Result<(), SceneError> {
     c.range(
         &q("supersample"),
         "supersample",
-        r.supersample as f64,
+        r.supersample() as f64,
         1.0,
         16.0,
         "",
