@@ -181,8 +181,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             (None, None) => bail!("give --weather or --forcing"),
         },
         site: crate::sun::Site {
-            lat_deg: a.lat,
-            lon_deg: a.lon,
+            latitude_deg: a.lat,
+            longitude_deg: a.lon,
             elevation_m: a.elevation,
         },
         orientation: Orientation {

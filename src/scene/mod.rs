@@ -391,12 +391,19 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     // Geometry. Terrains are meshed first: objects may stand on them.
     let terrains: Vec<terrain::TerrainMesh> = (scene.terrain.iter().enumerate())
         .map(|(ti, t)| {
-            terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
-                by_name
-                    .get(name)
-                    .copied()
-                    .ok_or_else(|| undefined(src.loc_of(at), name))
-            })
+            terrain::load(
+                &src,
+                ti,
+                t,
+                &scene.site.location,
+                &scene.files.allow,
+                &|name, at| {
+                    by_name
+                        .get(name)
+                        .copied()
+                        .ok_or_else(|| undefined(src.loc_of(at), name))
+                },
+            )
         })
         .collect::<Result<_, _>>()?;
     let mut ground: Option<placement::Ground> = None;
@@ -907,7 +914,7 @@ fn site_from_weather(
     scene: &mut Scene,
     record: &crate::weather::WeatherRecord,
 ) -> Result<(), SceneError> {
-    let site = &mut scene.site;
+    let site = &mut scene.site.location;
     if !(site.latitude_deg.is_nan() || site.longitude_deg.is_nan()) {
         return Ok(());
     }
