@@ -136,22 +136,7 @@ pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
     Ok(match &m.emissivity {
         SceneEmissivity::Constant => Emissivity::Constant(m.construction.thermal_emissivity),
         SceneEmissivity::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
-        SceneEmissivity::Table(t) => {
-            // The scene stores values by wavelength then angle; the
-            // radiometry table by angle then wavelength.
-            let (na, nw) = (t.angles_deg.len(), t.wavelengths_um.len());
-            let values = (0..na * nw)
-                .map(|k| t.values[(k % nw) * na + k / nw])
-                .collect();
-            Emissivity::Table(
-                crate::radiometry::EmissivityTable::new(
-                    t.angles_deg.clone(),
-                    t.wavelengths_um.clone(),
-                    values,
-                )
-                .with_context(|| format!("material {}: emissivity table", m.name))?,
-            )
-        }
+        SceneEmissivity::Table(t) => Emissivity::Table(t.clone()),
     })
 }
 
