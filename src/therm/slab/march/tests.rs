@@ -55,16 +55,8 @@ fn forcing_is_linear_between_samples() {
 #[test]
 fn bad_inputs_are_errors_not_panics() {
     let mat = SlabMaterial {
-        density_kg_m3: 2000.0,
-        specific_heat_j_kgk: 900.0,
-        conductivity_w_mk: 1.0,
-        thickness_m: 0.1,
-        solar_absorptivity: 0.5,
-        thermal_emissivity: 0.9,
         back: BackBoundary::Insulated,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: crate::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2000.0, 900.0, 1.0, 0.1, 0.5, 0.9)
     };
     let s = ThermSettings::default();
     let bad = SlabMaterial {
@@ -95,16 +87,8 @@ fn bad_inputs_are_errors_not_panics() {
 #[test]
 fn graded_mesh_is_geometric_from_the_surface() {
     let mat = SlabMaterial {
-        density_kg_m3: 2300.0,
-        specific_heat_j_kgk: 880.0,
-        conductivity_w_mk: 1.4,
-        thickness_m: 2.0,
-        solar_absorptivity: 0.5,
-        thermal_emissivity: 0.9,
         back: BackBoundary::Insulated,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: crate::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2300.0, 880.0, 1.4, 2.0, 0.5, 0.9)
     };
     let s = ThermSettings::default();
     let m = Mesh::graded(&mat, &s);
