@@ -369,8 +369,11 @@ pub fn enu_from_angles(elevation_deg: f64, azimuth_deg: f64) -> [f64; 3] {
 /// thermal forcing and the sun samples take it as read.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Site {
+    /// Geodetic latitude, degrees, north positive, [-90, 90].
     pub latitude_deg: f64,
+    /// Longitude, degrees, east positive, [-180, 180].
     pub longitude_deg: f64,
+    /// Elevation above sea level, m.
     pub elevation_m: f64,
 }
 
