@@ -9,11 +9,17 @@
 //!   potential rate (no surface resistance), limited to what the store
 //!   holds; beyond the capacity the water runs off. Starts dry at the
 //!   beginning of the thermal history.
-//! * **Vegetation**: a big-leaf canopy on the soil slab; transpiration by the
+//! * **Vegetation**: a big-leaf canopy skin over the soil slab, with its own
+//!   temperature and heat capacity, coupled to the soil surface through the
+//!   skin conductance Λ_sk of the ECMWF land surface scheme (the slab's node
+//!   0 is the skin, node 1 the soil surface; [`super::slab::Mesh::with_skin`]);
+//!   5 % of the absorbed shortwave reaches the soil. Transpiration by the
 //!   resistance form of Penman-Monteith with the Jarvis canopy resistance
 //!   ([`super::aero::Canopy`]); the canopy's roughness sets the aerodynamic
-//!   resistance. Interception by the canopy and soil-moisture dynamics are
-//!   not modelled (soil moisture is a fixed parameter).
+//!   resistance. Interception by the canopy, soil evaporation under it and
+//!   soil-moisture dynamics are not modelled (soil moisture is a fixed
+//!   parameter); the sensor sees the skin only (no view-angle dependent mix
+//!   of canopy and soil).
 //! * **Water**: the slab is the water column (thickness = depth), its bottom
 //!   node the sediment. A fraction of the absorbed shortwave (the
 //!   near-infrared) is absorbed in the skin, the rest by Beer-Lambert
@@ -26,7 +32,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::aero::{Canopy, Roughness};
+use super::aero::{CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K, Canopy, Roughness};
 use crate::bounds::{Bound, KeyError};
 
 /// Surface type and its parameters (see the module docs).
@@ -146,7 +152,25 @@ impl SurfaceKind {
                 )?;
                 check("radiation_limit_w_m2", c.radiation_limit_w_m2, 1.0, 1000.0)?;
                 check("vpd_coeff", c.vpd_coeff, 0.0, 200.0)?;
-                check("soil_moisture", c.soil_moisture, 0.0, 1.0)
+                check("soil_moisture", c.soil_moisture, 0.0, 1.0)?;
+                check(
+                    "skin_conductance_w_m2k",
+                    c.skin_conductance_w_m2k,
+                    0.5,
+                    1.0e4,
+                )?;
+                check(
+                    "canopy_heat_capacity_j_m2k",
+                    c.heat_capacity_j_m2k,
+                    10.0,
+                    1.0e6,
+                )?;
+                check(
+                    "soil_shortwave_fraction",
+                    c.soil_shortwave_fraction,
+                    0.0,
+                    0.9,
+                )
             }
             SurfaceKind::Water(w) => {
                 check("surface_fraction", w.surface_fraction, 0.0, 1.0)?;
@@ -257,6 +281,13 @@ pub mod surface_defaults {
     /// FAO-56's bulk stomatal resistance of a well-illuminated leaf, s/m
     /// (FAO-56 eq. 5: r_l = 100 s/m).
     pub const MIN_STOMATAL_RESISTANCE_S_M: f64 = 100.0;
+    /// Skin-layer conductivity Λ_sk between a canopy and its soil, W m⁻²
+    /// K⁻¹ (ECMWF: Viterbo & Beljaars 1995; ecLand SUSVEG `RVLAMSK` 10 for
+    /// crops, grass, shrubs and forests).
+    pub const SKIN_CONDUCTANCE_W_M2K: f64 = 10.0;
+    /// Fraction of the absorbed shortwave transmitted to the soil (ecLand
+    /// SUSVEG `RVTRSR` 0.05 for crops and grass).
+    pub const SOIL_SHORTWAVE_FRACTION: f64 = 0.05;
     /// Near-infrared share of absorbed sunlight taken by a water skin
     /// (Henderson-Sellers 1986; Hostetler & Bartlein 1990: 0.4).
     pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
@@ -291,6 +322,11 @@ pub mod keys {
         Bound::new("max_stomatal_resistance_s_m", 10.0, 1e5, "s/m");
     pub const RADIATION_LIMIT: Bound = Bound::new("radiation_limit_w_m2", 1.0, 1000.0, "W/m²");
     pub const VPD_COEFF: Bound = Bound::new("vpd_coeff", 0.0, 200.0, "(kg/kg)⁻¹");
+    pub const SKIN_CONDUCTANCE: Bound =
+        Bound::new("skin_conductance_w_m2k", 0.5, 1.0e4, "W/(m²·K)");
+    pub const CANOPY_HEAT_CAPACITY: Bound =
+        Bound::new("canopy_heat_capacity_j_m2k", 10.0, 1.0e6, "J/(m²·K)");
+    pub const SOIL_SHORTWAVE_FRACTION: Bound = Bound::new("soil_shortwave_fraction", 0.0, 0.9, "");
     pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
     pub const SHORTWAVE_SURFACE_FRACTION: Bound =
         Bound::new("shortwave_surface_fraction", 0.0, 1.0, "");
@@ -368,6 +404,24 @@ pub mod keys {
         ),
         row(&["vpd_coeff"], "36.35", VPD_COEFF, "Jarvis h_s"),
         row(
+            &["skin_conductance_w_m2k"],
+            "10",
+            SKIN_CONDUCTANCE,
+            "vegetation: canopy skin to soil (ECMWF Λ_sk)",
+        ),
+        row(
+            &["canopy_heat_capacity_j_m2k"],
+            "1000 × lai",
+            CANOPY_HEAT_CAPACITY,
+            "vegetation: heat capacity of the canopy skin",
+        ),
+        row(
+            &["soil_shortwave_fraction"],
+            "0.05",
+            SOIL_SHORTWAVE_FRACTION,
+            "vegetation: share of absorbed sunlight reaching the soil",
+        ),
+        row(
             &["extinction_per_m"],
             "required (water)",
             EXTINCTION,
@@ -422,6 +476,12 @@ pub struct SurfaceSpec {
     pub radiation_limit_w_m2: Option<f64>,
     /// Vegetation: the vapour-deficit parameter h_s of F₂, (kg/kg)⁻¹.
     pub vpd_coeff: Option<f64>,
+    /// Vegetation: conductance between the canopy skin and the soil, W m⁻² K⁻¹.
+    pub skin_conductance_w_m2k: Option<f64>,
+    /// Vegetation: heat capacity of the canopy skin, J m⁻² K⁻¹.
+    pub canopy_heat_capacity_j_m2k: Option<f64>,
+    /// Vegetation: fraction of the absorbed shortwave reaching the soil.
+    pub soil_shortwave_fraction: Option<f64>,
     /// Water: Beer-Lambert extinction coefficient, 1/m (required).
     pub extinction_per_m: Option<f64>,
     /// Water: fraction of absorbed shortwave absorbed at the surface.
@@ -442,7 +502,7 @@ impl SurfaceSpec {
         use surface_defaults as d;
         let m = self;
         let kind_name = m.kind.name();
-        let all: [(&'static str, Option<f64>, &[KindSpec]); 13] = [
+        let all: [(&'static str, Option<f64>, &[KindSpec]); 16] = [
             ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
             ("roughness_m", m.roughness_m, &[Solid, Water]),
             ("canopy_height_m", m.canopy_height_m, &[Vegetation]),
@@ -464,6 +524,21 @@ impl SurfaceSpec {
                 &[Vegetation],
             ),
             ("vpd_coeff", m.vpd_coeff, &[Vegetation]),
+            (
+                "skin_conductance_w_m2k",
+                m.skin_conductance_w_m2k,
+                &[Vegetation],
+            ),
+            (
+                "canopy_heat_capacity_j_m2k",
+                m.canopy_heat_capacity_j_m2k,
+                &[Vegetation],
+            ),
+            (
+                "soil_shortwave_fraction",
+                m.soil_shortwave_fraction,
+                &[Vegetation],
+            ),
             ("extinction_per_m", m.extinction_per_m, &[Water]),
             (
                 "shortwave_surface_fraction",
@@ -538,6 +613,18 @@ impl SurfaceSpec {
                 range(K::RADIATION_LIMIT, rgl)?;
                 let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
                 range(K::VPD_COEFF, hs)?;
+                let skin = m
+                    .skin_conductance_w_m2k
+                    .unwrap_or(d::SKIN_CONDUCTANCE_W_M2K);
+                range(K::SKIN_CONDUCTANCE, skin)?;
+                let cap = m
+                    .canopy_heat_capacity_j_m2k
+                    .unwrap_or(CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K * lai);
+                range(K::CANOPY_HEAT_CAPACITY, cap)?;
+                let tau = m
+                    .soil_shortwave_fraction
+                    .unwrap_or(d::SOIL_SHORTWAVE_FRACTION);
+                range(K::SOIL_SHORTWAVE_FRACTION, tau)?;
                 SurfaceKind::Vegetation(Canopy {
                     height_m,
                     lai,
@@ -546,6 +633,9 @@ impl SurfaceSpec {
                     radiation_limit_w_m2: rgl,
                     vpd_coeff: hs,
                     soil_moisture,
+                    skin_conductance_w_m2k: skin,
+                    heat_capacity_j_m2k: cap,
+                    soil_shortwave_fraction: tau,
                 })
             }
             Water => {

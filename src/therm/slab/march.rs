@@ -28,8 +28,12 @@ pub struct StepRecord {
     /// Sky view factor of the facet (the rest of the hemisphere is ground).
     pub sky_view: f64,
     pub surface: SurfaceFluxes,
-    /// Conduction from the surface node into the slab, W/m².
+    /// Conduction from the surface node into the slab, W/m² (under a
+    /// canopy: from the canopy skin into the soil).
     pub conduction_into_slab_w_m2: f64,
+    /// Temperature of the soil surface under a canopy skin, K (node 1; the
+    /// surface temperature for every other surface kind).
+    pub soil_surface_temp_k: f64,
     /// Flux into the slab through the back face, W/m².
     pub back_w_m2: f64,
     pub back_temp_k: f64,
@@ -152,7 +156,8 @@ impl SlabModel {
     }
 
     /// [`SlabModel::new`] with a mesh built before; `mesh` must be
-    /// `Mesh::graded(material, settings)`.
+    /// `Mesh::graded(material, settings)` (a vegetated material's canopy
+    /// skin node is added here, [`Mesh::with_skin`]).
     pub(crate) fn with_mesh(
         material: &SlabMaterial,
         orientation: Orientation,
@@ -177,11 +182,25 @@ impl SlabModel {
         if let Some(l) = settings.convection.surface_layer() {
             l.validate().map_err(ThermError::BadInput)?;
         }
+        // A canopy is a skin node over the soil mesh (surface.rs).
+        let mesh = match material.surface {
+            SurfaceKind::Vegetation(c) => {
+                Arc::new(mesh.with_skin(c.heat_capacity_j_m2k, c.skin_conductance_w_m2k))
+            }
+            _ => mesh,
+        };
         let n = mesh.z_m.len();
         let sw_fraction = match material.surface {
             SurfaceKind::Water(w) => {
                 shortwave_fractions(&mesh.z_m, w.surface_fraction, w.extinction_per_m)
             }
+            SurfaceKind::Vegetation(c) => (0..n)
+                .map(|i| match i {
+                    0 => 1.0 - c.soil_shortwave_fraction,
+                    1 => c.soil_shortwave_fraction,
+                    _ => 0.0,
+                })
+                .collect(),
             _ => (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect(),
         };
         Ok(SlabModel {
@@ -323,6 +342,11 @@ impl SlabModel {
             }
         }
         d
+    }
+
+    /// Whether node 0 is a canopy skin over the soil (vegetation).
+    pub fn has_skin(&self) -> bool {
+        matches!(self.material.surface, SurfaceKind::Vegetation(_))
     }
 
     /// Water the surface store can hold, mm (0 for vegetation and water).
@@ -1046,6 +1070,7 @@ impl SlabModel {
             sky_view: self.f_sky,
             surface: sf,
             conduction_into_slab_w_m2: g[0] * (temps[0] - temps[1]),
+            soil_surface_temp_k: if self.has_skin() { temps[1] } else { temps[0] },
             back_w_m2: back,
             back_temp_k: temps[n - 1],
             stored_energy_j_m2: stored,

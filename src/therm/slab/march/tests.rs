@@ -228,3 +228,77 @@ fn surface_only_newton_matches_the_full_system_newton() {
         assert!(worst <= bound_k, "{worst} K > {bound_k} K");
     }
 }
+
+/// A canopy skin over the soil (`Mesh::with_skin`), in the steady state
+/// under constant sun and a fixed deep ground: two conductances in series,
+/// the skin conductance Λ_sk and the soil's `k/L` (a steady profile in a
+/// uniform slab is linear, which the finite volumes reproduce exactly).
+/// The skin passes `Λ·(T_skin − T_soil)` to the soil; the soil surface
+/// also absorbs the transmitted share τ of the absorbed shortwave; all of
+/// it leaves through the deep ground: `Λ·(T₀ − T₁) + τ·S = (k/L)·(T₁ −
+/// T_deep)`, and the skin's balance closes: net surface flux (all of S
+/// counted there) `= Λ·(T₀ − T₁) + τ·S`.
+#[test]
+fn canopy_skin_over_soil_is_a_series_conductance() {
+    use crate::therm::aero::Canopy;
+    let canopy = Canopy {
+        height_m: 0.5,
+        lai: 3.0,
+        min_resistance_s_m: 100.0,
+        max_resistance_s_m: 5000.0,
+        radiation_limit_w_m2: 100.0,
+        vpd_coeff: 36.35,
+        soil_moisture: 1.0,
+        skin_conductance_w_m2k: 10.0,
+        heat_capacity_j_m2k: 3000.0,
+        soil_shortwave_fraction: 0.05,
+    };
+    let mat = SlabMaterial {
+        density_kg_m3: 2050.0,
+        specific_heat_j_kgk: 1840.0,
+        conductivity_w_mk: 0.52,
+        thickness_m: 0.5,
+        solar_absorptivity: 0.8,
+        thermal_emissivity: 0.98,
+        back: BackBoundary::DeepGround {
+            temp_k: Some(285.0),
+        },
+        internal_power_w_m2: 0.0,
+        ground_albedo: None,
+        surface: SurfaceKind::Vegetation(canopy),
+    };
+    let s = ThermSettings::default();
+    let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+    let soil = Mesh::graded(&mat, &s);
+    assert_eq!(model.nodes(), soil.z_m.len() + 1);
+    assert_eq!(model.mesh.cap_j_m2k[0], 3000.0);
+    assert_eq!(model.mesh.cond_w_m2k[0], 10.0);
+    assert_eq!(model.mesh.cap_j_m2k[1..], soil.cap_j_m2k[..]);
+    let mut forcing = f(0.0, 300.0);
+    forcing.dni_w_m2 = 600.0;
+    forcing.ghi_w_m2 = 600.0;
+    forcing.sun_dir_enu = [0.0, 0.0, 1.0];
+    let t = model.equilibrium(&forcing, 1.0, Some(285.0)).unwrap();
+    let (t0, t1) = (t[0], t[1]);
+    let sw = 0.8 * 600.0;
+    let into_soil = 10.0 * (t0 - t1) + 0.05 * sw;
+    let through_soil = 0.52 / 0.5 * (t1 - 285.0);
+    assert!(
+        (into_soil - through_soil).abs() < 1e-6 * through_soil.abs(),
+        "{into_soil} vs {through_soil}"
+    );
+    let (sf, _) = balance::surface_fluxes(
+        &model.drive(&forcing, 1.0),
+        mat.thermal_emissivity,
+        &s.convection,
+        t0,
+    );
+    assert!(
+        (sf.net_w_m2 - into_soil).abs() < 1e-6 * into_soil.abs(),
+        "{} vs {into_soil}",
+        sf.net_w_m2
+    );
+    // The skin is not the soil: they differ by the skin flux over Λ (here
+    // the transpiring skin in dry air is the colder one).
+    assert!((t0 - t1).abs() > 0.1, "{t0} {t1}");
+}
