@@ -155,6 +155,18 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             c.skin_conductance_w_m2k
         );
     }
+    if let (SurfaceKind::Snow { .. }, Some(r)) = (&th.surface, th.series.last()) {
+        let state = if r.melt_w_m2 > 0.0 {
+            "melting at 0 °C"
+        } else {
+            "frozen"
+        };
+        let _ = writeln!(
+            o,
+            "{pad}snow: {state}, melt {:.1} W m-2, latent (sublimation/frost) {:.1} W m-2",
+            r.melt_w_m2, r.surface.latent_w_m2
+        );
+    }
     if with_series && !th.series.is_empty() {
         let _ = writeln!(
             o,

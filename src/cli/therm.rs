@@ -225,7 +225,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     Ok(0)
 }
 
-const COLUMNS: [&str; 26] = [
+const COLUMNS: [&str; 27] = [
     "time_utc",
     "t_s",
     "surface_temp_k",
@@ -252,6 +252,7 @@ const COLUMNS: [&str; 26] = [
     "richardson",
     "stability_factor",
     "soil_surface_temp_k",
+    "melt_w_m2",
 ];
 
 fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::Result<()> {
@@ -288,6 +289,7 @@ fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::R
             s.richardson,
             r.stability_factor,
             r.rec.soil_surface_temp_k,
+            r.rec.melt_w_m2,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
         writeln!(

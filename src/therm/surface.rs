@@ -29,6 +29,14 @@
 //!   (denser water above lighter, with the density of Heggen 1983);
 //!   evaporation by the bulk-aerodynamic formula (no surface resistance).
 //!   Not modelled: currents and inflows, ice, the cool skin (≈0.2-0.3 K).
+//! * **Snow**: a solid slab of snow whose surface is capped at 0 °C: when
+//!   the balance would take it above, it stays at 0 °C and the surplus
+//!   (W/m²) melts snow ([`super::slab::StepRecord::melt_w_m2`]); the melt
+//!   water is not kept (no refreezing, no change of depth or albedo).
+//!   Sublimation and frost go through the latent path with no surface
+//!   resistance, with the saturation vapour pressure and latent heat of
+//!   liquid water (over ice at −10 °C e° is 9 % lower and λ 13 % higher;
+//!   the two partly cancel in λE).
 
 use serde::{Deserialize, Serialize};
 
@@ -47,6 +55,13 @@ pub enum SurfaceKind {
     },
     Vegetation(Canopy),
     Water(WaterBody),
+    /// Seasonal snow: a solid whose surface cannot rise above 0 °C (the
+    /// surplus melts it) and that sublimates or takes frost through the
+    /// latent path with no surface resistance (a saturated ice surface).
+    Snow {
+        /// Roughness length for momentum, m.
+        roughness_m: f64,
+    },
 }
 
 impl Default for SurfaceKind {
@@ -105,15 +120,17 @@ impl SurfaceKind {
             SurfaceKind::Solid { roughness_m, .. } => Roughness::bare(*roughness_m),
             SurfaceKind::Vegetation(c) => Roughness::canopy(c.height_m),
             SurfaceKind::Water(w) => Roughness::bare(w.roughness_m),
+            SurfaceKind::Snow { roughness_m } => Roughness::bare(*roughness_m),
         }
     }
 
-    /// Short lower-case name (`solid`, `vegetation`, `water`).
+    /// Short lower-case name (`solid`, `vegetation`, `water`, `snow`).
     pub fn name(&self) -> &'static str {
         match self {
             SurfaceKind::Solid { .. } => "solid",
             SurfaceKind::Vegetation(_) => "vegetation",
             SurfaceKind::Water(_) => "water",
+            SurfaceKind::Snow { .. } => "snow",
         }
     }
 
@@ -184,6 +201,7 @@ impl SurfaceKind {
                 )?;
                 check("roughness_m", w.roughness_m, 1e-6, 0.1)
             }
+            SurfaceKind::Snow { roughness_m } => check("roughness_m", roughness_m, 1e-5, 0.5),
         }
     }
 }
@@ -249,7 +267,7 @@ pub fn mixing_conductances(
     }
 }
 
-/// `kind = "solid" | "vegetation" | "water"` in a material library.
+/// `kind = "solid" | "vegetation" | "water" | "snow"` in a material library.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum KindSpec {
@@ -257,6 +275,7 @@ pub enum KindSpec {
     Solid,
     Vegetation,
     Water,
+    Snow,
 }
 
 impl KindSpec {
@@ -265,6 +284,7 @@ impl KindSpec {
             KindSpec::Solid => "solid",
             KindSpec::Vegetation => "vegetation",
             KindSpec::Water => "water",
+            KindSpec::Snow => "snow",
         }
     }
 }
@@ -300,6 +320,9 @@ pub mod surface_defaults {
     /// Roughness length of a water surface at light winds, m (Charnock
     /// z₀ = 0.011·u*²/g ≈ 1e-4 m at u* = 0.3 m/s; Garratt 1992, Table A6).
     pub const WATER_ROUGHNESS_M: f64 = 2.0e-4;
+    /// Roughness length of snow-covered flat ground, m (0.1-1 mm: Stull
+    /// 1988 fig. 9.6 order of magnitude; ecLand 1.3 mm over ice caps).
+    pub const SNOW_ROUGHNESS_M: f64 = 1.0e-3;
 }
 
 /// The surface keys of a `[material.NAME]` table, one row each, beside
@@ -351,7 +374,7 @@ pub mod keys {
             &["kind"],
             "",
             "`\"solid\"`",
-            "`\"solid\"`, `\"vegetation\"`, `\"water\"`: the keys below ([energy-balance.md](energy-balance.md))",
+            "`\"solid\"`, `\"vegetation\"`, `\"water\"`, `\"snow\"`: the keys below ([energy-balance.md](energy-balance.md))",
         ),
         row(
             &["water_capacity_mm"],
@@ -370,6 +393,12 @@ pub mod keys {
             "2e-4",
             WATER_ROUGHNESS,
             "water: roughness length for momentum",
+        ),
+        row(
+            &["roughness_m"],
+            "0.001",
+            SOLID_ROUGHNESS,
+            "snow: roughness length for momentum",
         ),
         row(
             &["canopy_height_m"],
@@ -497,14 +526,14 @@ impl SurfaceSpec {
     /// in range, and that no key of another kind is given; an error names
     /// the key (or, for a missing one, the table).
     pub fn build(&self) -> Result<SurfaceKind, KeyError> {
-        use KindSpec::{Solid, Vegetation, Water};
+        use KindSpec::{Snow, Solid, Vegetation, Water};
         use keys as K;
         use surface_defaults as d;
         let m = self;
         let kind_name = m.kind.name();
         let all: [(&'static str, Option<f64>, &[KindSpec]); 16] = [
             ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
-            ("roughness_m", m.roughness_m, &[Solid, Water]),
+            ("roughness_m", m.roughness_m, &[Solid, Water, Snow]),
             ("canopy_height_m", m.canopy_height_m, &[Vegetation]),
             ("lai", m.lai, &[Vegetation]),
             ("soil_moisture", m.soil_moisture, &[Vegetation]),
@@ -637,6 +666,11 @@ impl SurfaceSpec {
                     heat_capacity_j_m2k: cap,
                     soil_shortwave_fraction: tau,
                 })
+            }
+            Snow => {
+                let z0 = m.roughness_m.unwrap_or(d::SNOW_ROUGHNESS_M);
+                range(K::SOLID_ROUGHNESS, z0)?;
+                SurfaceKind::Snow { roughness_m: z0 }
             }
             Water => {
                 let eta = need("extinction_per_m", m.extinction_per_m)?;

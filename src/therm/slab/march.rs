@@ -34,6 +34,10 @@ pub struct StepRecord {
     /// Temperature of the soil surface under a canopy skin, K (node 1; the
     /// surface temperature for every other surface kind).
     pub soil_surface_temp_k: f64,
+    /// Snow: the surplus that melts snow while the surface is held at 0 °C,
+    /// W/m² (the surface node's balance at the cap, its storage term left
+    /// out); 0 below the cap and for other surfaces.
+    pub melt_w_m2: f64,
     /// Flux into the slab through the back face, W/m².
     pub back_w_m2: f64,
     pub back_temp_k: f64,
@@ -336,12 +340,44 @@ impl SlabModel {
                 d.conductance_m_s = 1.0 / r_s;
                 d.dew = true;
             }
-            SurfaceKind::Water(_) => {
+            SurfaceKind::Water(_) | SurfaceKind::Snow { .. } => {
                 d.conductance_m_s = f64::INFINITY;
                 d.dew = true;
             }
         }
         d
+    }
+
+    /// The highest surface temperature, K: 0 °C for snow (the surplus
+    /// melts it), none for other surfaces.
+    pub fn melt_cap_k(&self) -> Option<f64> {
+        match self.material.surface {
+            SurfaceKind::Snow { .. } => Some(crate::units::ZERO_C_K),
+            _ => None,
+        }
+    }
+
+    /// Melt flux of a step of `h` s from `old` to `new`, W/m²: what the
+    /// surface node's balance has left over with the surface held at the
+    /// cap (`net − τ·S + g₀·(T₁ − T₀) − C₀·(T₀ − T₀ᵒˡᵈ)/h`); 0 below the cap.
+    fn melt_w_m2(
+        &self,
+        old: &[f64],
+        new: &[f64],
+        h: f64,
+        g: &[f64],
+        net_w_m2: f64,
+        sw: f64,
+    ) -> f64 {
+        match self.melt_cap_k() {
+            Some(cap) if new[0] >= cap => {
+                let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
+                (net_w_m2 - (1.0 - self.sw_fraction[0]) * sw + g[0] * (new[1] - new[0])
+                    - self.mesh.cap_j_m2k[0] * inv_h * (new[0] - old[0]))
+                    .max(0.0)
+            }
+            _ => 0.0,
+        }
     }
 
     /// Whether node 0 is a canopy skin over the soil (vegetation).
@@ -569,6 +605,14 @@ impl SlabModel {
         }
         if !converged {
             return false;
+        }
+        // Snow: the surface cannot rise above 0 °C; the surface residual
+        // falls with T₀, so the capped solution leaves a surplus (the melt).
+        if let Some(cap) = self.melt_cap_k()
+            && t0 > cap
+            && !back_unknown
+        {
+            t0 = cap;
         }
         new[0] = t0;
         if back_unknown {
@@ -985,7 +1029,15 @@ impl SlabModel {
                     } else {
                         0.0
                     };
-                    *energy_in += h * (sf.net_w_m2 - lost + back);
+                    let melt = self.melt_w_m2(
+                        temps,
+                        &new,
+                        h,
+                        &g,
+                        sf.net_w_m2,
+                        drive.absorbed_shortwave_w_m2(),
+                    );
+                    *energy_in += h * (sf.net_w_m2 - lost + back - melt);
                     if capacity_mm > 0.0 {
                         *store_mm = update_store_mm(
                             *store_mm,
@@ -1070,6 +1122,14 @@ impl SlabModel {
             sky_view: self.f_sky,
             surface: sf,
             conduction_into_slab_w_m2: g[0] * (temps[0] - temps[1]),
+            melt_w_m2: self.melt_w_m2(
+                temps,
+                temps,
+                f64::INFINITY,
+                &g,
+                sf.net_w_m2,
+                drive.absorbed_shortwave_w_m2(),
+            ),
             soil_surface_temp_k: if self.has_skin() { temps[1] } else { temps[0] },
             back_w_m2: back,
             back_temp_k: temps[n - 1],
