@@ -196,7 +196,7 @@ pub struct SlabMaterial {
     /// Solar albedo of the ground seen by a tilted facet (default 0.2).
     #[serde(default)]
     pub ground_albedo: Option<f64>,
-    /// What the surface is: solid (with a water store), vegetation, water.
+    /// What the surface is: solid (with a water store), vegetation, water, snow.
     #[serde(default)]
     pub surface: SurfaceKind,
 }
@@ -277,6 +277,14 @@ impl SlabMaterial {
         if !self.internal_power_w_m2.is_finite() {
             return Err(ThermError::BadMaterial(
                 "internal_power_w_m2 must be finite".into(),
+            ));
+        }
+        if matches!(self.surface, SurfaceKind::Snow { .. })
+            && matches!(self.back, BackBoundary::ExposedToAir { .. })
+        {
+            return Err(ThermError::BadMaterial(
+                "snow lies on the ground: its back is \"insulated\" or { deep_ground }, not { air }"
+                    .into(),
             ));
         }
         match self.back {
