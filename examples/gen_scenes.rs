@@ -619,14 +619,11 @@ fn terrain_z(x: f64, y: f64) -> f64 {
 }
 
 /// The site of `terrain-km`.
-fn terrain_site() -> irsig::scene::Site {
-    irsig::scene::Site {
-        name: Some("Rochester NY (synthetic terrain)".into()),
+fn terrain_site() -> irsig::sun::Site {
+    irsig::sun::Site {
         latitude_deg: 43.1566,
         longitude_deg: -77.6088,
         elevation_m: 150.0,
-        utc_offset_h: -4.0,
-        crs: irsig::scene::OutputCrs::Utm,
     }
 }
 

@@ -193,6 +193,22 @@ fn folder_or_cwd(p: &Path) -> &Path {
     }
 }
 
+/// The comma-separated numbers of one CSV line, each finite; else the
+/// 1-based column and text of the first that is not (the emissivity-table and
+/// PSF-kernel readers).
+pub fn csv_numbers(line: &str) -> Result<Vec<f64>, (usize, String)> {
+    line.split(',')
+        .enumerate()
+        .map(|(i, f)| {
+            let f = f.trim();
+            match f.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err((i + 1, f.to_string())),
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

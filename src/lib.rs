@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! irsig — a physics-based thermal-infrared synthetic image generator.
 //!
 //! The module tree mirrors the submodels of the DIRSIG model (Schott,
@@ -5,20 +6,33 @@
 //! tracer, the sun ephemeris, the thermal model, the atmosphere, the
 //! radiometry, the sensor, the render loop and the outputs.
 
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod atmos;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod batch;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bench;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bounds;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod cli;
 pub mod files;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod output;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod radiometry;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod render;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod scene;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod sensor;
 pub mod sun;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod therm;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod trace;
 pub mod units;
 pub mod version;
+#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod weather;

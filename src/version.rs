@@ -25,8 +25,11 @@ pub const LONG_VERSION: &str = concat!(
 /// What built this irsig, as recorded in the JSON outputs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BuildInfo {
+    /// The crate version (`CARGO_PKG_VERSION`).
     pub irsig_version: &'static str,
+    /// The git commit the build came from (`unknown` outside a checkout).
     pub git_commit: &'static str,
+    /// The Embree version the ray tracer was built against.
     pub embree_version: &'static str,
 }
 

@@ -28,8 +28,8 @@ fn tmy3_forcing_uses_measured_irradiance() {
     .unwrap();
     let st = f.station.unwrap();
     let site = Site {
-        lat_deg: st.lat_deg,
-        lon_deg: st.lon_deg,
+        latitude_deg: st.lat_deg,
+        longitude_deg: st.lon_deg,
         elevation_m: st.elevation_m,
     };
     let start = utc("1989-06-19T05:00:00Z");
@@ -71,8 +71,8 @@ fn clear_sky_estimate_vs_measured_hours() {
     .unwrap();
     let st = f.station.unwrap();
     let site = Site {
-        lat_deg: st.lat_deg,
-        lon_deg: st.lon_deg,
+        latitude_deg: st.lat_deg,
+        longitude_deg: st.lon_deg,
         elevation_m: st.elevation_m,
     };
     // The same weather with no measured irradiance and no cloud → clear sky.
@@ -143,8 +143,8 @@ fn epw_forcing_uses_measured_sky_temperature() {
     .unwrap();
     let st = f.station.unwrap();
     let site = Site {
-        lat_deg: st.lat_deg,
-        lon_deg: st.lon_deg,
+        latitude_deg: st.lat_deg,
+        longitude_deg: st.lon_deg,
         elevation_m: st.elevation_m,
     };
     let start = utc("1996-06-19T00:00:00Z");

@@ -155,8 +155,8 @@ fn therm_arguments_out_of_range_are_refused_not_panics() {
             typical_year: false,
         },
         site: irsig::sun::Site {
-            lat_deg: 36.1,
-            lon_deg: -79.95,
+            latitude_deg: 36.1,
+            longitude_deg: -79.95,
             elevation_m: 0.0,
         },
         orientation: irsig::therm::balance::Orientation {

@@ -338,9 +338,11 @@ fn view_zenith_contrast_falls_and_specular_roof_turns_dark() {
     // mid-latitude-summer sky it turned just dark, −0.25 K from +3.6 K at
     // nadir; the sky now follows the weather, a humid 32 °C noon whose sky
     // irradiance is 418 W/m² against the table's 354, so the mirrored sky
-    // is warmer: +0.37 K from +3.1 K.)
+    // is warmer: +0.37 K from +3.1 K. Since the grass is a canopy skin
+    // over its soil (issue #30) the grass in the roof's surroundings is
+    // warmer at noon: +0.29 K from +2.76 K.)
     assert!(
-        c.3 < a.3 - 2.5 && c.3 < 0.2 * a.3,
+        c.3 < a.3 - 2.0 && c.3 < 0.2 * a.3,
         "the roof loses its contrast at 75°"
     );
     assert!(c.4 > 3.0 * a.4, "the roof mirrors the sky at grazing view");

@@ -131,6 +131,22 @@ fn check(img: &Img, (x, y): (u32, u32), what: &str) -> Value {
         (f(&th["stability_factor"]) - irsig::therm::aero::stability_factor(ri)).abs() < 1e-12,
         "{what}: F(Ri)"
     );
+    // Issue #30: a vegetated point reports its canopy/soil split; the flux
+    // from the canopy skin into the soil is the skin conductance times
+    // their temperature difference.
+    if let Some(veg) = th["surface"].get("vegetation") {
+        let lambda = f(&veg["skin_conductance_w_m2k"]);
+        let (skin, soil) = (f(&last["surface_temp_k"]), f(&last["soil_surface_temp_k"]));
+        let q = f(&last["conduction_into_slab_w_m2"]);
+        eprintln!(
+            "{what}: canopy skin {skin:.2} K over soil {soil:.2} K, {q:.1} W/m2 into the soil"
+        );
+        assert!(skin != soil, "{what}: skin and soil are two temperatures");
+        assert!(
+            (q - lambda * (skin - soil)).abs() < 1e-9 * q.abs().max(1.0),
+            "{what}: skin-to-soil flux {q} vs {lambda}·({skin} − {soil})"
+        );
+    }
     // Hit, case and history agree with the planes.
     assert_eq!(
         f(&hit["triangle"]) as f32,

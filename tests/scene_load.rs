@@ -663,9 +663,9 @@ fn emissivity_table_is_read_and_validated() {
         panic!()
     };
     // bilinear: midway in both angle (30°) and wavelength (10 µm)
-    assert!((t.eval(30.0, 10.0) - 0.96).abs() < 1e-12);
-    assert!((t.eval(0.0, 8.0) - 0.96).abs() < 1e-12);
-    assert!((t.eval(90.0, 20.0) - 0.84).abs() < 1e-12);
+    assert!((t.at(30.0, 10.0) - 0.96).abs() < 1e-12);
+    assert!((t.at(0.0, 8.0) - 0.96).abs() < 1e-12);
+    assert!((t.at(90.0, 20.0) - 0.84).abs() < 1e-12);
     std::fs::write(
         f.dir.path().join("eps.csv"),
         "wavelength_um, 0, 60, 85\n8.0, 0.96, 0.94, 0.80\n12.0, 0.98, 1.2, 0.84\n",

@@ -11,8 +11,8 @@ use irsig::weather::{ReadOptions, read_weather_file_with};
 
 const WEATHER: &str = "scenes/airfield/weather/greensboro-nc-tmy3-2001-08-04_09.csv";
 const SITE: Site = Site {
-    lat_deg: 36.1,
-    lon_deg: -79.95,
+    latitude_deg: 36.1,
+    longitude_deg: -79.95,
     elevation_m: 273.0,
 };
 

@@ -46,7 +46,7 @@ fn a_render_opens_its_weather_file_once() {
         irsig::scene::load_with_edits(&root.join("scenes/airfield/scene.toml"), &unset, &overrides)
             .unwrap();
     // The site came from the file's station (read at load).
-    assert!((scene.scene.site.latitude_deg - 36.1).abs() < 0.1);
+    assert!((scene.scene.site.location.latitude_deg - 36.1).abs() < 0.1);
     assert_eq!(irsig::files::opened_count(&weather), 1);
     let warnings = weather_warnings(&scene).unwrap();
     let st = prepare_static(scene, None).unwrap();

@@ -249,8 +249,8 @@ fn csv_without_cloud_but_with_measured_sky_temperature() {
     let f = read_weather(&p, &ReadOptions::default()).unwrap();
     assert!(f.history.samples.iter().all(|s| s.cloud_fraction.is_none()));
     let site = irsig::sun::Site {
-        lat_deg: 40.05,
-        lon_deg: -88.37,
+        latitude_deg: 40.05,
+        longitude_deg: -88.37,
         elevation_m: 213.0,
     };
     let start = f.history.start();
@@ -453,8 +453,8 @@ fn pvgis_epw_without_cloud_matches_pvlib() {
     );
     assert!(f.history.samples.iter().all(|s| s.cloud_fraction.is_none()));
     let site = irsig::sun::Site {
-        lat_deg: 45.0,
-        lon_deg: 8.0,
+        latitude_deg: 45.0,
+        longitude_deg: 8.0,
         elevation_m: 250.0,
     };
     let start = utc("2018-01-01T12:00:00Z");
@@ -544,7 +544,10 @@ fn site_coordinates_from_the_weather_file() {
     let scene = common::airfield();
     let s = irsig::scene::load_text(&scene, without_site_coordinates(&scene)).unwrap();
     assert_eq!(
-        (s.scene.site.latitude_deg, s.scene.site.longitude_deg),
+        (
+            s.scene.site.location.latitude_deg,
+            s.scene.site.location.longitude_deg
+        ),
         (36.1, -79.95)
     );
     let constant = scene.with_file_name("scene-constant.toml");

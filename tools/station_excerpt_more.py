@@ -181,7 +181,7 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
     cols = ["time", "air_temp_c", "rh_percent", "wind_m_s"] + (["pressure_hpa"] if has_p else []) + [
         "cloud_fraction", "ghi_w_m2", "dni_w_m2", "dhi_w_m2", "sky_temp_c", "precip_mm_h",
         "x_lw_up_w_m2", "x_lw_dn_w_m2", "x_sw_up_w_m2", "x_skin_temp_c", "x_spinup",
-        "x_le_w_m2", "x_h_w_m2", "x_g_w_m2"]
+        "x_le_w_m2", "x_h_w_m2", "x_g_w_m2", "x_rnet_w_m2"]
     hdr = [
         f"# {name}: irsig plain weather CSV (docs/weather-format.md) written by tools/station_excerpt_more.py",
         *[f"# {s}" for s in source_lines],
@@ -204,6 +204,8 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
            "#   x_sw_up_w_m2: not measured (empty)."]),
         "# x_le_w_m2, x_h_w_m2, x_g_w_m2: measured latent, sensible and ground heat flux where the source has",
         "#   them (eddy covariance, not closure-corrected; positive away from the surface, G into the ground).",
+        "# x_rnet_w_m2: measured net radiation where the source has it (net radiometer; positive into the",
+        "#   surface), for the energy-balance closure of the measured fluxes (Twine et al. 2000).",
         "# cloud_fraction: required by the reader today; unused (0) because sky_temp_c and the irradiances are measured.",
         "# precip_mm_h: measured (0 on these days).",
         "# x_ columns are ignored by the weather reader; x_spinup = 1 marks spin-up rows (not compared).",
@@ -221,7 +223,8 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
         cells += ["0", se.fmt(clip(r["ghi"]), 1), se.fmt(clip(r["dni"]), 1), se.fmt(clip(r["dhi"]), 1),
                   se.fmt(sky), se.fmt(r["precip"] or 0.0, 2)]
         cells += [se.fmt(r["lw_up"], 1), se.fmt(r["lw_dn"], 1), "", se.fmt(r["irt"]), "1" if copy else "0",
-                  se.fmt(r.get("le"), 1), se.fmt(r.get("h"), 1), se.fmt(r.get("g"), 1)]
+                  se.fmt(r.get("le"), 1), se.fmt(r.get("h"), 1), se.fmt(r.get("g"), 1),
+                  se.fmt(r.get("rnet"), 1)]
         lines.append(",".join(cells))
     p = OUT / f"{name}.csv"
     p.write_text("\n".join(lines) + "\n")

@@ -519,6 +519,7 @@ _THERM_COLUMNS = [
     "emitted_longwave_w_m2", "convection_w_m2", "latent_w_m2", "rain_w_m2", "internal_w_m2",
     "net_surface_w_m2", "conduction_into_slab_w_m2", "back_w_m2", "convection_coeff_w_m2k",
     "water_store_mm", "sky_view", "sunlit_fraction", "surface_temp_c", "richardson", "stability_factor",
+    "soil_surface_temp_k", "melt_w_m2",
 ]
 
 

@@ -471,8 +471,8 @@ fn scene_meta(sc: &LoadedScene, local: NaiveDateTime) -> serde_json::Value {
     serde_json::json!({
         "image_time_local": local.format("%Y-%m-%dT%H:%M:%S").to_string(),
         "utc_offset_h": site.utc_offset_h,
-        "latitude_deg": site.latitude_deg,
-        "longitude_deg": site.longitude_deg,
+        "latitude_deg": site.location.latitude_deg,
+        "longitude_deg": site.location.longitude_deg,
         "band_min_um": lo,
         "band_max_um": hi,
         "camera": sc.camera,
@@ -760,8 +760,8 @@ fn therm(
                 _ => anyhow::bail!("give weather= or forcing= (one of them)"),
             },
             site: irsig::sun::Site {
-                lat_deg: lat,
-                lon_deg: lon,
+                latitude_deg: lat,
+                longitude_deg: lon,
                 elevation_m: elevation,
             },
             orientation: Orientation {

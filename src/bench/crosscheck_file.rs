@@ -95,9 +95,9 @@ pub fn scene_sun_dirs(s: &crate::scene::LoadedScene) -> Vec<Vec3> {
             let t = end - chrono::Duration::seconds(step_s * (n - k));
             let p = crate::sun::solar_position(
                 t,
-                sc.site.latitude_deg,
-                sc.site.longitude_deg,
-                sc.site.elevation_m,
+                sc.site.location.latitude_deg,
+                sc.site.location.longitude_deg,
+                sc.site.location.elevation_m,
             );
             (p.elevation_deg > 0.0).then(|| DVec3::from(p.sun_dir_enu).as_vec3())
         })

@@ -49,9 +49,9 @@ pub fn render_text(s: &SceneSummary) -> String {
         o,
         "site       {} lat {:.4}° lon {:.4}° elevation {} m, UTC{:+}",
         s.site.name.as_deref().unwrap_or("-"),
-        s.site.latitude_deg,
-        s.site.longitude_deg,
-        s.site.elevation_m,
+        s.site.location.latitude_deg,
+        s.site.location.longitude_deg,
+        s.site.location.elevation_m,
         s.site.utc_offset_h
     );
     let _ = writeln!(o, "time       {} local ({})", s.time_local, s.time_utc);

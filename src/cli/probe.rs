@@ -13,6 +13,7 @@ use chrono::Duration;
 
 use crate::radiometry::RadianceTerms;
 use crate::render::probe::{PixelProbe, SurfaceReport, case_name, probe_scene};
+use crate::therm::surface::SurfaceKind;
 use crate::trace::Backend;
 use crate::units::ZERO_C_K;
 
@@ -141,6 +142,29 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             o,
             "{pad}at the image time: sky view factor {sky:.3} (this point's); \
              stability F(Ri) {f:.3} at Ri {ri:.3} (1 = neutral)"
+        );
+    }
+    if let (SurfaceKind::Vegetation(c), Some(r)) = (&th.surface, th.series.last()) {
+        let _ = writeln!(
+            o,
+            "{pad}canopy over soil: skin {:.2} K, soil surface under it {:.2} K; \
+             {:.1} W m-2 from skin to soil (skin conductance {:.1} W m-2 K-1)",
+            r.surface_temp_k,
+            r.soil_surface_temp_k,
+            r.conduction_into_slab_w_m2,
+            c.skin_conductance_w_m2k
+        );
+    }
+    if let (SurfaceKind::Snow { .. }, Some(r)) = (&th.surface, th.series.last()) {
+        let state = if r.melt_w_m2 > 0.0 {
+            "melting at 0 °C"
+        } else {
+            "frozen"
+        };
+        let _ = writeln!(
+            o,
+            "{pad}snow: {state}, melt {:.1} W m-2, latent (sublimation/frost) {:.1} W m-2",
+            r.melt_w_m2, r.surface.latent_w_m2
         );
     }
     if with_series && !th.series.is_empty() {

@@ -181,8 +181,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             (None, None) => bail!("give --weather or --forcing"),
         },
         site: crate::sun::Site {
-            lat_deg: a.lat,
-            lon_deg: a.lon,
+            latitude_deg: a.lat,
+            longitude_deg: a.lon,
             elevation_m: a.elevation,
         },
         orientation: Orientation {
@@ -225,7 +225,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     Ok(0)
 }
 
-const COLUMNS: [&str; 25] = [
+const COLUMNS: [&str; 27] = [
     "time_utc",
     "t_s",
     "surface_temp_k",
@@ -251,6 +251,8 @@ const COLUMNS: [&str; 25] = [
     "surface_temp_c",
     "richardson",
     "stability_factor",
+    "soil_surface_temp_k",
+    "melt_w_m2",
 ];
 
 fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::Result<()> {
@@ -286,6 +288,8 @@ fn write_table(out: &mut impl Write, rows: &[ThermRow], csv: bool) -> std::io::R
             r.rec.surface_temp_k - ZERO_C_K,
             s.richardson,
             r.stability_factor,
+            r.rec.soil_surface_temp_k,
+            r.rec.melt_w_m2,
         ];
         let cells: Vec<String> = nums.iter().map(|v| format!("{v:.3}")).collect();
         writeln!(

@@ -122,7 +122,9 @@ impl Emissivity {
 /// ε(θ, λ) on a grid of angles (deg, ascending, within 0-90) and wavelengths (µm,
 /// ascending). Bilinear interpolation; outside the grid the nearest edge value is
 /// used (documented clamp: emissivity tables rarely reach 90° or every wavelength).
-#[derive(Clone, Debug, PartialEq)]
+/// The one table type: a material's `emissivity = { table_file }` is read into one
+/// ([`Self::from_csv_str`]) and the radiometry uses it as read.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct EmissivityTable {
     pub angles_deg: Vec<f64>,
     pub wavelengths_um: Vec<f64>,
@@ -165,86 +167,114 @@ impl EmissivityTable {
         })
     }
 
-    /// Reads a CSV table: a header row `wavelength_um,<angle_deg>,<angle_deg>,...`
-    /// then one row per wavelength with the emissivity at each angle. Blank lines
-    /// and `#` comments are skipped. Errors name the file, line and what was expected.
+    /// Reads an ε(θ, λ) table, the one reader (a material's
+    /// `emissivity = { table_file }`): `#` comments and blank lines ignored;
+    /// the first data line is `wavelength_um, θ1, θ2, ...` (angles from the
+    /// normal, degrees, strictly increasing in [0, 90]); then one line per
+    /// wavelength, strictly increasing: `λ, ε(θ1), ε(θ2), ...` with ε in
+    /// [0, 1]. Comma-separated. Errors name `file`, the line (0: the file as a
+    /// whole) and what was expected.
     pub fn from_csv_str(text: &str, file: &str) -> Result<Self, RadiometryError> {
-        let bad = |line: usize, msg: String| RadiometryError::Csv {
+        let data_err = |line: usize, msg: String| RadiometryError::Csv {
             file: file.to_string(),
             line,
             msg,
         };
         let mut angles: Option<Vec<f64>> = None;
         let mut wl = Vec::new();
-        let mut vals = Vec::new();
+        // rows by wavelength, as written; stored angle-major below
+        let mut rows: Vec<Vec<f64>> = Vec::new();
         for (i, raw) in text.lines().enumerate() {
             let ln = i + 1;
             let line = raw.trim();
             if line.is_empty() || line.starts_with('#') {
                 continue;
             }
-            let f: Vec<&str> = line.split([',', ';', '\t']).map(str::trim).collect();
             match &angles {
                 None => {
-                    if f.len() < 2 {
-                        return Err(bad(
+                    let mut it = line.split(',');
+                    let first = it.next().unwrap_or("").trim();
+                    if first != "wavelength_um" {
+                        return Err(data_err(
                             ln,
-                            "expected header 'wavelength_um,<angle_deg>,...'".into(),
+                            format!(
+                                "expected the header `wavelength_um, angle_deg, ...`, found `{first}`"
+                            ),
                         ));
                     }
-                    let a: Result<Vec<f64>, _> = f[1..].iter().map(|x| x.parse::<f64>()).collect();
-                    let a = a.map_err(|_| {
-                        bad(
+                    let rest: Vec<&str> = it.collect();
+                    let a = crate::files::csv_numbers(&rest.join(",")).map_err(|(c, f)| {
+                        data_err(
                             ln,
-                            format!("header angles must be numbers (deg), got '{line}'"),
+                            format!("column {}: `{f}` is not an angle in degrees", c + 1),
                         )
                     })?;
-                    if a.iter().any(|x| !(0.0..=90.0).contains(x))
-                        || a.windows(2).any(|w| w[1] <= w[0])
-                    {
-                        return Err(bad(
+                    for x in &a {
+                        crate::bounds::data::EMISSIVITY_ANGLE
+                            .check(*x)
+                            .map_err(|m| data_err(ln, m))?;
+                    }
+                    if a.is_empty() || a.windows(2).any(|w| w[1] <= w[0]) {
+                        return Err(data_err(
                             ln,
-                            "header angles must be ascending within 0-90 deg".into(),
+                            "angles must be strictly increasing degrees in [0, 90]".to_string(),
                         ));
                     }
                     angles = Some(a);
                 }
                 Some(a) => {
-                    if f.len() != a.len() + 1 {
-                        return Err(bad(
+                    let row = crate::files::csv_numbers(line).map_err(|(c, f)| {
+                        data_err(ln, format!("column {c}: `{f}` is not a finite number"))
+                    })?;
+                    if row.len() != a.len() + 1 {
+                        return Err(data_err(
                             ln,
                             format!(
-                                "expected {} columns (wavelength + {} angles), got {}",
+                                "expected {} columns (wavelength + {} angles), found {}",
                                 a.len() + 1,
                                 a.len(),
-                                f.len()
+                                row.len()
                             ),
                         ));
                     }
-                    let row: Result<Vec<f64>, _> = f.iter().map(|x| x.parse::<f64>()).collect();
-                    let row =
-                        row.map_err(|_| bad(ln, format!("expected numbers, got '{line}'")))?;
-                    if wl.last().is_some_and(|&p| row[0] <= p) {
-                        return Err(bad(ln, "wavelengths must be strictly ascending".into()));
+                    crate::bounds::data::WAVELENGTH_UM
+                        .check(row[0])
+                        .map_err(|m| data_err(ln, m))?;
+                    if wl.last().is_some_and(|&l| row[0] <= l) {
+                        return Err(data_err(
+                            ln,
+                            format!(
+                                "wavelength {} µm: wavelengths must be strictly increasing",
+                                row[0]
+                            ),
+                        ));
                     }
-                    if let Some(e) = row[1..].iter().find(|e| !(0.0..=1.0).contains(*e)) {
-                        return Err(bad(ln, format!("emissivity {e} outside [0, 1]")));
+                    for e in &row[1..] {
+                        crate::bounds::data::EMISSIVITY
+                            .check(*e)
+                            .map_err(|m| data_err(ln, m))?;
                     }
                     wl.push(row[0]);
-                    vals.push(row[1..].to_vec());
+                    rows.push(row[1..].to_vec());
                 }
             }
         }
-        let angles = angles.ok_or_else(|| bad(0, "empty emissivity table".into()))?;
+        let Some(angles) = angles else {
+            return Err(data_err(
+                0,
+                "empty table: expected a header and at least one row".to_string(),
+            ));
+        };
         if wl.is_empty() {
-            return Err(bad(0, "no data rows".into()));
+            return Err(data_err(
+                0,
+                "no data rows: expected at least one wavelength row".to_string(),
+            ));
         }
-        // stored angle-major
-        let mut values = Vec::with_capacity(angles.len() * wl.len());
-        for a in 0..angles.len() {
-            values.extend(vals.iter().map(|r| r[a]));
-        }
-        Self::new(angles, wl, values)
+        let values = (0..angles.len())
+            .flat_map(|a| rows.iter().map(move |r| r[a]))
+            .collect();
+        Self::new(angles, wl, values).map_err(|e| data_err(0, e.to_string()))
     }
 
     pub fn at(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
@@ -367,7 +397,7 @@ mod tests {
         let e = EmissivityTable::from_csv_str("wavelength_um,0,60\n8,0.9,1.3\n", "e.csv")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("line 2") && e.contains("outside"), "{e}");
+        assert!(e.contains("line 2") && e.contains("out of range"), "{e}");
     }
 
     #[test]

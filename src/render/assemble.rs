@@ -165,95 +165,31 @@ impl<'a> FramePlanes<'a> {
         &self.maker
     }
 
-    /// The finished planes: the per-pixel planes, then the sensor model on
-    /// the band radiance (PSF, noise, quantisation → `dn`) as
-    /// `sensor_radiance`.
+    /// The finished planes: the per-pixel planes, then what the sensor
+    /// chain ([`crate::sensor::apply`]: PSF, noise, quantisation → `dn`)
+    /// makes of the band radiance, as `sensor_radiance`.
     pub fn finish(self) -> anyhow::Result<Planes> {
         let st = self.maker.st;
         anyhow::ensure!(self.rows_filled == self.height, "planes not filled");
         let (w, h) = (self.width, self.height);
         let mut p = Planes::new(w, h);
-        let mut sr = self.data[0].clone();
+        let band_radiance = self.data[0].clone();
         for ((name, unit), data) in PLANES.iter().zip(self.data) {
             p.push(name, unit, data);
         }
-        let sensor = &st.scene.scene.sensor;
-        if let Some(k) = &st.scene.psf_kernel {
-            let kernel = crate::sensor::psf::Kernel::new(k.size, k.size, k.weights.clone())?;
-            sr = crate::sensor::psf::convolve(&sr, w as usize, h as usize, &kernel);
-        } else if let crate::scene::spec::Psf::Gaussian { sigma_px } = sensor.psf {
-            let g = crate::sensor::psf::Kernel::gaussian_1d(sigma_px)?;
-            sr = crate::sensor::psf::convolve_separable(&sr, w as usize, h as usize, &g, &g);
-        }
-        let ns = &sensor.noise;
-        let (amp, period, dir, phase) = match &ns.periodic {
-            Some(pn) => (
-                pn.amplitude_w_m2_sr_um,
-                pn.period_px,
-                match pn.direction {
-                    crate::scene::spec::NoiseDirection::Rows => {
-                        crate::sensor::noise::Direction::Rows
-                    }
-                    crate::scene::spec::NoiseDirection::Columns => {
-                        crate::sensor::noise::Direction::Columns
-                    }
-                },
-                pn.phase_deg,
-            ),
-            None => (0.0, 0.0, crate::sensor::noise::Direction::Rows, 0.0),
-        };
-        crate::sensor::noise::add_noise(
-            &mut sr,
+        let sensed = crate::sensor::apply(
+            band_radiance,
             w as usize,
-            &crate::sensor::noise::NoiseSpec {
-                random_sigma: ns.random_sigma_w_m2_sr_um,
-                periodic_amplitude: amp,
-                periodic_period_px: period,
-                periodic_direction: dir,
-                periodic_phase_deg: phase,
-                seed: ns.seed,
-            },
-        );
-        if let Some(q) = &sensor.quantisation {
-            let quant = match (q.gain_counts_per_w_m2_sr_um, q.offset_counts) {
-                (Some(g), off) => crate::sensor::quantise::Quantiser {
-                    bits: q.bits,
-                    gain: g,
-                    offset: -off.unwrap_or(0.0) / g,
-                },
-                _ => {
-                    // (min and max do not depend on the order, up to the
-                    // sign of a zero, which + 0.0 makes +0: the same for any
-                    // thread count)
-                    let (lo, hi) = sr
-                        .par_iter()
-                        .filter(|v| v.is_finite())
-                        .fold(
-                            || (f32::INFINITY, f32::NEG_INFINITY),
-                            |(lo, hi), &v| (lo.min(v), hi.max(v)),
-                        )
-                        .reduce(
-                            || (f32::INFINITY, f32::NEG_INFINITY),
-                            |a, b| (a.0.min(b.0), a.1.max(b.1)),
-                        );
-                    let (lo, hi) = (lo as f64 + 0.0, hi as f64 + 0.0);
-                    let (lo, hi) = if lo.is_finite() && hi > lo {
-                        (lo, hi)
-                    } else {
-                        (0.0, 1.0)
-                    };
-                    crate::sensor::quantise::Quantiser::spanning(q.bits, lo, hi)
-                }
-            };
-            let (dn, counts) = PLANES[NP];
-            p.push(
-                dn,
-                counts,
-                sr.par_iter().map(|&v| quant.dn(v as f64) as f32).collect(),
-            );
+            h as usize,
+            &st.scene.scene.sensor,
+            st.scene.psf_kernel.as_ref(),
+        )?;
+        if let Some(dn) = sensed.dn {
+            let (name, unit) = PLANES[NP];
+            p.push(name, unit, dn);
         }
         let (name, unit) = PLANES[NP + 1];
-        p.push(name, unit, sr);
+        p.push(name, unit, sensed.radiance);
         Ok(p)
     }
 }

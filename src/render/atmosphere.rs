@@ -14,7 +14,6 @@ use crate::atmos::{Atmosphere, SpectralAtmosphere};
 use crate::radiometry::Band;
 use crate::scene::LoadedScene;
 use crate::scene::spec::AtmosphereModel;
-use crate::sun::Site;
 use crate::therm::conditions::window_means;
 use crate::therm::forcing::Forcing;
 use crate::units::ZERO_C_K;
@@ -66,11 +65,7 @@ pub fn atmosphere_source(
             choice: None,
         },
         AtmosphereModel::Auto => {
-            let site = Site {
-                lat_deg: sc.site.latitude_deg,
-                lon_deg: sc.site.longitude_deg,
-                elevation_m: sc.site.elevation_m,
-            };
+            let site = sc.site.location;
             let t = sc.time.utc(&sc.site);
             let history = weather(
                 t - chrono::Duration::hours(AUTO_WINDOW_H + 2),
@@ -84,7 +79,7 @@ pub fn atmosphere_source(
                 [|f| f.air_temp_k, |f| f.vapour_pressure_pa()],
             )
             .context("atmosphere model = \"auto\": the weather before the scene's time")?;
-            let choice = standard::choose(t_k, e_pa, site.lat_deg);
+            let choice = standard::choose(t_k, e_pa, site.latitude_deg);
             AtmosphereSource {
                 name: choice.name.to_string(),
                 why: choice.reason(),

@@ -71,10 +71,10 @@ pub fn render_conditions(
 ) -> anyhow::Result<Rendered> {
     let frame = render_with(st, cond, progress)?;
     let sc = &st.scene.scene;
-    let geo = crate::scene::georef::Geo::new(&sc.site, &sc.site.crs)?;
+    let geo = crate::scene::georef::Geo::new(&sc.site.location, &sc.site.crs)?;
     let georef = crate::scene::georef::georeference(
         &geo,
-        &sc.site,
+        &sc.site.location,
         &st.scene.camera,
         sc.sensor.pose.target_m()[2],
         st.scene.frame.origin_m,

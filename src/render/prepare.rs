@@ -136,22 +136,7 @@ pub fn emissivity_of(m: &Material) -> anyhow::Result<Emissivity> {
     Ok(match &m.emissivity {
         SceneEmissivity::Constant => Emissivity::Constant(m.construction.thermal_emissivity),
         SceneEmissivity::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
-        SceneEmissivity::Table(t) => {
-            // The scene stores values by wavelength then angle; the
-            // radiometry table by angle then wavelength.
-            let (na, nw) = (t.angles_deg.len(), t.wavelengths_um.len());
-            let values = (0..na * nw)
-                .map(|k| t.values[(k % nw) * na + k / nw])
-                .collect();
-            Emissivity::Table(
-                crate::radiometry::EmissivityTable::new(
-                    t.angles_deg.clone(),
-                    t.wavelengths_um.clone(),
-                    values,
-                )
-                .with_context(|| format!("material {}: emissivity table", m.name))?,
-            )
-        }
+        SceneEmissivity::Table(t) => Emissivity::Table(t.clone()),
     })
 }
 
@@ -389,8 +374,8 @@ pub fn scene_weather(
         }
         WeatherSpec::Constant(c) => crate::weather::constant_weather(
             c,
-            sc.site.latitude_deg,
-            sc.site.longitude_deg,
+            sc.site.location.latitude_deg,
+            sc.site.location.longitude_deg,
             from,
             to,
             900.0,
@@ -414,8 +399,8 @@ pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
         if let Ok(h) = scene_weather(scene, from, to) {
             out.extend(crate::weather::sunlight_mismatch(
                 &h,
-                sc.site.latitude_deg,
-                sc.site.longitude_deg,
+                sc.site.location.latitude_deg,
+                sc.site.location.longitude_deg,
                 from,
                 to,
             ));
@@ -448,8 +433,8 @@ fn station_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
             crate::weather::station_mismatch(
                 &st,
                 &p.display().to_string(),
-                sc.site.latitude_deg,
-                sc.site.longitude_deg,
+                sc.site.location.latitude_deg,
+                sc.site.location.longitude_deg,
             )
         })
         .map(|w| {
@@ -519,11 +504,7 @@ pub fn frame_weather(
 ) -> anyhow::Result<FrameWeather> {
     let sc = &scene.scene;
     let opts = &sc.render;
-    let site = Site {
-        lat_deg: sc.site.latitude_deg,
-        lon_deg: sc.site.longitude_deg,
-        elevation_m: sc.site.elevation_m,
-    };
+    let site = sc.site.location;
     let coarse_s = (opts.shadow_interval_min * 60.0).round() as i64;
     let (coarse_s, interval_s, coarse_every) = shadow_grid_s(coarse_s, opts.shadow_resolution_min);
     let n_coarse = (opts.history_hours * 3600.0 / coarse_s as f64)
@@ -598,7 +579,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let suns = (0..=n_sun)
         .map(|k| {
             let t = start + chrono::Duration::seconds(k * interval_s);
-            let p = solar_position(t, site.lat_deg, site.lon_deg, site.elevation_m);
+            let p = solar_position(t, site.latitude_deg, site.longitude_deg, site.elevation_m);
             SunSample {
                 t_s: k * interval_s,
                 dir: glam::DVec3::from(p.sun_dir_enu).as_vec3(),
@@ -606,7 +587,12 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
             }
         })
         .collect();
-    let sun_now = solar_position(image_time, site.lat_deg, site.lon_deg, site.elevation_m);
+    let sun_now = solar_position(
+        image_time,
+        site.latitude_deg,
+        site.longitude_deg,
+        site.elevation_m,
+    );
     let air_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
     let now = forcing.last().context("no forcing at the image time")?;
     let (atmosphere, atmosphere_report) = frame_atmosphere(

@@ -127,7 +127,7 @@ pub struct HistoryReport {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct ThermalReport {
-    /// Surface kind and its parameters (solid, vegetation, water).
+    /// Surface kind and its parameters (solid, vegetation, water, snow).
     pub surface: crate::therm::surface::SurfaceKind,
     /// The ground tilted facets see (material name) and its temperature at
     /// the image time, K.

@@ -133,6 +133,20 @@ impl SceneError {
             .map_err(|error| Self::io(path, error))
     }
 
+    /// A data file's error from a lower layer's reader (the response and
+    /// emissivity-table CSVs of [`crate::radiometry`]): its message at
+    /// `file:line` (line 0: the file as a whole).
+    pub fn from_data(file: &Path, e: crate::radiometry::RadiometryError) -> SceneError {
+        let (line, msg) = match e {
+            crate::radiometry::RadiometryError::Csv { line, msg, .. } => (line, msg),
+            other => (0, other.to_string()),
+        };
+        SceneError::Data {
+            loc: Location::line(file, line),
+            msg,
+        }
+    }
+
     /// Reads the bytes of a file a scene refers to (a mesh, a raster, the
     /// scene text) through [`crate::files::read`] with its kind's size
     /// limit; a failure is [`SceneError::Io`].

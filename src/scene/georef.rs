@@ -26,7 +26,8 @@ use proj4rs::proj::Proj;
 use serde::Serialize;
 
 use crate::scene::camera::Camera;
-use crate::scene::spec::{OutputCrs, Site};
+use crate::scene::spec::OutputCrs;
+use crate::sun::Site;
 
 /// A map CRS as the outputs state it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -358,12 +359,9 @@ mod tests {
 
     fn site(lat: f64, lon: f64) -> Site {
         Site {
-            name: None,
             latitude_deg: lat,
             longitude_deg: lon,
             elevation_m: 169.0,
-            utc_offset_h: 0.0,
-            crs: OutputCrs::Utm,
         }
     }
 

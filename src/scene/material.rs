@@ -23,9 +23,10 @@ use std::sync::OnceLock;
 use serde::de::{self, DeserializeOwned, DeserializeSeed, IntoDeserializer, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 
-use super::error::{Location, SceneError};
+use super::error::SceneError;
 use super::tomlsrc::{Seg, TomlSource};
 use crate::bounds::{Bound, Key, KeyError};
+pub use crate::radiometry::EmissivityTable;
 pub use crate::therm::slab::BackBoundary;
 use crate::therm::slab::SlabMaterial;
 pub use crate::therm::surface::{KindSpec, SurfaceSpec, surface_defaults};
@@ -301,18 +302,6 @@ pub enum Emissivity {
     Fresnel { n: f64, k: f64 },
 }
 
-/// ε(θ, λ) on a grid: `values[i_wavelength * angles_deg.len() + i_angle]`.
-/// Bilinear interpolation inside, clamped at the edges.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct EmissivityTable {
-    /// Strictly increasing wavelengths, µm.
-    pub wavelengths_um: Vec<f64>,
-    /// Strictly increasing angles from the surface normal, degrees, in [0, 90].
-    pub angles_deg: Vec<f64>,
-    /// Emissivities in [0, 1], row-major by wavelength.
-    pub values: Vec<f64>,
-}
-
 /// A material ready for the model: the one model description of a material,
 /// built in one place ([`load_library`]) from its `[material.NAME]` table.
 /// It carries the thermal construction the heat-flow model marches (with the
@@ -478,155 +467,16 @@ fn written_number(table: &toml::Value, row: &Key) -> Option<f64> {
     }
 }
 
-/// Splits a CSV data line into numbers; `Err(column)` (1-based) on a bad field.
-pub(crate) fn parse_csv_numbers(line: &str) -> Result<Vec<f64>, (usize, String)> {
-    line.split(',')
-        .enumerate()
-        .map(|(i, f)| {
-            let f = f.trim();
-            match f.parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
-                _ => Err((i + 1, f.to_string())),
-            }
-        })
-        .collect()
-}
-
-/// Reads an ε(θ, λ) table: `#` comments and blank lines ignored; the first
-/// data line is `wavelength_um, θ1, θ2, ...` (angles from the normal,
-/// degrees); then one line per wavelength: `λ, ε(θ1), ε(θ2), ...`.
+/// Reads an ε(θ, λ) table (`emissivity = { table_file }`) with the one
+/// reader, [`EmissivityTable::from_csv_str`] (its format and messages).
 pub fn read_emissivity_table(file: &Path) -> Result<EmissivityTable, SceneError> {
     let text = SceneError::read_text(file)?;
     parse_emissivity_table(file, &text)
 }
 
 /// As [`read_emissivity_table`], from the file's text (`file` names it in
-/// errors).
+/// errors): the reader's message at `file:line`.
 pub fn parse_emissivity_table(file: &Path, text: &str) -> Result<EmissivityTable, SceneError> {
-    let data_err = |line: usize, msg: String| SceneError::Data {
-        loc: Location::line(file, line),
-        msg,
-    };
-    let mut angles: Option<Vec<f64>> = None;
-    let mut wl = Vec::new();
-    let mut values = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let ln = i + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        match &angles {
-            None => {
-                let mut it = line.split(',');
-                let first = it.next().unwrap_or("").trim();
-                if first != "wavelength_um" {
-                    return Err(data_err(
-                        ln,
-                        format!(
-                            "expected the header `wavelength_um, angle_deg, ...`, found `{first}`"
-                        ),
-                    ));
-                }
-                let rest: Vec<&str> = it.collect();
-                let a = parse_csv_numbers(&rest.join(",")).map_err(|(c, f)| {
-                    data_err(
-                        ln,
-                        format!("column {}: `{f}` is not an angle in degrees", c + 1),
-                    )
-                })?;
-                for x in &a {
-                    crate::bounds::data::EMISSIVITY_ANGLE
-                        .check(*x)
-                        .map_err(|m| data_err(ln, m))?;
-                }
-                if a.is_empty() || a.windows(2).any(|w| w[1] <= w[0]) {
-                    return Err(data_err(
-                        ln,
-                        "angles must be strictly increasing degrees in [0, 90]".to_string(),
-                    ));
-                }
-                angles = Some(a);
-            }
-            Some(a) => {
-                let row = parse_csv_numbers(line).map_err(|(c, f)| {
-                    data_err(ln, format!("column {c}: `{f}` is not a finite number"))
-                })?;
-                if row.len() != a.len() + 1 {
-                    return Err(data_err(
-                        ln,
-                        format!(
-                            "expected {} columns (wavelength + {} angles), found {}",
-                            a.len() + 1,
-                            a.len(),
-                            row.len()
-                        ),
-                    ));
-                }
-                crate::bounds::data::WAVELENGTH_UM
-                    .check(row[0])
-                    .map_err(|m| data_err(ln, m))?;
-                if wl.last().is_some_and(|&l| row[0] <= l) {
-                    return Err(data_err(
-                        ln,
-                        format!(
-                            "wavelength {} µm: wavelengths must be strictly increasing",
-                            row[0]
-                        ),
-                    ));
-                }
-                for e in &row[1..] {
-                    crate::bounds::data::EMISSIVITY
-                        .check(*e)
-                        .map_err(|m| data_err(ln, m))?;
-                }
-                wl.push(row[0]);
-                values.extend_from_slice(&row[1..]);
-            }
-        }
-    }
-    let Some(angles_deg) = angles else {
-        return Err(data_err(
-            0,
-            "empty table: expected a header and at least one row".to_string(),
-        ));
-    };
-    if wl.is_empty() {
-        return Err(data_err(
-            0,
-            "no data rows: expected at least one wavelength row".to_string(),
-        ));
-    }
-    Ok(EmissivityTable {
-        wavelengths_um: wl,
-        angles_deg,
-        values,
-    })
-}
-
-impl EmissivityTable {
-    /// ε at (angle from normal, wavelength), bilinear, clamped at the edges.
-    pub fn eval(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
-        let (i0, i1, fa) = bracket(&self.angles_deg, angle_deg);
-        let (j0, j1, fw) = bracket(&self.wavelengths_um, wavelength_um);
-        let n = self.angles_deg.len();
-        let v = |j: usize, i: usize| self.values[j * n + i];
-        let a = v(j0, i0) * (1.0 - fa) + v(j0, i1) * fa;
-        let b = v(j1, i0) * (1.0 - fa) + v(j1, i1) * fa;
-        a * (1.0 - fw) + b * fw
-    }
-}
-
-/// Indices and fraction for linear interpolation in a sorted grid (clamped).
-fn bracket(grid: &[f64], x: f64) -> (usize, usize, f64) {
-    let n = grid.len();
-    if n == 1 || x <= grid[0] {
-        return (0, 0, 0.0);
-    }
-    if x >= grid[n - 1] {
-        return (n - 1, n - 1, 0.0);
-    }
-    let hi = grid.partition_point(|&g| g <= x).min(n - 1);
-    let lo = hi - 1;
-    (lo, hi, (x - grid[lo]) / (grid[hi] - grid[lo]))
+    EmissivityTable::from_csv_str(text, &file.display().to_string())
+        .map_err(|e| SceneError::from_data(file, e))
 }

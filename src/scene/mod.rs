@@ -39,7 +39,7 @@ pub use material::{
 };
 pub use spec::*;
 
-use material::parse_csv_numbers;
+use crate::files::csv_numbers as parse_csv_numbers;
 use tomlsrc::{Seg, TomlSource};
 use validate::validate;
 
@@ -391,12 +391,19 @@ fn load_source(path: &Path, src: TomlSource) -> Result<LoadedScene, SceneError> 
     // Geometry. Terrains are meshed first: objects may stand on them.
     let terrains: Vec<terrain::TerrainMesh> = (scene.terrain.iter().enumerate())
         .map(|(ti, t)| {
-            terrain::load(&src, ti, t, &scene.site, &scene.files.allow, &|name, at| {
-                by_name
-                    .get(name)
-                    .copied()
-                    .ok_or_else(|| undefined(src.loc_of(at), name))
-            })
+            terrain::load(
+                &src,
+                ti,
+                t,
+                &scene.site.location,
+                &scene.files.allow,
+                &|name, at| {
+                    by_name
+                        .get(name)
+                        .copied()
+                        .ok_or_else(|| undefined(src.loc_of(at), name))
+                },
+            )
         })
         .collect::<Result<_, _>>()?;
     let mut ground: Option<placement::Ground> = None;
@@ -765,73 +772,18 @@ fn boxcar(lo: f64, hi: f64) -> SpectralResponse {
     }
 }
 
-/// Reads a response CSV: `#` comments; an optional header line
-/// (`wavelength_um,response`); rows `λ_µm, R`.
+/// Reads a response CSV (`sensor.band = { response_file }`) with the one
+/// reader, [`SpectralResponse::from_csv_str`] (its format and messages).
 pub fn read_response(file: &Path) -> Result<SpectralResponse, SceneError> {
     let text = SceneError::read_text(file)?;
     parse_response(file, &text)
 }
 
-/// As [`read_response`], from the file's text (`file` names it in errors).
+/// As [`read_response`], from the file's text (`file` names it in errors):
+/// the reader's message at `file:line`.
 pub fn parse_response(file: &Path, text: &str) -> Result<SpectralResponse, SceneError> {
-    let err = |line: usize, msg: String| SceneError::Data {
-        loc: Location::line(file, line),
-        msg,
-    };
-    let (mut wl, mut r) = (Vec::new(), Vec::new());
-    let mut first = true;
-    for (i, raw) in text.lines().enumerate() {
-        let ln = i + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let is_first = std::mem::replace(&mut first, false);
-        let row = match parse_csv_numbers(line) {
-            Ok(row) => row,
-            Err(_) if is_first => continue, // header
-            Err((c, f)) => {
-                return Err(err(ln, format!("column {c}: `{f}` is not a finite number")));
-            }
-        };
-        if row.len() != 2 {
-            return Err(err(
-                ln,
-                format!(
-                    "expected 2 columns (wavelength_um, response), found {}",
-                    row.len()
-                ),
-            ));
-        }
-        crate::bounds::data::WAVELENGTH_UM
-            .check(row[0])
-            .map_err(|m| err(ln, m))?;
-        if wl.last().is_some_and(|&l| row[0] <= l) {
-            return Err(err(
-                ln,
-                format!(
-                    "wavelength {} µm: wavelengths must be strictly increasing",
-                    row[0]
-                ),
-            ));
-        }
-        crate::bounds::data::RESPONSE
-            .check(row[1])
-            .map_err(|m| err(ln, m))?;
-        wl.push(row[0]);
-        r.push(row[1]);
-    }
-    if wl.len() < 2 || !r.iter().any(|&x| x > 0.0) {
-        return Err(err(
-            0,
-            "expected at least 2 rows and a non-zero response".into(),
-        ));
-    }
-    Ok(SpectralResponse {
-        wavelength_um: wl,
-        response: r,
-        label: file.display().to_string(),
-    })
+    SpectralResponse::from_csv_str(text, &file.display().to_string())
+        .map_err(|e| SceneError::from_data(file, e))
 }
 
 /// Reads a PSF kernel CSV: `#` comments; n rows of n weights, n odd.
@@ -907,7 +859,7 @@ fn site_from_weather(
     scene: &mut Scene,
     record: &crate::weather::WeatherRecord,
 ) -> Result<(), SceneError> {
-    let site = &mut scene.site;
+    let site = &mut scene.site.location;
     if !(site.latitude_deg.is_nan() || site.longitude_deg.is_nan()) {
         return Ok(());
     }

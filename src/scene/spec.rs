@@ -61,33 +61,117 @@ pub struct Scene {
     pub files: FilesSpec,
 }
 
-/// `[site]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// `[site]`: where the scene stands ([`crate::sun::Site`], the one site
+/// type: the keys `latitude_deg`, `longitude_deg` and `elevation_m` are its
+/// fields), the local clock and the outputs' map CRS. Read and written by
+/// hand so the location's keys stand in the table beside the others (serde's
+/// `flatten` cannot refuse unknown keys).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Site {
-    /// Free-text site name.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// Free-text site name (`name`).
     pub name: Option<String>,
-    /// Geodetic latitude, degrees, north positive, [-90, 90]. May be left
-    /// out with a weather file that gives its station's (then it is the
-    /// station's after loading).
-    #[serde(default = "unset_deg")]
-    pub latitude_deg: f64,
-    /// Longitude, degrees, east positive, [-180, 180]; may be left out as
-    /// `latitude_deg`.
-    #[serde(default = "unset_deg")]
-    pub longitude_deg: f64,
-    /// Elevation of the local frame origin (z = 0) above sea level, metres.
-    #[serde(default)]
-    pub elevation_m: f64,
+    /// Geodetic latitude (`latitude_deg`, degrees, north positive,
+    /// [-90, 90]), longitude (`longitude_deg`, degrees, east positive,
+    /// [-180, 180]) and the elevation of the local frame origin (z = 0)
+    /// above sea level (`elevation_m`, metres, default 0). Latitude and
+    /// longitude may be left out with a weather file that gives its
+    /// station's (NaN until [`crate::scene::load`] fills them from it).
+    pub location: crate::sun::Site,
     /// Offset of the local clock from UTC, hours (e.g. -4 for EDT), [-14, 14].
     pub utc_offset_h: f64,
     /// The map CRS of the outputs' georeferencing: `"utm"` (default, the
     /// WGS 84 / UTM zone of the site) or `"enu"` (the local frame: an
     /// orthographic projection centred on the site). See
     /// [`crate::scene::georef`].
-    #[serde(default)]
     pub crs: OutputCrs,
+}
+
+/// The keys of `[site]`, in the order they are written.
+const SITE_KEYS: &[&str] = &[
+    "name",
+    "latitude_deg",
+    "longitude_deg",
+    "elevation_m",
+    "utc_offset_h",
+    "crs",
+];
+
+impl Serialize for Site {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let loc = &self.location;
+        let mut st = s.serialize_struct("Site", 5 + usize::from(self.name.is_some()))?;
+        match &self.name {
+            Some(n) => st.serialize_field("name", n)?,
+            None => st.skip_field("name")?,
+        }
+        st.serialize_field("latitude_deg", &loc.latitude_deg)?;
+        st.serialize_field("longitude_deg", &loc.longitude_deg)?;
+        st.serialize_field("elevation_m", &loc.elevation_m)?;
+        st.serialize_field("utc_offset_h", &self.utc_offset_h)?;
+        st.serialize_field("crs", &self.crs)?;
+        st.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Site {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::{Error, MapAccess, Visitor};
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Site;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("struct Site")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Site, A::Error> {
+                /// A key of `[site]`: read inside the map's key step, so an
+                /// unknown key is refused at the key (its file:line:col).
+                #[derive(Deserialize)]
+                #[serde(field_identifier, rename_all = "snake_case")]
+                enum Key {
+                    Name,
+                    LatitudeDeg,
+                    LongitudeDeg,
+                    ElevationM,
+                    UtcOffsetH,
+                    Crs,
+                }
+                fn once<T, E: Error>(
+                    slot: &mut Option<T>,
+                    key: &'static str,
+                    v: T,
+                ) -> Result<(), E> {
+                    match slot.replace(v) {
+                        Some(_) => Err(E::duplicate_field(key)),
+                        None => Ok(()),
+                    }
+                }
+                let (mut name, mut lat, mut lon, mut elev, mut utc, mut crs) =
+                    (None, None, None, None, None, None);
+                while let Some(k) = map.next_key::<Key>()? {
+                    match k {
+                        Key::Name => once(&mut name, "name", map.next_value::<Option<String>>()?)?,
+                        Key::LatitudeDeg => once(&mut lat, "latitude_deg", map.next_value()?)?,
+                        Key::LongitudeDeg => once(&mut lon, "longitude_deg", map.next_value()?)?,
+                        Key::ElevationM => once(&mut elev, "elevation_m", map.next_value()?)?,
+                        Key::UtcOffsetH => once(&mut utc, "utc_offset_h", map.next_value()?)?,
+                        Key::Crs => once(&mut crs, "crs", map.next_value()?)?,
+                    }
+                }
+                Ok(Site {
+                    name: name.flatten(),
+                    location: crate::sun::Site {
+                        latitude_deg: lat.unwrap_or_else(unset_deg),
+                        longitude_deg: lon.unwrap_or_else(unset_deg),
+                        elevation_m: elev.unwrap_or_default(),
+                    },
+                    utc_offset_h: utc.ok_or_else(|| A::Error::missing_field("utc_offset_h"))?,
+                    crs: crs.unwrap_or_default(),
+                })
+            }
+        }
+        d.deserialize_struct("Site", SITE_KEYS, V)
+    }
 }
 
 /// A site coordinate not given in the file (NaN until [`crate::scene::load`]

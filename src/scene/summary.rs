@@ -111,7 +111,7 @@ pub struct SceneSummary {
 /// Each object of a loaded scene as [`ObjectSummary`], with the map CRS's
 /// name (map coordinates are left out when the site cannot be projected).
 pub fn object_list(s: &LoadedScene) -> (Vec<ObjectSummary>, String) {
-    let geo = super::georef::Geo::new(&s.scene.site, &s.scene.site.crs).ok();
+    let geo = super::georef::Geo::new(&s.scene.site.location, &s.scene.site.crs).ok();
     let crs = geo
         .as_ref()
         .map_or_else(|| "-".to_string(), |g| g.crs.name.clone());
@@ -176,15 +176,18 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
     let t_utc = sc.time.utc(&sc.site);
     let sun_el = crate::sun::approx::approx_sun_elevation_deg(
         t_utc,
-        sc.site.latitude_deg,
-        sc.site.longitude_deg,
+        sc.site.location.latitude_deg,
+        sc.site.location.longitude_deg,
     );
     // Sun up at any time of the history (sampled every 15 min)?
     let n_hist = (sc.render.history_hours * 4.0).ceil() as i64;
     let solar_heating = (0..=n_hist).any(|k| {
         let t = t_utc - chrono::Duration::minutes(15 * k);
-        crate::sun::approx::approx_sun_elevation_deg(t, sc.site.latitude_deg, sc.site.longitude_deg)
-            > 0.0
+        crate::sun::approx::approx_sun_elevation_deg(
+            t,
+            sc.site.location.latitude_deg,
+            sc.site.location.longitude_deg,
+        ) > 0.0
     });
     let (wn_lo, wn_hi) = (1e4 / band_um.1, 1e4 / band_um.0);
     let spectral_samples = ((wn_hi - wn_lo) / sc.render.spectral_step_cm1).floor() as usize + 1;

@@ -363,11 +363,17 @@ pub fn enu_from_angles(elevation_deg: f64, azimuth_deg: f64) -> [f64; 3] {
 }
 
 /// A site on the ground: geodetic latitude (north positive) and longitude
-/// (east positive) in degrees, elevation above sea level in metres.
+/// (east positive) in degrees, elevation above sea level in metres. The one
+/// site type: the scene's `[site]` table holds one
+/// (`crate::scene::spec::Site::location`, its keys these field names), the
+/// thermal forcing and the sun samples take it as read.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Site {
-    pub lat_deg: f64,
-    pub lon_deg: f64,
+    /// Geodetic latitude, degrees, north positive, [-90, 90].
+    pub latitude_deg: f64,
+    /// Longitude, degrees, east positive, [-180, 180].
+    pub longitude_deg: f64,
+    /// Elevation above sea level, m.
     pub elevation_m: f64,
 }
 

@@ -49,18 +49,30 @@ pub fn parse_time(s: &str) -> Result<DateTime<Utc>, String> {
 /// prints it.
 #[derive(Clone, Debug, Serialize)]
 pub struct SunReport {
+    /// The instant, UTC (RFC 3339).
     pub time_utc: String,
+    /// The site: latitude (degrees north), longitude (degrees east) and
+    /// elevation above sea level (m).
     pub lat_deg: f64,
+    /// See [`Self::lat_deg`].
     pub lon_deg: f64,
+    /// See [`Self::lat_deg`].
     pub elevation_m: f64,
+    /// Topocentric zenith angle with refraction, degrees.
     pub zenith_deg: f64,
+    /// Topocentric zenith angle without refraction, degrees.
     pub true_zenith_deg: f64,
+    /// Azimuth clockwise from north, degrees.
     pub azimuth_deg: f64,
+    /// Elevation with refraction (90° − zenith), degrees.
     pub elevation_deg: f64,
+    /// Earth-sun distance, astronomical units.
     pub earth_sun_distance_au: f64,
+    /// Unit vector to the sun, local east-north-up.
     pub sun_dir_enu: [f64; 3],
     /// ΔT used (the options' or the Espenak & Meeus model's), s.
     pub delta_t_s: f64,
+    /// The SPA options the position was computed with.
     pub options: SpaOptions,
     /// The position itself.
     #[serde(skip)]

@@ -431,7 +431,31 @@ pub struct Canopy {
     pub vpd_coeff: f64,
     /// Relative available soil water, 0 … 1 (F₄).
     pub soil_moisture: f64,
+    /// Conductance between the canopy skin and the soil surface under it,
+    /// W m⁻² K⁻¹: the skin-layer conductivity Λ_sk of the ECMWF land
+    /// surface scheme (Viterbo & Beljaars 1995, J. Climate 8, 2716; IFS
+    /// documentation Part IV ch. 8, and ecLand's SUSVEG: 10 for crops and
+    /// grass, 15 for bare ground). It lumps conduction through the litter
+    /// and the air under the canopy, longwave between leaves and soil and
+    /// the under-canopy turbulent exchange.
+    pub skin_conductance_w_m2k: f64,
+    /// Heat capacity of the canopy skin per unit ground area, J m⁻² K⁻¹
+    /// (leaves and stems; [`CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K`] × LAI by
+    /// default).
+    pub heat_capacity_j_m2k: f64,
+    /// Fraction of the absorbed shortwave that reaches the soil surface
+    /// through the canopy (ecLand SUSVEG `RVTRSR`: 0.05 for crops and
+    /// grass, 0.03 for forests).
+    pub soil_shortwave_fraction: f64,
 }
+
+/// Heat capacity of a canopy per unit leaf area index, J m⁻² K⁻¹: fresh
+/// leaf mass 0.1-0.3 kg per m² of leaf (specific leaf mass and a leaf water
+/// content of ~80 %) times c ≈ 3.5 kJ kg⁻¹ K⁻¹ gives 0.35-1 kJ m⁻² K⁻¹; with
+/// stems, 1 kJ m⁻² K⁻¹ (an estimate; the ECMWF skin has none, Noah-MP a
+/// few hundred J m⁻² K⁻¹ per unit LAI). The skin's time constant
+/// `C/(Λ_sk + h + 4εσT³)` is minutes, so the value matters little.
+pub const CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K: f64 = 1000.0;
 
 impl Canopy {
     /// Canopy resistance, s/m, for incident shortwave `shortwave_w_m2`, air
@@ -778,6 +802,9 @@ mod tests {
             radiation_limit_w_m2: 100.0,
             vpd_coeff: 36.35,
             soil_moisture: 1.0,
+            skin_conductance_w_m2k: 10.0,
+            heat_capacity_j_m2k: 2880.0,
+            soil_shortwave_fraction: 0.05,
         };
         let ea = 0.6 * saturation_vapour_pressure_pa(300.0);
         let day = c.resistance_s_m(800.0, 300.0, ea, 101_325.0);

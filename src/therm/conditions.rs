@@ -186,8 +186,8 @@ mod tests {
     }
 
     const SITE: Site = Site {
-        lat_deg: 36.1,
-        lon_deg: -79.95,
+        latitude_deg: 36.1,
+        longitude_deg: -79.95,
         elevation_m: 273.0,
     };
 

@@ -509,7 +509,8 @@ pub fn build_forcing_with(
     n_steps: usize,
     opts: &ForcingOptions,
 ) -> Result<(Vec<Forcing>, EstimatorReport), WeatherError> {
-    validate_site(site.lat_deg, site.lon_deg, site.elevation_m).map_err(WeatherError::Invalid)?;
+    validate_site(site.latitude_deg, site.longitude_deg, site.elevation_m)
+        .map_err(WeatherError::Invalid)?;
     if !(step_s > 0.0 && step_s.is_finite()) {
         return Err(WeatherError::Invalid(format!(
             "forcing step {step_s} s: expected a positive number of seconds"
@@ -539,7 +540,13 @@ pub fn build_forcing_with(
                 temp_c: w.air_temp_k - ZERO_C_K,
                 ..SpaOptions::default()
             };
-            let sun = solar_position_with(t, site.lat_deg, site.lon_deg, site.elevation_m, &spa);
+            let sun = solar_position_with(
+                t,
+                site.latitude_deg,
+                site.longitude_deg,
+                site.elevation_m,
+                &spa,
+            );
             (t, w, sun)
         })
         .collect();
@@ -573,7 +580,7 @@ pub fn build_forcing_with(
                     w.air_temp_k,
                     w.dew_point_k,
                     cloud,
-                    local_mean_solar_hour(t, site.lon_deg),
+                    local_mean_solar_hour(t, site.longitude_deg),
                     w.pressure_pa,
                 )
             }
@@ -740,8 +747,8 @@ mod tests {
     #[test]
     fn cloud_derived_from_measured_ghi() {
         let site = Site {
-            lat_deg: 43.1,
-            lon_deg: -77.6,
+            latitude_deg: 43.1,
+            longitude_deg: -77.6,
             elevation_m: 150.0,
         };
         let start = utc("1992-07-15T00:00:00Z");
@@ -799,16 +806,16 @@ mod tests {
     #[test]
     fn clear_sky_forcing_from_constant_weather() {
         let site = Site {
-            lat_deg: 43.1,
-            lon_deg: -77.6,
+            latitude_deg: 43.1,
+            longitude_deg: -77.6,
             elevation_m: 150.0,
         };
         let start = utc("1992-07-15T00:00:00Z");
         let p = ConstantWeather::default();
         let h = constant_weather(
             &p,
-            site.lat_deg,
-            site.lon_deg,
+            site.latitude_deg,
+            site.longitude_deg,
             start,
             start + Duration::hours(24),
             900.0,
@@ -850,8 +857,8 @@ mod tests {
                 cloud_fraction: 1.0,
                 ..p
             },
-            site.lat_deg,
-            site.lon_deg,
+            site.latitude_deg,
+            site.longitude_deg,
             start,
             start + Duration::hours(24),
             900.0,
@@ -875,8 +882,8 @@ mod tests {
         };
         let h = parse_plain_csv(csv, "m.csv", &ropts).unwrap().history;
         let site = Site {
-            lat_deg: 0.0,
-            lon_deg: 0.0,
+            latitude_deg: 0.0,
+            longitude_deg: 0.0,
             elevation_m: 0.0,
         };
         // Max gap 12 h allowed for this sparse test record.
@@ -926,8 +933,8 @@ mod tests {
     #[test]
     fn window_not_covered_names_hours() {
         let site = Site {
-            lat_deg: 45.0,
-            lon_deg: 7.0,
+            latitude_deg: 45.0,
+            longitude_deg: 7.0,
             elevation_m: 0.0,
         };
         let s = utc("2024-03-01T00:00:00Z");
@@ -952,7 +959,7 @@ mod tests {
             "{e}"
         );
         let bad = Site {
-            lat_deg: 95.0,
+            latitude_deg: 95.0,
             ..site
         };
         assert!(

@@ -247,8 +247,8 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
     check(&args::THERM_STEP_MIN, run.step_min)?;
     check(&args::THERM_SPIN_UP_H, run.spin_up_h)?;
     check(&args::THERM_FACET_HEIGHT, run.facet_height_m)?;
-    check(&args::LAT, run.site.lat_deg)?;
-    check(&args::LON, run.site.lon_deg)?;
+    check(&args::LAT, run.site.latitude_deg)?;
+    check(&args::LON, run.site.longitude_deg)?;
     check(&args::ELEVATION, run.site.elevation_m)?;
     check(&args::SLOPE, run.orientation.slope_deg)?;
     check(&args::ASPECT, run.orientation.aspect_deg)?;

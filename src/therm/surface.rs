@@ -9,11 +9,17 @@
 //!   potential rate (no surface resistance), limited to what the store
 //!   holds; beyond the capacity the water runs off. Starts dry at the
 //!   beginning of the thermal history.
-//! * **Vegetation**: a big-leaf canopy on the soil slab; transpiration by the
+//! * **Vegetation**: a big-leaf canopy skin over the soil slab, with its own
+//!   temperature and heat capacity, coupled to the soil surface through the
+//!   skin conductance Λ_sk of the ECMWF land surface scheme (the slab's node
+//!   0 is the skin, node 1 the soil surface; [`super::slab::Mesh::with_skin`]);
+//!   5 % of the absorbed shortwave reaches the soil. Transpiration by the
 //!   resistance form of Penman-Monteith with the Jarvis canopy resistance
 //!   ([`super::aero::Canopy`]); the canopy's roughness sets the aerodynamic
-//!   resistance. Interception by the canopy and soil-moisture dynamics are
-//!   not modelled (soil moisture is a fixed parameter).
+//!   resistance. Interception by the canopy, soil evaporation under it and
+//!   soil-moisture dynamics are not modelled (soil moisture is a fixed
+//!   parameter); the sensor sees the skin only (no view-angle dependent mix
+//!   of canopy and soil).
 //! * **Water**: the slab is the water column (thickness = depth), its bottom
 //!   node the sediment. A fraction of the absorbed shortwave (the
 //!   near-infrared) is absorbed in the skin, the rest by Beer-Lambert
@@ -23,10 +29,18 @@
 //!   (denser water above lighter, with the density of Heggen 1983);
 //!   evaporation by the bulk-aerodynamic formula (no surface resistance).
 //!   Not modelled: currents and inflows, ice, the cool skin (≈0.2-0.3 K).
+//! * **Snow**: a solid slab of snow whose surface is capped at 0 °C: when
+//!   the balance would take it above, it stays at 0 °C and the surplus
+//!   (W/m²) melts snow ([`super::slab::StepRecord::melt_w_m2`]); the melt
+//!   water is not kept (no refreezing, no change of depth or albedo).
+//!   Sublimation and frost go through the latent path with no surface
+//!   resistance, with the saturation vapour pressure and latent heat of
+//!   liquid water (over ice at −10 °C e° is 9 % lower and λ 13 % higher;
+//!   the two partly cancel in λE).
 
 use serde::{Deserialize, Serialize};
 
-use super::aero::{Canopy, Roughness};
+use super::aero::{CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K, Canopy, Roughness};
 use crate::bounds::{Bound, KeyError};
 
 /// Surface type and its parameters (see the module docs).
@@ -41,6 +55,13 @@ pub enum SurfaceKind {
     },
     Vegetation(Canopy),
     Water(WaterBody),
+    /// Seasonal snow: a solid whose surface cannot rise above 0 °C (the
+    /// surplus melts it) and that sublimates or takes frost through the
+    /// latent path with no surface resistance (a saturated ice surface).
+    Snow {
+        /// Roughness length for momentum, m.
+        roughness_m: f64,
+    },
 }
 
 impl Default for SurfaceKind {
@@ -99,15 +120,17 @@ impl SurfaceKind {
             SurfaceKind::Solid { roughness_m, .. } => Roughness::bare(*roughness_m),
             SurfaceKind::Vegetation(c) => Roughness::canopy(c.height_m),
             SurfaceKind::Water(w) => Roughness::bare(w.roughness_m),
+            SurfaceKind::Snow { roughness_m } => Roughness::bare(*roughness_m),
         }
     }
 
-    /// Short lower-case name (`solid`, `vegetation`, `water`).
+    /// Short lower-case name (`solid`, `vegetation`, `water`, `snow`).
     pub fn name(&self) -> &'static str {
         match self {
             SurfaceKind::Solid { .. } => "solid",
             SurfaceKind::Vegetation(_) => "vegetation",
             SurfaceKind::Water(_) => "water",
+            SurfaceKind::Snow { .. } => "snow",
         }
     }
 
@@ -146,7 +169,25 @@ impl SurfaceKind {
                 )?;
                 check("radiation_limit_w_m2", c.radiation_limit_w_m2, 1.0, 1000.0)?;
                 check("vpd_coeff", c.vpd_coeff, 0.0, 200.0)?;
-                check("soil_moisture", c.soil_moisture, 0.0, 1.0)
+                check("soil_moisture", c.soil_moisture, 0.0, 1.0)?;
+                check(
+                    "skin_conductance_w_m2k",
+                    c.skin_conductance_w_m2k,
+                    0.5,
+                    1.0e4,
+                )?;
+                check(
+                    "canopy_heat_capacity_j_m2k",
+                    c.heat_capacity_j_m2k,
+                    10.0,
+                    1.0e6,
+                )?;
+                check(
+                    "soil_shortwave_fraction",
+                    c.soil_shortwave_fraction,
+                    0.0,
+                    0.9,
+                )
             }
             SurfaceKind::Water(w) => {
                 check("surface_fraction", w.surface_fraction, 0.0, 1.0)?;
@@ -160,6 +201,7 @@ impl SurfaceKind {
                 )?;
                 check("roughness_m", w.roughness_m, 1e-6, 0.1)
             }
+            SurfaceKind::Snow { roughness_m } => check("roughness_m", roughness_m, 1e-5, 0.5),
         }
     }
 }
@@ -225,7 +267,7 @@ pub fn mixing_conductances(
     }
 }
 
-/// `kind = "solid" | "vegetation" | "water"` in a material library.
+/// `kind = "solid" | "vegetation" | "water" | "snow"` in a material library.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum KindSpec {
@@ -233,6 +275,7 @@ pub enum KindSpec {
     Solid,
     Vegetation,
     Water,
+    Snow,
 }
 
 impl KindSpec {
@@ -241,6 +284,7 @@ impl KindSpec {
             KindSpec::Solid => "solid",
             KindSpec::Vegetation => "vegetation",
             KindSpec::Water => "water",
+            KindSpec::Snow => "snow",
         }
     }
 }
@@ -257,6 +301,13 @@ pub mod surface_defaults {
     /// FAO-56's bulk stomatal resistance of a well-illuminated leaf, s/m
     /// (FAO-56 eq. 5: r_l = 100 s/m).
     pub const MIN_STOMATAL_RESISTANCE_S_M: f64 = 100.0;
+    /// Skin-layer conductivity Λ_sk between a canopy and its soil, W m⁻²
+    /// K⁻¹ (ECMWF: Viterbo & Beljaars 1995; ecLand SUSVEG `RVLAMSK` 10 for
+    /// crops, grass, shrubs and forests).
+    pub const SKIN_CONDUCTANCE_W_M2K: f64 = 10.0;
+    /// Fraction of the absorbed shortwave transmitted to the soil (ecLand
+    /// SUSVEG `RVTRSR` 0.05 for crops and grass).
+    pub const SOIL_SHORTWAVE_FRACTION: f64 = 0.05;
     /// Near-infrared share of absorbed sunlight taken by a water skin
     /// (Henderson-Sellers 1986; Hostetler & Bartlein 1990: 0.4).
     pub const SHORTWAVE_SURFACE_FRACTION: f64 = 0.4;
@@ -269,6 +320,9 @@ pub mod surface_defaults {
     /// Roughness length of a water surface at light winds, m (Charnock
     /// z₀ = 0.011·u*²/g ≈ 1e-4 m at u* = 0.3 m/s; Garratt 1992, Table A6).
     pub const WATER_ROUGHNESS_M: f64 = 2.0e-4;
+    /// Roughness length of snow-covered flat ground, m (0.1-1 mm: Stull
+    /// 1988 fig. 9.6 order of magnitude; ecLand 1.3 mm over ice caps).
+    pub const SNOW_ROUGHNESS_M: f64 = 1.0e-3;
 }
 
 /// The surface keys of a `[material.NAME]` table, one row each, beside
@@ -291,6 +345,11 @@ pub mod keys {
         Bound::new("max_stomatal_resistance_s_m", 10.0, 1e5, "s/m");
     pub const RADIATION_LIMIT: Bound = Bound::new("radiation_limit_w_m2", 1.0, 1000.0, "W/m²");
     pub const VPD_COEFF: Bound = Bound::new("vpd_coeff", 0.0, 200.0, "(kg/kg)⁻¹");
+    pub const SKIN_CONDUCTANCE: Bound =
+        Bound::new("skin_conductance_w_m2k", 0.5, 1.0e4, "W/(m²·K)");
+    pub const CANOPY_HEAT_CAPACITY: Bound =
+        Bound::new("canopy_heat_capacity_j_m2k", 10.0, 1.0e6, "J/(m²·K)");
+    pub const SOIL_SHORTWAVE_FRACTION: Bound = Bound::new("soil_shortwave_fraction", 0.0, 0.9, "");
     pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
     pub const SHORTWAVE_SURFACE_FRACTION: Bound =
         Bound::new("shortwave_surface_fraction", 0.0, 1.0, "");
@@ -315,7 +374,7 @@ pub mod keys {
             &["kind"],
             "",
             "`\"solid\"`",
-            "`\"solid\"`, `\"vegetation\"`, `\"water\"`: the keys below ([energy-balance.md](energy-balance.md))",
+            "`\"solid\"`, `\"vegetation\"`, `\"water\"`, `\"snow\"`: the keys below ([energy-balance.md](energy-balance.md))",
         ),
         row(
             &["water_capacity_mm"],
@@ -334,6 +393,12 @@ pub mod keys {
             "2e-4",
             WATER_ROUGHNESS,
             "water: roughness length for momentum",
+        ),
+        row(
+            &["roughness_m"],
+            "0.001",
+            SOLID_ROUGHNESS,
+            "snow: roughness length for momentum",
         ),
         row(
             &["canopy_height_m"],
@@ -367,6 +432,24 @@ pub mod keys {
             "Jarvis R_gl",
         ),
         row(&["vpd_coeff"], "36.35", VPD_COEFF, "Jarvis h_s"),
+        row(
+            &["skin_conductance_w_m2k"],
+            "10",
+            SKIN_CONDUCTANCE,
+            "vegetation: canopy skin to soil (ECMWF Λ_sk)",
+        ),
+        row(
+            &["canopy_heat_capacity_j_m2k"],
+            "1000 × lai",
+            CANOPY_HEAT_CAPACITY,
+            "vegetation: heat capacity of the canopy skin",
+        ),
+        row(
+            &["soil_shortwave_fraction"],
+            "0.05",
+            SOIL_SHORTWAVE_FRACTION,
+            "vegetation: share of absorbed sunlight reaching the soil",
+        ),
         row(
             &["extinction_per_m"],
             "required (water)",
@@ -422,6 +505,12 @@ pub struct SurfaceSpec {
     pub radiation_limit_w_m2: Option<f64>,
     /// Vegetation: the vapour-deficit parameter h_s of F₂, (kg/kg)⁻¹.
     pub vpd_coeff: Option<f64>,
+    /// Vegetation: conductance between the canopy skin and the soil, W m⁻² K⁻¹.
+    pub skin_conductance_w_m2k: Option<f64>,
+    /// Vegetation: heat capacity of the canopy skin, J m⁻² K⁻¹.
+    pub canopy_heat_capacity_j_m2k: Option<f64>,
+    /// Vegetation: fraction of the absorbed shortwave reaching the soil.
+    pub soil_shortwave_fraction: Option<f64>,
     /// Water: Beer-Lambert extinction coefficient, 1/m (required).
     pub extinction_per_m: Option<f64>,
     /// Water: fraction of absorbed shortwave absorbed at the surface.
@@ -437,14 +526,14 @@ impl SurfaceSpec {
     /// in range, and that no key of another kind is given; an error names
     /// the key (or, for a missing one, the table).
     pub fn build(&self) -> Result<SurfaceKind, KeyError> {
-        use KindSpec::{Solid, Vegetation, Water};
+        use KindSpec::{Snow, Solid, Vegetation, Water};
         use keys as K;
         use surface_defaults as d;
         let m = self;
         let kind_name = m.kind.name();
-        let all: [(&'static str, Option<f64>, &[KindSpec]); 13] = [
+        let all: [(&'static str, Option<f64>, &[KindSpec]); 16] = [
             ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
-            ("roughness_m", m.roughness_m, &[Solid, Water]),
+            ("roughness_m", m.roughness_m, &[Solid, Water, Snow]),
             ("canopy_height_m", m.canopy_height_m, &[Vegetation]),
             ("lai", m.lai, &[Vegetation]),
             ("soil_moisture", m.soil_moisture, &[Vegetation]),
@@ -464,6 +553,21 @@ impl SurfaceSpec {
                 &[Vegetation],
             ),
             ("vpd_coeff", m.vpd_coeff, &[Vegetation]),
+            (
+                "skin_conductance_w_m2k",
+                m.skin_conductance_w_m2k,
+                &[Vegetation],
+            ),
+            (
+                "canopy_heat_capacity_j_m2k",
+                m.canopy_heat_capacity_j_m2k,
+                &[Vegetation],
+            ),
+            (
+                "soil_shortwave_fraction",
+                m.soil_shortwave_fraction,
+                &[Vegetation],
+            ),
             ("extinction_per_m", m.extinction_per_m, &[Water]),
             (
                 "shortwave_surface_fraction",
@@ -538,6 +642,18 @@ impl SurfaceSpec {
                 range(K::RADIATION_LIMIT, rgl)?;
                 let hs = m.vpd_coeff.unwrap_or(d::VPD_COEFF);
                 range(K::VPD_COEFF, hs)?;
+                let skin = m
+                    .skin_conductance_w_m2k
+                    .unwrap_or(d::SKIN_CONDUCTANCE_W_M2K);
+                range(K::SKIN_CONDUCTANCE, skin)?;
+                let cap = m
+                    .canopy_heat_capacity_j_m2k
+                    .unwrap_or(CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K * lai);
+                range(K::CANOPY_HEAT_CAPACITY, cap)?;
+                let tau = m
+                    .soil_shortwave_fraction
+                    .unwrap_or(d::SOIL_SHORTWAVE_FRACTION);
+                range(K::SOIL_SHORTWAVE_FRACTION, tau)?;
                 SurfaceKind::Vegetation(Canopy {
                     height_m,
                     lai,
@@ -546,7 +662,15 @@ impl SurfaceSpec {
                     radiation_limit_w_m2: rgl,
                     vpd_coeff: hs,
                     soil_moisture,
+                    skin_conductance_w_m2k: skin,
+                    heat_capacity_j_m2k: cap,
+                    soil_shortwave_fraction: tau,
                 })
+            }
+            Snow => {
+                let z0 = m.roughness_m.unwrap_or(d::SNOW_ROUGHNESS_M);
+                range(K::SOLID_ROUGHNESS, z0)?;
+                SurfaceKind::Snow { roughness_m: z0 }
             }
             Water => {
                 let eta = need("extinction_per_m", m.extinction_per_m)?;

@@ -657,7 +657,7 @@ fn emissivity_table() {
                 Ok(t) => {
                     tally.ok();
                     for (a, w) in [(0.0, 0.1), (45.0, 10.0), (90.0, 1e3), (-5.0, 4.0)] {
-                        let e = t.eval(a, w);
+                        let e = t.at(a, w);
                         require!((0.0..=1.0).contains(&e), "ε({a}°, {w} µm) = {e}");
                     }
                 }

@@ -38,8 +38,9 @@ use crate::bounds::terrain as B;
 use crate::scene::error::SceneError;
 use crate::scene::georef::Geo;
 use crate::scene::material::Check;
-use crate::scene::spec::{OutputCrs, Site};
+use crate::scene::spec::OutputCrs;
 use crate::scene::tomlsrc::{Seg, TomlSource};
+use crate::sun::Site;
 use raster::{Raster, RasterCrs, Sample};
 pub use spec::{Extent, LandCover, NoData, TerrainSpec};
 

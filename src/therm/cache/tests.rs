@@ -31,16 +31,8 @@ fn mats() -> Vec<SlabMaterial> {
     [(0.2, 1.4), (0.0005, 200.0), (0.05, 0.3)]
         .iter()
         .map(|&(l, k)| SlabMaterial {
-            density_kg_m3: 2000.0,
-            specific_heat_j_kgk: 900.0,
-            conductivity_w_mk: k,
-            thickness_m: l,
-            solar_absorptivity: 0.7,
-            thermal_emissivity: 0.9,
             back: BackBoundary::Insulated,
-            internal_power_w_m2: 0.0,
-            ground_albedo: None,
-            surface: crate::therm::surface::SurfaceKind::default(),
+            ..SlabMaterial::with_defaults(2000.0, 900.0, k, l, 0.7, 0.9)
         })
         .collect()
 }

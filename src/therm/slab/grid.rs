@@ -75,6 +75,28 @@ impl Mesh {
         }
     }
 
+    /// This (soil) mesh under a canopy skin: a node 0 of heat capacity
+    /// `cap_j_m2k` prepended, coupled to the soil surface (now node 1)
+    /// through `cond_w_m2k` (the skin conductance Λ_sk of the ECMWF land
+    /// surface scheme, [`crate::therm::aero::Canopy`]). The skin stands on
+    /// the soil: its depth is 0 like the soil surface's.
+    pub fn with_skin(&self, cap_j_m2k: f64, cond_w_m2k: f64) -> Mesh {
+        let mut z = Vec::with_capacity(self.z_m.len() + 1);
+        z.push(0.0);
+        z.extend_from_slice(&self.z_m);
+        let mut cap = Vec::with_capacity(z.len());
+        cap.push(cap_j_m2k);
+        cap.extend_from_slice(&self.cap_j_m2k);
+        let mut cond = Vec::with_capacity(z.len() - 1);
+        cond.push(cond_w_m2k);
+        cond.extend_from_slice(&self.cond_w_m2k);
+        Mesh {
+            z_m: z,
+            cap_j_m2k: cap,
+            cond_w_m2k: cond,
+        }
+    }
+
     /// Stored heat relative to 0 K, `Σ C_i·T_i`, J/m².
     pub fn stored_energy_j_m2(&self, temps_k: &[f64]) -> f64 {
         self.cap_j_m2k.iter().zip(temps_k).map(|(c, t)| c * t).sum()

@@ -28,8 +28,16 @@ pub struct StepRecord {
     /// Sky view factor of the facet (the rest of the hemisphere is ground).
     pub sky_view: f64,
     pub surface: SurfaceFluxes,
-    /// Conduction from the surface node into the slab, W/m².
+    /// Conduction from the surface node into the slab, W/m² (under a
+    /// canopy: from the canopy skin into the soil).
     pub conduction_into_slab_w_m2: f64,
+    /// Temperature of the soil surface under a canopy skin, K (node 1; the
+    /// surface temperature for every other surface kind).
+    pub soil_surface_temp_k: f64,
+    /// Snow: the surplus that melts snow while the surface is held at 0 °C,
+    /// W/m² (the surface node's balance at the cap, its storage term left
+    /// out); 0 below the cap and for other surfaces.
+    pub melt_w_m2: f64,
     /// Flux into the slab through the back face, W/m².
     pub back_w_m2: f64,
     pub back_temp_k: f64,
@@ -152,7 +160,8 @@ impl SlabModel {
     }
 
     /// [`SlabModel::new`] with a mesh built before; `mesh` must be
-    /// `Mesh::graded(material, settings)`.
+    /// `Mesh::graded(material, settings)` (a vegetated material's canopy
+    /// skin node is added here, [`Mesh::with_skin`]).
     pub(crate) fn with_mesh(
         material: &SlabMaterial,
         orientation: Orientation,
@@ -177,11 +186,25 @@ impl SlabModel {
         if let Some(l) = settings.convection.surface_layer() {
             l.validate().map_err(ThermError::BadInput)?;
         }
+        // A canopy is a skin node over the soil mesh (surface.rs).
+        let mesh = match material.surface {
+            SurfaceKind::Vegetation(c) => {
+                Arc::new(mesh.with_skin(c.heat_capacity_j_m2k, c.skin_conductance_w_m2k))
+            }
+            _ => mesh,
+        };
         let n = mesh.z_m.len();
         let sw_fraction = match material.surface {
             SurfaceKind::Water(w) => {
                 shortwave_fractions(&mesh.z_m, w.surface_fraction, w.extinction_per_m)
             }
+            SurfaceKind::Vegetation(c) => (0..n)
+                .map(|i| match i {
+                    0 => 1.0 - c.soil_shortwave_fraction,
+                    1 => c.soil_shortwave_fraction,
+                    _ => 0.0,
+                })
+                .collect(),
             _ => (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect(),
         };
         Ok(SlabModel {
@@ -317,12 +340,49 @@ impl SlabModel {
                 d.conductance_m_s = 1.0 / r_s;
                 d.dew = true;
             }
-            SurfaceKind::Water(_) => {
+            SurfaceKind::Water(_) | SurfaceKind::Snow { .. } => {
                 d.conductance_m_s = f64::INFINITY;
                 d.dew = true;
             }
         }
         d
+    }
+
+    /// The highest surface temperature, K: 0 °C for snow (the surplus
+    /// melts it), none for other surfaces.
+    pub fn melt_cap_k(&self) -> Option<f64> {
+        match self.material.surface {
+            SurfaceKind::Snow { .. } => Some(crate::units::ZERO_C_K),
+            _ => None,
+        }
+    }
+
+    /// Melt flux of a step of `h` s from `old` to `new`, W/m²: what the
+    /// surface node's balance has left over with the surface held at the
+    /// cap (`net − τ·S + g₀·(T₁ − T₀) − C₀·(T₀ − T₀ᵒˡᵈ)/h`); 0 below the cap.
+    fn melt_w_m2(
+        &self,
+        old: &[f64],
+        new: &[f64],
+        h: f64,
+        g: &[f64],
+        net_w_m2: f64,
+        sw: f64,
+    ) -> f64 {
+        match self.melt_cap_k() {
+            Some(cap) if new[0] >= cap => {
+                let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
+                (net_w_m2 - (1.0 - self.sw_fraction[0]) * sw + g[0] * (new[1] - new[0])
+                    - self.mesh.cap_j_m2k[0] * inv_h * (new[0] - old[0]))
+                    .max(0.0)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Whether node 0 is a canopy skin over the soil (vegetation).
+    pub fn has_skin(&self) -> bool {
+        matches!(self.material.surface, SurfaceKind::Vegetation(_))
     }
 
     /// Water the surface store can hold, mm (0 for vegetation and water).
@@ -545,6 +605,14 @@ impl SlabModel {
         }
         if !converged {
             return false;
+        }
+        // Snow: the surface cannot rise above 0 °C; the surface residual
+        // falls with T₀, so the capped solution leaves a surplus (the melt).
+        if let Some(cap) = self.melt_cap_k()
+            && t0 > cap
+            && !back_unknown
+        {
+            t0 = cap;
         }
         new[0] = t0;
         if back_unknown {
@@ -961,7 +1029,15 @@ impl SlabModel {
                     } else {
                         0.0
                     };
-                    *energy_in += h * (sf.net_w_m2 - lost + back);
+                    let melt = self.melt_w_m2(
+                        temps,
+                        &new,
+                        h,
+                        &g,
+                        sf.net_w_m2,
+                        drive.absorbed_shortwave_w_m2(),
+                    );
+                    *energy_in += h * (sf.net_w_m2 - lost + back - melt);
                     if capacity_mm > 0.0 {
                         *store_mm = update_store_mm(
                             *store_mm,
@@ -1046,6 +1122,15 @@ impl SlabModel {
             sky_view: self.f_sky,
             surface: sf,
             conduction_into_slab_w_m2: g[0] * (temps[0] - temps[1]),
+            melt_w_m2: self.melt_w_m2(
+                temps,
+                temps,
+                f64::INFINITY,
+                &g,
+                sf.net_w_m2,
+                drive.absorbed_shortwave_w_m2(),
+            ),
+            soil_surface_temp_k: if self.has_skin() { temps[1] } else { temps[0] },
             back_w_m2: back,
             back_temp_k: temps[n - 1],
             stored_energy_j_m2: stored,

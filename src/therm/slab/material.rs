@@ -196,12 +196,39 @@ pub struct SlabMaterial {
     /// Solar albedo of the ground seen by a tilted facet (default 0.2).
     #[serde(default)]
     pub ground_albedo: Option<f64>,
-    /// What the surface is: solid (with a water store), vegetation, water.
+    /// What the surface is: solid (with a water store), vegetation, water, snow.
     #[serde(default)]
     pub surface: SurfaceKind,
 }
 
 impl SlabMaterial {
+    /// The construction a library table of only the six required keys
+    /// reads as: every other field at its own serde default (insulated back,
+    /// no internal power, the scene's ground albedo, a solid surface). The
+    /// base value of code that builds a material by hand (test fixtures
+    /// complete it with `..`), so a new key with a default touches no such
+    /// code.
+    pub fn with_defaults(
+        density_kg_m3: f64,
+        specific_heat_j_kgk: f64,
+        conductivity_w_mk: f64,
+        thickness_m: f64,
+        solar_absorptivity: f64,
+        thermal_emissivity: f64,
+    ) -> SlabMaterial {
+        use serde::de::value::{Error, MapDeserializer};
+        let required = [
+            ("density_kg_m3", density_kg_m3),
+            ("specific_heat_j_kgk", specific_heat_j_kgk),
+            ("conductivity_w_mk", conductivity_w_mk),
+            ("thickness_m", thickness_m),
+            ("solar_absorptivity", solar_absorptivity),
+            ("thermal_emissivity", thermal_emissivity),
+        ];
+        SlabMaterial::deserialize(MapDeserializer::<_, Error>::new(required.into_iter()))
+            .expect("the six required keys are every field without a default")
+    }
+
     /// Fields that are not keys of a material library: the ground albedo
     /// (the scene's, set at render time) and the surface kind (built from
     /// the table's `kind` and surface keys).
@@ -250,6 +277,14 @@ impl SlabMaterial {
         if !self.internal_power_w_m2.is_finite() {
             return Err(ThermError::BadMaterial(
                 "internal_power_w_m2 must be finite".into(),
+            ));
+        }
+        if matches!(self.surface, SurfaceKind::Snow { .. })
+            && matches!(self.back, BackBoundary::ExposedToAir { .. })
+        {
+            return Err(ThermError::BadMaterial(
+                "snow lies on the ground: its back is \"insulated\" or { deep_ground }, not { air }"
+                    .into(),
             ));
         }
         match self.back {

@@ -99,6 +99,9 @@ impl SlabModel {
         let cap = &self.mesh.cap_j_m2k;
         let sw = drive.absorbed_shortwave_w_m2();
         let inv_h = if h.is_finite() { 1.0 / h } else { 0.0 };
+        // Snow: once the free solution lies above the melt cap, node 0 is
+        // held there (its row becomes T₀ = cap) and the rest re-solved.
+        let mut held = false;
         for iter in 0..120 {
             // Residual r = rhs − lhs (we solve J·δ = r with J = −∂r/∂T).
             for i in 0..nf {
@@ -136,6 +139,11 @@ impl SlabModel {
                 w.b[i] = diag;
                 w.a[i] = if i > 0 { -g[i - 1] } else { 0.0 };
                 w.c[i] = if i + 1 < nf { -g[i] } else { 0.0 };
+                if i == 0 && held {
+                    w.r[0] = self.melt_cap_k().unwrap_or(t) - t;
+                    w.b[0] = 1.0;
+                    w.c[0] = 0.0;
+                }
             }
             if !w.solve(nf) {
                 return false;
@@ -153,7 +161,10 @@ impl SlabModel {
                 max_d = max_d.max(d.abs());
             }
             if max_d < 1e-9 {
-                return true;
+                match self.melt_cap_k() {
+                    Some(cap) if !held && new[0] > cap => held = true,
+                    _ => return true,
+                }
             }
         }
         false

@@ -55,16 +55,8 @@ fn forcing_is_linear_between_samples() {
 #[test]
 fn bad_inputs_are_errors_not_panics() {
     let mat = SlabMaterial {
-        density_kg_m3: 2000.0,
-        specific_heat_j_kgk: 900.0,
-        conductivity_w_mk: 1.0,
-        thickness_m: 0.1,
-        solar_absorptivity: 0.5,
-        thermal_emissivity: 0.9,
         back: BackBoundary::Insulated,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: crate::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2000.0, 900.0, 1.0, 0.1, 0.5, 0.9)
     };
     let s = ThermSettings::default();
     let bad = SlabMaterial {
@@ -95,16 +87,8 @@ fn bad_inputs_are_errors_not_panics() {
 #[test]
 fn graded_mesh_is_geometric_from_the_surface() {
     let mat = SlabMaterial {
-        density_kg_m3: 2300.0,
-        specific_heat_j_kgk: 880.0,
-        conductivity_w_mk: 1.4,
-        thickness_m: 2.0,
-        solar_absorptivity: 0.5,
-        thermal_emissivity: 0.9,
         back: BackBoundary::Insulated,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: crate::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2300.0, 880.0, 1.4, 2.0, 0.5, 0.9)
     };
     let s = ThermSettings::default();
     let m = Mesh::graded(&mat, &s);
@@ -227,4 +211,158 @@ fn surface_only_newton_matches_the_full_system_newton() {
         );
         assert!(worst <= bound_k, "{worst} K > {bound_k} K");
     }
+}
+
+/// A canopy skin over the soil (`Mesh::with_skin`), in the steady state
+/// under constant sun and a fixed deep ground: two conductances in series,
+/// the skin conductance Λ_sk and the soil's `k/L` (a steady profile in a
+/// uniform slab is linear, which the finite volumes reproduce exactly).
+/// The skin passes `Λ·(T_skin − T_soil)` to the soil; the soil surface
+/// also absorbs the transmitted share τ of the absorbed shortwave; all of
+/// it leaves through the deep ground: `Λ·(T₀ − T₁) + τ·S = (k/L)·(T₁ −
+/// T_deep)`, and the skin's balance closes: net surface flux (all of S
+/// counted there) `= Λ·(T₀ − T₁) + τ·S`.
+#[test]
+fn canopy_skin_over_soil_is_a_series_conductance() {
+    use crate::therm::aero::Canopy;
+    let canopy = Canopy {
+        height_m: 0.5,
+        lai: 3.0,
+        min_resistance_s_m: 100.0,
+        max_resistance_s_m: 5000.0,
+        radiation_limit_w_m2: 100.0,
+        vpd_coeff: 36.35,
+        soil_moisture: 1.0,
+        skin_conductance_w_m2k: 10.0,
+        heat_capacity_j_m2k: 3000.0,
+        soil_shortwave_fraction: 0.05,
+    };
+    let mat = SlabMaterial {
+        density_kg_m3: 2050.0,
+        specific_heat_j_kgk: 1840.0,
+        conductivity_w_mk: 0.52,
+        thickness_m: 0.5,
+        solar_absorptivity: 0.8,
+        thermal_emissivity: 0.98,
+        back: BackBoundary::DeepGround {
+            temp_k: Some(285.0),
+        },
+        internal_power_w_m2: 0.0,
+        ground_albedo: None,
+        surface: SurfaceKind::Vegetation(canopy),
+    };
+    let s = ThermSettings::default();
+    let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+    let soil = Mesh::graded(&mat, &s);
+    assert_eq!(model.nodes(), soil.z_m.len() + 1);
+    assert_eq!(model.mesh.cap_j_m2k[0], 3000.0);
+    assert_eq!(model.mesh.cond_w_m2k[0], 10.0);
+    assert_eq!(model.mesh.cap_j_m2k[1..], soil.cap_j_m2k[..]);
+    let mut forcing = f(0.0, 300.0);
+    forcing.dni_w_m2 = 600.0;
+    forcing.ghi_w_m2 = 600.0;
+    forcing.sun_dir_enu = [0.0, 0.0, 1.0];
+    let t = model.equilibrium(&forcing, 1.0, Some(285.0)).unwrap();
+    let (t0, t1) = (t[0], t[1]);
+    let sw = 0.8 * 600.0;
+    let into_soil = 10.0 * (t0 - t1) + 0.05 * sw;
+    let through_soil = 0.52 / 0.5 * (t1 - 285.0);
+    assert!(
+        (into_soil - through_soil).abs() < 1e-6 * through_soil.abs(),
+        "{into_soil} vs {through_soil}"
+    );
+    let (sf, _) = balance::surface_fluxes(
+        &model.drive(&forcing, 1.0),
+        mat.thermal_emissivity,
+        &s.convection,
+        t0,
+    );
+    assert!(
+        (sf.net_w_m2 - into_soil).abs() < 1e-6 * into_soil.abs(),
+        "{} vs {into_soil}",
+        sf.net_w_m2
+    );
+    // The skin is not the soil: they differ by the skin flux over Λ (here
+    // the transpiring skin in dry air is the colder one).
+    assert!((t0 - t1).abs() > 0.1, "{t0} {t1}");
+}
+
+/// Snow (`kind = "snow"`) under a warm sunny sky, in the steady state over
+/// a frozen deep ground: the surface is held at 0 °C and the surplus of
+/// its balance melts it. Analytically (a uniform slab conducts
+/// `(k/L)·(T₀ − T_deep)` in the steady state) the melt is `Q_net(0 °C) −
+/// (k/L)·(0 °C − T_deep)`, with `Q_net` the surface balance at 0 °C
+/// (`balance::surface_fluxes`), agreed to 1e-4 W/m² (the 1e12-s step of
+/// the steady state and Newton's 1e-9 K leave ~1e-6); and over a march
+/// the energy record closes with the melt taken out: stored-energy change
+/// = ∫(net + back − melt) dt to 1e-3 J/m² (of ~1e7 J/m² melted). In cold air the cap is not
+/// reached and nothing melts.
+#[test]
+fn snow_surface_is_capped_at_zero_celsius_and_the_surplus_melts() {
+    use crate::therm::surface::SurfaceKind;
+    let mat = SlabMaterial {
+        density_kg_m3: 300.0,
+        specific_heat_j_kgk: 2040.0,
+        conductivity_w_mk: 0.126,
+        thickness_m: 0.3,
+        solar_absorptivity: 0.2,
+        thermal_emissivity: 0.985,
+        back: BackBoundary::DeepGround {
+            temp_k: Some(268.15),
+        },
+        internal_power_w_m2: 0.0,
+        ground_albedo: None,
+        surface: SurfaceKind::Snow { roughness_m: 0.001 },
+    };
+    let s = ThermSettings::default();
+    let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+    let mut warm = f(0.0, 285.0);
+    warm.sky_temp_k = 275.0;
+    warm.dni_w_m2 = 700.0;
+    warm.ghi_w_m2 = 700.0;
+    warm.sun_dir_enu = [0.0, 0.0, 1.0];
+    let t = model.equilibrium(&warm, 1.0, Some(268.15)).unwrap();
+    let cap = crate::units::ZERO_C_K;
+    assert_eq!(t[0], cap);
+    let (sf, _) = balance::surface_fluxes(
+        &model.drive(&warm, 1.0),
+        mat.thermal_emissivity,
+        &s.convection,
+        cap,
+    );
+    let melt = sf.net_w_m2 - 0.126 / 0.3 * (cap - 268.15);
+    assert!(melt > 50.0, "{melt}");
+    let n = t.len();
+    let mut g = vec![0.0; n - 1];
+    model.conductances(&t, &mut g);
+    let reported = model.melt_w_m2(&t, &t, f64::INFINITY, &g, sf.net_w_m2, 0.0);
+    assert!((reported - melt).abs() < 1e-4, "{reported} vs {melt}");
+    // A day's march: the energy record closes with the melt.
+    let forcing: Vec<Forcing> = (0..=24)
+        .map(|i| {
+            let mut x = warm;
+            x.t_s = 3600.0 * i as f64;
+            x.air_temp_k = 270.0 + 15.0 * (std::f64::consts::PI * i as f64 / 24.0).sin();
+            x
+        })
+        .collect();
+    let sol = model.solve(&forcing, None, true).unwrap();
+    let first = &sol.series[0];
+    let last = sol.series.last().unwrap();
+    assert!(sol.series.iter().all(|r| r.surface_temp_k <= cap));
+    assert!(sol.series.iter().any(|r| r.melt_w_m2 > 0.0));
+    let stored = last.stored_energy_j_m2 - first.stored_energy_j_m2;
+    let into = last.energy_in_j_m2 - first.energy_in_j_m2;
+    // The surface is held at 0 °C all day, so the slab barely changes;
+    // without the melt taken out the fluxes would bring ~1e7 J/m² more.
+    let melt_j_m2: f64 = sol.series.iter().map(|r| r.melt_w_m2 * 3600.0).sum();
+    assert!(melt_j_m2 > 5e6, "{melt_j_m2}");
+    assert!(
+        (stored - into).abs() < 1e-3,
+        "stored {stored} vs fluxes {into} J/m²"
+    );
+    // Cold, dark: no melt.
+    let cold = f(0.0, 255.0);
+    let t = model.equilibrium(&cold, 0.0, Some(268.15)).unwrap();
+    assert!(t[0] < cap);
 }
