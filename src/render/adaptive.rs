@@ -70,6 +70,8 @@ use super::{
     block_pixels, cancel, sample_camera, solve_temperatures, trace_block, trace_geometry,
 };
 use crate::sensor::camera::Camera;
+use crate::trace::Ray;
+use crate::trace::offset::offset_origin;
 
 /// Two normals more than about 1° apart are two planes.
 const SAME_PLANE_COS: f32 = 0.99985;
@@ -306,6 +308,38 @@ fn refined_cells(
     out
 }
 
+/// The sun flags of surface points at the history samples `idx` (traced
+/// samples: multiples of `coarse_every`), as [`super::trace_histories`] sets
+/// them: sunlit when the sun is up, the point's side faces it and nothing
+/// blocks the ray. Point `p`'s flag at `idx[j]` is `[p * idx.len() + j]`.
+fn sun_flags_at(
+    st: &Static,
+    cond: &Conditions,
+    points: &[&Surface],
+    idx: &[usize],
+    c: &Counters,
+) -> Vec<bool> {
+    let mut flags = vec![false; points.len() * idx.len()];
+    let (mut rays, mut of) = (Vec::new(), Vec::new());
+    for (p, s) in points.iter().enumerate() {
+        let origin = offset_origin(s.point, s.normal);
+        for (j, &k) in idx.iter().enumerate() {
+            let sun = &cond.suns[k];
+            if sun.up && s.normal.dot(sun.dir) > 0.0 {
+                rays.push(Ray::new(origin, sun.dir));
+                of.push(p * idx.len() + j);
+            }
+        }
+    }
+    let mut blocked = vec![false; rays.len()];
+    st.tracer.occluded(&rays, &mut blocked);
+    super::add(&c.solar, rays.len());
+    for (&i, &b) in of.iter().zip(&blocked) {
+        flags[i] = !b;
+    }
+    flags
+}
+
 /// Where the sample of each grid position of a refined pixel is, in the
 /// list [coarse, first level (cells row-major), second level].
 type Slot = u32;
@@ -381,7 +415,7 @@ fn level_two(
         .filter(|(_, g)| g.is_some())
         .filter_map(|(smp, _)| smp.surface.as_ref())
         .collect();
-    let flags = super::sun_flags_at(st, cond, &checked, recent, c);
+    let flags = sun_flags_at(st, cond, &checked, recent, c);
     let r = recent.len();
     let mut agree = flags
         .chunks(r.max(1))

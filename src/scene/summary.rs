@@ -284,9 +284,10 @@ mod tests {
         );
         // 3-5 µm = 2000-3333.3 cm⁻¹ at 20 cm⁻¹ steps: 67 samples
         assert_eq!(sum.needs.spectral_samples, 67);
+        // 48 h at 60-min thermal steps and 60-min traced shadow samples
         assert_eq!(
             (sum.needs.thermal_steps, sum.needs.shadow_samples),
-            (36, 36)
+            (48, 48)
         );
         // footprint contains the target; JSON serialises
         let fp = sum.footprint_m.map(|p| p.unwrap());

@@ -236,8 +236,7 @@ impl SlabModel {
     }
 
     /// The same model with part `blocked` of its sky hidden by the scene
-    /// (`trace::sky_view`): sky view factor (1 + cos β)/2 − blocked, the
-    /// rest ground.
+    /// (`trace::sky_view`): sky view factor (1 + cos β)/2 − blocked, rest ground.
     pub fn with_blocked_sky(mut self, blocked: f64) -> Self {
         if blocked.is_finite() {
             self.f_sky = (self.f_sky - blocked).clamp(0.0, 1.0);
