@@ -152,7 +152,20 @@ def test_fuzz_therm_arguments_cannot_kill_the_interpreter(tmp_path):
              str(state)],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         lines = []
-        reader = threading.Thread(target=lambda: lines.extend(iter(child.stdout.readline, "")))
+        base = (ok, refused)
+
+        def read(child=child, lines=lines, base=base):
+            # Each progress line is shown as it comes (a run stopped early
+            # still reports how far it got).
+            for line in iter(child.stdout.readline, ""):
+                lines.append(line)
+                w = line.split()
+                if w and w[0] == "progress":
+                    print(f"fuzz python-therm: {w[1]}/{cases} cases, {base[0] + int(w[2])} accepted, "
+                          f"{base[1] + int(w[3])} refused, {len(failures)} failures, "
+                          f"{time.time() - t0:.0f} s", flush=True)
+
+        reader = threading.Thread(target=read)
         reader.start()
         seen, last_change = None, time.time()
         while child.poll() is None:
@@ -164,15 +177,10 @@ def test_fuzz_therm_arguments_cannot_kill_the_interpreter(tmp_path):
                 child.kill()
         reader.join()
         err = child.stderr.read()
-        base_ok, base_refused = ok, refused
         for line in lines:
             w = line.split()
             if w and w[0] in ("progress", "done"):
-                ok, refused = base_ok + int(w[2]), base_refused + int(w[3])
-                if w[0] == "progress":
-                    print(f"fuzz python-therm: {w[1]}/{cases} cases, {ok} accepted, "
-                          f"{refused} refused, {len(failures)} failures, "
-                          f"{time.time() - t0:.0f} s", flush=True)
+                ok, refused = base[0] + int(w[2]), base[1] + int(w[3])
         if child.returncode == 0:
             break
         case = state.read_text().strip() if state.exists() else f"{first} (not started)"
