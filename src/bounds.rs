@@ -316,7 +316,19 @@ pub mod args {
         SUN_TEMP,
         SUN_DELTA_T,
         THREADS,
+        QUICKLOOK_MIN_SPAN_K,
     ];
+
+    // Output options (issue 32).
+
+    /// `--quicklook-min-span-k` (render, sequence, sweep) / a batch spec's
+    /// `quicklook_min_span_k`: the PNG quicklook's stretch spans at least
+    /// this many kelvin of apparent temperature (0: the plain 2-98 %
+    /// stretch).
+    pub const QUICKLOOK_MIN_SPAN_K: Arg = Arg::new(
+        "--quicklook-min-span-k",
+        Bound::new("quicklook_min_span_k", 0.0, 1000.0, "K"),
+    );
 }
 
 /// Sizes derived from the inputs, bounded before allocation.

@@ -175,6 +175,12 @@ fn bad_specs_fail_at_plan_with_file_line_and_key() {
             "at = [\"25:00\"]",
             "25:00",
         ),
+        // the bound of `irsig render --quicklook-min-span-k`
+        (
+            "shards = 3",
+            "shards = 3\nquicklook_min_span_k = 1e9",
+            "`quicklook_min_span_k` = 1e9 is out of range",
+        ),
     ];
     for (from, to, want) in cases {
         let p = t.path().join("bad.toml");
@@ -269,6 +275,21 @@ fn a_killed_run_resumes_to_the_same_frames_and_merges() {
     let (rc, out, err) = irsig(&["batch", "merge", s(&b)]);
     assert_eq!(rc, 0, "{err}");
     assert!(out.contains("6 frames of 24x24 px"), "{out}");
+    // The contact sheet is drawn as a single render's quicklook: RGB, the
+    // frames above a colour bar, the stretch widened to 2 K (issue 32).
+    let ix: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(b.join("merged/index.json")).unwrap())
+            .unwrap();
+    let stretch = ix["contact_sheet_stretch"].as_str().unwrap();
+    assert!(
+        stretch.contains("at least 2 K") && stretch.contains("colour bar"),
+        "{stretch}"
+    );
+    let dec = png::Decoder::new(std::fs::File::open(b.join("merged/contact_sheet.png")).unwrap());
+    let r = dec.read_info().unwrap();
+    assert_eq!(r.info().color_type, png::ColorType::Rgb);
+    // 6 frames: 3 columns x 2 rows of 24 px with 4-px gaps, then the bar
+    assert!(r.info().height > 2 * 24 + 4 + 10, "{}", r.info().height);
     let nc = netcdf::open(b.join("merged/stack.nc")).unwrap();
     let batch = irsig::batch::Batch::open(&b).unwrap();
     let v = nc.variable("apparent_temperature").unwrap();
@@ -569,4 +590,65 @@ fn flag_words_and_material_flags() {
     let (v, m) = material_flags(&t);
     assert_eq!(v, [-1.0, 0.0, 1.0]);
     assert_eq!(m, "none grass dry_concrete");
+}
+
+/// Issue 32: a batch spec sweeps a key inside an `[[object]]` entry (by
+/// name or index, a key the entry does not write): the plan loads every
+/// value, and each frame's overrides place the object where the value
+/// says.
+#[test]
+fn a_spec_sweeps_an_objects_position() {
+    let t = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/terrain-km/scene.toml");
+    let text = format!(
+        r#"name = "pos"
+
+[[scene]]
+path = "{}"
+id = "km"
+set = {{ "sensor.width_px" = 8, "sensor.height_px" = 8 }}
+
+[[sweep]]
+key = "object.vehicle.translate_m"
+values = [[0, 0, 0], [25, 0, 0]]
+"#,
+        scene.display()
+    );
+    let sp = t.path().join("spec.toml");
+    std::fs::write(&sp, text).unwrap();
+    let plan = irsig::batch::plan(&sp).unwrap();
+    assert_eq!(plan.frames.len(), 2);
+    let min_x: Vec<f64> = plan
+        .frames
+        .iter()
+        .map(|f| {
+            assert!(
+                f.overrides
+                    .iter()
+                    .any(|(k, _)| k == "object.vehicle.translate_m"),
+                "{:?}",
+                f.overrides
+            );
+            let s = irsig::scene::load_with_overrides(&f.scene, &f.overrides).unwrap();
+            s.objects
+                .iter()
+                .find(|o| o.name == "vehicle#1")
+                .unwrap()
+                .bounds_min_m[0]
+        })
+        .collect();
+    assert!((min_x[1] - min_x[0] - 25.0).abs() < 1e-3, "{min_x:?}");
+    // an entry that does not exist: refused at plan, naming the spec
+    std::fs::write(
+        &sp,
+        std::fs::read_to_string(&sp)
+            .unwrap()
+            .replace("object.vehicle.", "object.truck."),
+    )
+    .unwrap();
+    let e = format!("{:#}", irsig::batch::plan(&sp).unwrap_err());
+    assert!(
+        e.contains("spec.toml") && e.contains("no entry of `object` is named `truck`"),
+        "{e}"
+    );
 }

@@ -79,6 +79,11 @@ fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
         "sensor.band=mwir",
         "--threads",
         "2",
+        // the plain 2-98 % stretch, so that the sheet's pixels can be
+        // compared with the frames' values below (the widened stretch:
+        // `sheets_get_a_colour_bar_and_the_minimum_span`)
+        "--quicklook-min-span-k",
+        "0",
     ];
     args.extend(SMALL);
     let (rc, stdout, err) = irsig(&args);
@@ -136,8 +141,11 @@ fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
         data.iter().any(|d| percentile_stretch(d) != s),
         "frames have identical stretches: the test cannot tell"
     );
-    let (w, h, grey, text) = read_png(&out.join("contact_sheet.png"));
-    assert_eq!((w, h), (2 * 64 + gap, 2 * 64 + gap));
+    // An RGB quicklook as a single render's: the sheet at the top left, a
+    // colour bar with the stretch's ends below it.
+    let (w, h, rgb, text) = read_png(&out.join("contact_sheet.png"));
+    assert!(w >= 2 * 64 + gap && h > 2 * 64 + gap + 10, "{w}x{h}");
+    assert_eq!(rgb.len() as u32, 3 * w * h);
     assert!(
         text.contains(&format!("{} .. {}", s.lo, s.hi)),
         "stretch not stated in the PNG text: {text}"
@@ -150,14 +158,22 @@ fn sequence_writes_frames_and_a_common_stretch_contact_sheet() {
         let want = to_grey(d, s);
         for y in 0..64 {
             for x in 0..64 {
-                assert_eq!(
-                    grey[((y0 + y) * w + x0 + x) as usize],
-                    want[(y * 64 + x) as usize],
-                    "frame {k} pixel ({x},{y})"
-                );
+                let i = 3 * ((y0 + y) * w + x0 + x) as usize;
+                let want = want[(y * 64 + x) as usize] as i32;
+                for c in 0..3 {
+                    assert!(
+                        (rgb[i + c] as i32 - want).abs() <= 1,
+                        "frame {k} pixel ({x},{y}): {} vs {want}",
+                        rgb[i + c]
+                    );
+                }
             }
         }
     }
+    // the colour bar, black (the stretch's low end) to white
+    let bar_y = 2 * 64 + gap + 4 + 5;
+    let at = |x: u32| rgb[3 * (bar_y * w + x) as usize];
+    assert!(at(2) < 5 && at(w - 3) > 250, "{} {}", at(2), at(w - 3));
     // Frame JSON says which frame it is.
     let fj: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("frame_1100.json")).unwrap())
@@ -436,4 +452,109 @@ fn sweep_over_an_objects_position_moves_it_in_the_image() {
         .collect();
     let shift = centre[1] - centre[0];
     assert!((4.5..=7.5).contains(&shift), "plate columns {centre:?}");
+}
+
+/// Issue 32: a contact sheet is drawn as a single render's quicklook (a
+/// colour bar with the stretch's ends and unit, the colour map chosen),
+/// under the common stretch widened to `--quicklook-min-span-k` kelvin of
+/// apparent temperature; the flag has the bound of `irsig render`'s.
+#[test]
+fn sheets_get_a_colour_bar_and_the_minimum_span() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("wide");
+    let mut args = vec![
+        "sweep",
+        CONSTANT,
+        "--key",
+        "weather.constant.wind_m_s",
+        "--values",
+        "2,3",
+        "-o",
+        out.to_str().unwrap(),
+        "--colormap",
+        "inferno",
+        "--quicklook-min-span-k",
+        "50",
+    ];
+    args.extend(SMALL);
+    let (rc, stdout, err) = irsig(&args);
+    assert_eq!(rc, 0, "{stdout}\n{err}");
+    let ix = index(&out);
+    let sheet = &ix["contact_sheet"];
+    let stated = Stretch {
+        lo: sheet["stretch_lo"].as_f64().unwrap() as f32,
+        hi: sheet["stretch_hi"].as_f64().unwrap() as f32,
+    };
+    // 50 K about the frames' median apparent temperature, in band
+    // radiance (Planck over the scene's LWIR band, 8-14 um): wider than
+    // the frames' own 2-98 % spread, centred on it
+    let exrs: Vec<_> = ix["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| out.join(f["exr"].as_str().unwrap()))
+        .collect();
+    let all: Vec<f32> = exrs
+        .iter()
+        .flat_map(|e| plane(e, "sensor_radiance"))
+        .collect();
+    let s = percentile_stretch(&all);
+    let temps: Vec<f32> = exrs
+        .iter()
+        .flat_map(|e| plane(e, "apparent_temperature"))
+        .collect();
+    let mut t = temps.clone();
+    t.sort_by(f32::total_cmp);
+    let med = t[t.len() / 2] as f64;
+    let band = |k: f64| irsig::radiometry::planck::planck_band_integral_w_m2_sr(8.0, 14.0, k) / 6.0;
+    let want = band(med + 25.0) - band(med - 25.0);
+    let span = (stated.hi - stated.lo) as f64;
+    assert!(span > (s.hi - s.lo) as f64, "{stated:?} vs {s:?}");
+    assert!(
+        (span / want - 1.0).abs() < 0.02,
+        "span {span} vs 50 K = {want}"
+    );
+    let centre = 0.5 * (stated.lo + stated.hi) - 0.5 * (s.lo + s.hi);
+    assert!(centre.abs() < 1e-3 * span as f32, "{stated:?} vs {s:?}");
+    assert!(
+        sheet["stretch"].as_str().unwrap().contains("inferno"),
+        "{sheet}"
+    );
+    // inferno: the bar's ends are near black and pale yellow, not grey
+    let (w, h, rgb, text) = read_png(&out.join("contact_sheet.png"));
+    assert!(
+        text.contains("Inferno") && text.contains("sensor_radiance"),
+        "{text}"
+    );
+    let gap = sheet["gap_px"].as_u64().unwrap() as u32;
+    let cols = sheet["columns"].as_u64().unwrap() as u32;
+    let rows = sheet["rows"].as_u64().unwrap() as u32;
+    let bar_y = rows * 64 + (rows - 1) * gap + 4 + 5;
+    assert!(bar_y < h && cols * 64 <= w);
+    let px = |x: u32| &rgb[3 * (bar_y * w + x) as usize..3 * (bar_y * w + x) as usize + 3];
+    let hi = px(w - 3);
+    assert!(hi[0] > 200 && hi[1] > 200 && hi[2] < 200, "{hi:?}");
+    // the frames' own quicklooks use the same options
+    let fpng = out.join(ix["frames"][0]["png"].as_str().unwrap());
+    let (_, _, _, ftext) = read_png(&fpng);
+    assert!(ftext.contains("Inferno"), "{ftext}");
+
+    // the flag's bound, shared with irsig render
+    let (rc, _, err) = irsig(&[
+        "sweep",
+        CONSTANT,
+        "--key",
+        "weather.constant.wind_m_s",
+        "--values",
+        "2",
+        "-o",
+        dir.path().join("x").to_str().unwrap(),
+        "--quicklook-min-span-k",
+        "1e9",
+    ]);
+    assert_eq!(rc, 1, "{err}");
+    assert!(
+        err.contains("--quicklook-min-span-k 1e9: out of range") && err.contains("1000"),
+        "{err}"
+    );
 }

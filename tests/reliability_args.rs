@@ -211,7 +211,17 @@ fn time_steps_name_their_caller_and_bound_the_step() {
 // ---------------------------------------------------------------- Slurm
 
 fn batch_spec(dir: &Path, name: &str, values: &[&str]) -> PathBuf {
-    let scene = root().join("scenes/airfield/scene-constant.toml");
+    batch_spec_of(
+        &root().join("scenes/airfield/scene-constant.toml"),
+        dir,
+        name,
+        values,
+    )
+}
+
+/// A batch spec in `dir` over `scene` (8x8 px, 2 h of history), named
+/// `name`, at two local times, sweeping `site.name` over `values`.
+fn batch_spec_of(scene: &Path, dir: &Path, name: &str, values: &[&str]) -> PathBuf {
     let vals: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
     let text = format!(
         "name = {name:?}\nshards = 2\n\n[[scene]]\npath = {:?}\nid = \"af\"\n\
@@ -254,18 +264,27 @@ fn a_newline_in_the_batch_folder_cannot_reach_the_slurm_scripts() {
 
 /// Item 2's fuzz: random folder names, batch names and sweep values (with
 /// newlines, quotes, `$(…)`, backticks, `;`, `%`, `#`, spaces, non-ASCII)
-/// through `batch plan` and `batch slurm`. Every script written must pass
-/// `bash -n` and, run with stub `irsig` and `sbatch` commands, execute
-/// nothing but them: the canary file is never created and the stub gets
-/// the batch folder as one argument. `IRSIG_FUZZ_CASES` scales it
-/// (scripts/fuzz.sh); the default keeps it to seconds.
+/// through `batch plan` and `batch slurm`, in process (the library calls
+/// the commands make). Every script written must pass `bash -n` and, run
+/// with stub `irsig` and `sbatch` commands, execute nothing but them: the
+/// canary file is never created and the stub gets the batch folder as one
+/// argument.
+///
+/// `IRSIG_FUZZ_CASES` cases (default 200; scripts/fuzz.sh's `--cases`),
+/// seed `IRSIG_FUZZ_SEED`. Every case plans and writes a batch in the same
+/// case folder, so a script's bytes depend only on what the case varies; a
+/// script byte-identical to one already checked in this run (same folder,
+/// same stubs, same bytes, so the same `bash -n` verdict and the same
+/// run) is not run again: each distinct script text is checked once. A
+/// progress line goes out every 10 000 cases.
 #[test]
 fn generated_scripts_keep_every_name_quoted() {
     use rand::{Rng, SeedableRng};
+    use std::collections::HashSet;
     let cases: usize = std::env::var("IRSIG_FUZZ_CASES")
         .ok()
         .and_then(|s| s.parse().ok())
-        .map_or(24, |n: usize| (n / 100).max(24));
+        .unwrap_or(200);
     let seed: u64 = std::env::var("IRSIG_FUZZ_SEED")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -306,20 +325,20 @@ fn generated_scripts_keep_every_name_quoted() {
             .map(|_| pieces[rng.random_range(0..pieces.len())].clone())
             .collect()
     };
-    // Stubs: `irsig` records its arguments (one per line), `sbatch` prints
-    // a job id.
+    // Stubs (POSIX sh, which starts faster than bash): `irsig` records its
+    // arguments (NUL-separated), `sbatch` prints a job id.
     let bin = d.path().join("bin");
     std::fs::create_dir(&bin).unwrap();
     let args_log = d.path().join("args.log");
     std::fs::write(
         bin.join("irsig-stub"),
         format!(
-            "#!/bin/bash\nfor a in \"$@\"; do printf '%s\\0' \"$a\"; done > '{}'\n",
+            "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\0' \"$a\"; done > '{}'\n",
             args_log.display()
         ),
     )
     .unwrap();
-    std::fs::write(bin.join("sbatch"), "#!/bin/bash\necho 1234\n").unwrap();
+    std::fs::write(bin.join("sbatch"), "#!/bin/sh\necho 1234\n").unwrap();
     for f in ["irsig-stub", "sbatch"] {
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(bin.join(f), std::fs::Permissions::from_mode(0o755)).unwrap();
@@ -329,14 +348,49 @@ fn generated_scripts_keep_every_name_quoted() {
         bin.display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let (mut written, mut refused_n) = (0, 0);
+    // A one-triangle scene: what the scripts hold does not depend on the
+    // scene, and planning loads it once per sweep value and once more, so
+    // a small one keeps a case to about a millisecond.
+    let sdir = d.path().join("scene");
+    std::fs::create_dir(&sdir).unwrap();
+    std::fs::write(sdir.join("mats.toml"), MATS).unwrap();
+    std::fs::write(sdir.join("t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        sdir.join("scene.toml"),
+        "materials = [\"mats.toml\"]\n\
+         [site]\nname = \"s\"\nlatitude_deg = 43.0\nlongitude_deg = -77.0\nelevation_m = 100.0\n\
+         utc_offset_h = -4.0\n[time]\nlocal = 2001-08-08T13:00:00\n\
+         [weather.constant]\nwind_m_s = 2.0\nair_min_c = 17.0\nair_max_c = 29.0\n\
+         dew_point_c = 14.0\ncloud_fraction = 0.0\n\
+         [sensor]\nwidth_px = 8\nheight_px = 8\nfov_h_deg = 30.0\nband = \"lwir\"\n\
+         [sensor.pose.slant_range]\nslant_range_m = 60.0\nview_zenith_deg = 30.0\n\
+         azimuth_deg = 180.0\ntarget_m = [0.0, 0.0, 0.0]\n\
+         [[object]]\nfile = \"t.obj\"\nmaterial = \"asphalt\"\n",
+    )
+    .unwrap();
+    let scene = sdir.join("scene.toml");
+    irsig::scene::load_with_overrides(&scene, &[]).expect("the fuzz's scene loads");
+    let case = d.path().join("case");
+    let mut checked: HashSet<String> = HashSet::new();
+    let (mut written, mut refused_n, mut runs) = (0usize, 0usize, 0usize);
+    let t0 = Instant::now();
     for k in 0..cases {
-        let folder = format!("b{k}{}", pick(&mut rng)).replace('/', "_");
+        if k > 0 && k % 10_000 == 0 {
+            println!(
+                "fuzz slurm-scripts: {k}/{cases} cases, {written} written, {refused_n} refused, \
+                 {} distinct scripts checked, 0 failures, {:.0} s",
+                checked.len(),
+                t0.elapsed().as_secs_f64()
+            );
+        }
+        let folder = format!("b{}", pick(&mut rng)).replace('/', "_");
         let name = pick(&mut rng);
         let values = [pick(&mut rng), pick(&mut rng)];
-        let case = d.path().join(format!("case{k}"));
+        if case.exists() {
+            std::fs::remove_dir_all(&case).unwrap();
+        }
         std::fs::create_dir(&case).unwrap();
-        let sp = batch_spec(&case, &name, &[&values[0], &values[1]]);
+        let sp = batch_spec_of(&scene, &case, &name, &[&values[0], &values[1]]);
         let b = case.join(&folder);
         if irsig::batch::plan(&sp)
             .and_then(|p| irsig::batch::write_plan(&b, &p))
@@ -349,52 +403,63 @@ fn generated_scripts_keep_every_name_quoted() {
             irsig: Some(bin.join("irsig-stub")),
             ..Default::default()
         };
-        match irsig::batch::slurm::slurm(&b, &o, false) {
+        let s = match irsig::batch::slurm::slurm(&b, &o, false) {
             Err(e) => {
                 let e = format!("{e:#}");
                 assert!(e.contains("batch folder") || e.contains("control"), "{e}");
                 refused_n += 1;
+                continue;
             }
-            Ok(s) => {
-                written += 1;
-                for script in [&s.array_script, &s.merge_script, &s.submit_script] {
-                    let n = Command::new("bash").arg("-n").arg(script).output().unwrap();
-                    assert!(
-                        n.status.success(),
-                        "bash -n {}: {}\n{}",
-                        script.display(),
-                        String::from_utf8_lossy(&n.stderr),
-                        std::fs::read_to_string(script).unwrap()
-                    );
-                    let _ = std::fs::remove_file(&args_log);
-                    let run = Command::new("bash")
-                        .arg(script)
-                        .env("PATH", &path)
-                        .env("SLURM_ARRAY_TASK_ID", "0")
-                        .current_dir(&case)
-                        .output()
-                        .unwrap();
-                    assert!(
-                        !canary.exists(),
-                        "{} ran a command: folder {folder:?}, name {name:?}",
-                        script.display()
-                    );
-                    assert!(
-                        run.status.success(),
-                        "{}",
-                        String::from_utf8_lossy(&run.stderr)
-                    );
-                    if script != &s.submit_script {
-                        let got = std::fs::read(&args_log).unwrap();
-                        let args: Vec<&[u8]> = got.split(|&c| c == 0).collect();
-                        let dir = std::path::absolute(&b).unwrap();
-                        assert_eq!(args[2], dir.as_os_str().as_encoded_bytes(), "{folder:?}");
-                    }
-                }
+            Ok(s) => s,
+        };
+        written += 1;
+        for script in [&s.array_script, &s.merge_script, &s.submit_script] {
+            let text = std::fs::read_to_string(script).unwrap();
+            if checked.contains(&text) {
+                continue;
             }
+            runs += 1;
+            let n = Command::new("bash").arg("-n").arg(script).output().unwrap();
+            assert!(
+                n.status.success(),
+                "bash -n {}: {}\n{text}",
+                script.display(),
+                String::from_utf8_lossy(&n.stderr),
+            );
+            let _ = std::fs::remove_file(&args_log);
+            let run = Command::new("bash")
+                .arg(script)
+                .env("PATH", &path)
+                .env("SLURM_ARRAY_TASK_ID", "0")
+                .current_dir(&case)
+                .output()
+                .unwrap();
+            assert!(
+                !canary.exists(),
+                "{} ran a command: folder {folder:?}, name {name:?}",
+                script.display()
+            );
+            assert!(
+                run.status.success(),
+                "{}",
+                String::from_utf8_lossy(&run.stderr)
+            );
+            if script != &s.submit_script {
+                let got = std::fs::read(&args_log).unwrap();
+                let args: Vec<&[u8]> = got.split(|&c| c == 0).collect();
+                let dir = std::path::absolute(&b).unwrap();
+                assert_eq!(args[2], dir.as_os_str().as_encoded_bytes(), "{folder:?}");
+            }
+            checked.insert(text);
         }
     }
-    println!("fuzz slurm-scripts: {cases} cases, {written} written, {refused_n} refused");
+    println!(
+        "fuzz slurm-scripts: {cases} cases, {written} written, {refused_n} refused, \
+         {} distinct scripts checked ({runs} under bash -n and run with stubs), 0 failures, \
+         seed {seed}, {:.0} s",
+        checked.len(),
+        t0.elapsed().as_secs_f64()
+    );
     assert!(written > 0);
 }
 

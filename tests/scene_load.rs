@@ -879,3 +879,60 @@ fn overrides_into_arrays_give_clear_errors() {
     let e = err(&[("terrain.terrain.resolution_m", "-5")]);
     assert!(e.contains("--set terrain.terrain.resolution_m=-5"), "{e}");
 }
+
+/// Issue 32: keys an `[[object]]` or `[[object.instance]]` entry does not
+/// write are added by an override, by index or by name, and act as the
+/// same key written in the file; the refusals of what cannot be added
+/// (elements of an array the file lacks, instances an object lacks) say
+/// what to write instead.
+#[test]
+fn overrides_add_keys_an_entry_does_not_write() {
+    let text = std::fs::read_to_string(terrain_km()).unwrap();
+    let doc: toml_edit::DocumentMut = text.parse().unwrap();
+    let objects = doc["object"].as_array_of_tables().unwrap();
+    let vehicle = objects.get(2).unwrap();
+    assert_eq!(vehicle["name"].as_str(), Some("vehicle"));
+    assert!(vehicle.get("translate_m").is_none() && vehicle.get("scale").is_none());
+    let base = with(&[]).unwrap();
+    // the object's own transform, applied after each instance's: every
+    // vehicle moves 10 m east, the other objects stay
+    let by_name = with(&[("object.vehicle.translate_m", "[10, 0, 0]")]).unwrap();
+    let by_index = with(&[("object[2].translate_m", "[10, 0, 0]")]).unwrap();
+    assert_eq!(by_name.positions, by_index.positions);
+    for (o, o0) in by_name.objects.iter().zip(&base.objects) {
+        let dx = o.bounds_min_m[0] - o0.bounds_min_m[0];
+        let want = if o.name.starts_with("vehicle") {
+            10.0
+        } else {
+            0.0
+        };
+        assert!((dx - want).abs() < 1e-3, "{}: moved {dx} m", o.name);
+    }
+    // the same key written into the file instead: the same geometry
+    let written = text.replacen(
+        "name = \"vehicle\"\n",
+        "name = \"vehicle\"\ntranslate_m = [10, 0, 0]\n",
+        1,
+    );
+    let in_file = scene::load_text(&terrain_km(), written).unwrap();
+    assert_eq!(in_file.positions, by_name.positions);
+    // an instance key the entry does not write (`scale`)
+    let scaled = with(&[("object.vehicle.instance[1].scale", "2")]).unwrap();
+    let (o, o0) = (object(&scaled, "vehicle#2"), object(&base, "vehicle#2"));
+    let size = |o: &scene::ObjectInfo| o.bounds_max_m[2] - o.bounds_min_m[2];
+    assert!((size(o) / size(o0) - 2.0).abs() < 1e-3, "{o:?}");
+
+    let err = |set: &[(&str, &str)]| match with(set) {
+        Ok(_) => panic!("{set:?} loaded"),
+        Err(e) => e.to_string(),
+    };
+    // an element of an array the entry does not write
+    let e = err(&[("object.vehicle.translate_m[0]", "5")]);
+    assert!(
+        e.contains("the scene has no `object[2].translate_m`") && e.contains("set the array whole"),
+        "{e}"
+    );
+    // an entry past the end
+    let e = err(&[("object[3].material", "asphalt")]);
+    assert!(e.contains("adds no entries"), "{e}");
+}

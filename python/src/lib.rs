@@ -266,22 +266,28 @@ fn run_blocking<T: Send>(
     let total = frames * FRAME_UNITS;
     let caller = std::thread::current();
     let mut pending: Option<PyErr> = None;
+    // Set by the worker just before it wakes the caller: `is_finished` may
+    // still be false right after the unpark (the thread has not exited yet),
+    // which cost every call up to one more 20-ms wait.
+    let done = AtomicBool::new(false);
     let result = std::thread::scope(|s| {
         let rep = &rep;
         let pool = &pool;
+        let done = &done;
         let h = s.spawn(move || {
             let r = pool.install(|| work(rep));
+            done.store(true, Ordering::Release);
             caller.unpark();
             r
         });
         let mut shown = u64::MAX;
         loop {
             py.allow_threads(|| {
-                if !h.is_finished() {
+                if !done.load(Ordering::Acquire) {
                     std::thread::park_timeout(Duration::from_millis(20));
                 }
             });
-            let finished = h.is_finished();
+            let finished = done.load(Ordering::Acquire);
             if let Some(cb) = progress {
                 let d = if finished {
                     total

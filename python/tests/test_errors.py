@@ -111,3 +111,27 @@ def test_file_error_keeps_its_line_under_overrides(tmp_path):
         next(l for l in AIRFIELD.read_text().split("\n") if l.startswith('band = "mwir"')))
     assert (plain.value.line, edited.value.line) == (want, want)
     assert edited.value.override is None and str(edited.value) == str(plain.value)
+
+
+TERRAIN_KM = AIRFIELD.parents[1] / "terrain-km" / "scene.toml"
+
+
+def test_overrides_reach_into_arrays_of_tables_by_index_and_name():
+    """Issue 32: Python overrides reach into ``[[object]]`` entries as
+    ``--set`` does, by name and by index, adding a key the entry does not
+    write; an unknown name is refused naming the override, not a flag."""
+    def vehicles(scene):
+        return [o for o in scene.check()["object_list"] if o["name"].startswith("vehicle")]
+
+    base = vehicles(irsig.Scene.load(TERRAIN_KM))
+    by_name = vehicles(irsig.Scene.load(TERRAIN_KM, overrides={"object.vehicle.translate_m": [10, 0, 0]}))
+    by_index = vehicles(irsig.Scene.load(TERRAIN_KM, overrides={"object[2].translate_m": [10, 0, 0]}))
+    assert len(base) == 4
+    for a, b, c in zip(base, by_name, by_index):
+        assert b["bounds_min_m"] == c["bounds_min_m"]
+        assert abs(b["bounds_min_m"][0] - a["bounds_min_m"][0] - 10.0) < 1e-3
+    with pytest.raises(irsig.IrsigError) as e:
+        irsig.Scene.load(TERRAIN_KM, overrides={"object.truck.translate_m": [0, 0, 0]})
+    msg = str(e.value)
+    assert "override `object.truck.translate_m`" in msg and "names: building, fuel_tank, vehicle" in msg
+    assert "--set" not in msg, msg

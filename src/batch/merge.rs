@@ -28,8 +28,9 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 
 use super::{Batch, FrameJob};
-use crate::output::quicklook::write_grey_png;
-use crate::output::sequence::{GAP_PX, contact_sheet};
+use crate::output::sequence::{
+    GAP_PX, band_of, contact_sheet, median_of, sheet_min_span, write_contact_sheet,
+};
 use crate::output::set::OutputSet;
 use crate::output::{PlaneStats, plane_stats};
 
@@ -357,6 +358,7 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             .collect()
     };
     let mut sheet_data: Vec<(u32, u32, Vec<f32>)> = Vec::new();
+    let mut sheet_medians_k: Vec<f32> = Vec::new();
     let layout = product_layout(&batch.info.axes, &batch.frames);
     let mut materials_by_scene = std::collections::BTreeMap::new();
     for (f, m) in batch.frames.iter().zip(&metas) {
@@ -668,6 +670,7 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
             let sr = get("sensor_radiance")?;
             if sheet_pick.binary_search(&k).is_ok() {
                 sheet_data.push((w, h, sr.clone()));
+                sheet_medians_k.push(median_of(get("apparent_temperature")?));
             }
             entries.push(MergedFrame {
                 id: f.id.clone(),
@@ -698,18 +701,30 @@ pub fn merge(dir: &Path, planes: Option<&[String]>) -> anyhow::Result<MergeRepor
         .iter()
         .map(|(w, h, d)| (*w, *h, d.as_slice()))
         .collect();
-    let sheet = contact_sheet(&views);
+    let opts = batch.info.quicklook();
+    let band_um = batch
+        .frames
+        .get(sheet_pick.first().copied().unwrap_or(0))
+        .map_or((0.0, 0.0), |f| band_of(&dir.join(&f.outputs.json)));
+    let min_span = sheet_min_span(&sheet_medians_k, band_um, opts);
+    let sheet = contact_sheet(&views, min_span);
     let stretch = format!(
-        "linear, 2-98 percentile of the sheet's frames together: {} .. {} W m-2 sr-1 um-1 -> 0 .. 255",
-        sheet.stretch.lo, sheet.stretch.hi
+        "linear, 2-98 percentile of the sheet's frames together widened to at least {} K of \
+         apparent temperature ({min_span} W m-2 sr-1 um-1): {} .. {} W m-2 sr-1 um-1; colour map \
+         {}, colour bar below the frames",
+        opts.min_span_k,
+        sheet.stretch.lo,
+        sheet.stretch.hi,
+        opts.colormap.name()
     );
     let sheet_path = out.join("contact_sheet.png");
-    write_grey_png(
+    write_contact_sheet(
         &mut set,
         &sheet_path,
-        sheet.width,
-        sheet.height,
-        &sheet.grey,
+        &sheet,
+        min_span,
+        opts,
+        "sensor_radiance [W m-2 sr-1 um-1]",
         &format!(
             "irsig batch {}; plane sensor_radiance; {} frames row-major in {} columns x {} rows with {GAP_PX} px gaps; {stretch}",
             batch.info.name,

@@ -54,6 +54,26 @@ pub struct BatchInfo {
     pub frames: usize,
     /// irsig's version that planned it.
     pub irsig_version: String,
+    /// The spec's `colormap` (absent: grey).
+    #[serde(default)]
+    pub colormap: crate::output::quicklook::Colormap,
+    /// The spec's `quicklook_min_span_k` (absent: 2 K).
+    #[serde(default = "two_k")]
+    pub quicklook_min_span_k: f64,
+}
+
+fn two_k() -> f64 {
+    crate::output::frame::QuicklookOptions::default().min_span_k
+}
+
+impl BatchInfo {
+    /// How the frames' quicklooks and the contact sheet are drawn.
+    pub fn quicklook(&self) -> crate::output::frame::QuicklookOptions {
+        crate::output::frame::QuicklookOptions {
+            colormap: self.colormap,
+            min_span_k: self.quicklook_min_span_k,
+        }
+    }
 }
 
 /// The value of [`BatchInfo::format`].
@@ -84,6 +104,8 @@ pub fn write_plan(dir: &Path, p: &Plan) -> anyhow::Result<BatchInfo> {
         axes: p.axes.clone(),
         frames: p.frames.len(),
         irsig_version: env!("CARGO_PKG_VERSION").into(),
+        colormap: p.quicklook.colormap,
+        quicklook_min_span_k: p.quicklook.min_span_k,
     };
     let manifest = manifest_text(&p.frames)?;
     let mpath = dir.join("manifest.jsonl");

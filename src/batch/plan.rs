@@ -74,6 +74,10 @@ pub struct Plan {
     /// dimensions where the frames are regular over them.
     pub axes: Vec<String>,
     pub frames: Vec<FrameJob>,
+    /// How the frames' quicklooks and the contact sheet are drawn (kept in
+    /// `batch.json`, see [`super::BatchInfo`]).
+    #[serde(skip)]
+    pub quicklook: crate::output::frame::QuicklookOptions,
 }
 
 /// One axis of the product: (dimension, values as (override or time,
@@ -342,6 +346,13 @@ pub fn plan(spec_path: &Path) -> anyhow::Result<Plan> {
         dimensions: dims,
         axes,
         frames,
+        quicklook: {
+            let d = crate::output::frame::QuicklookOptions::default();
+            crate::output::frame::QuicklookOptions {
+                colormap: spec.colormap.unwrap_or(d.colormap),
+                min_span_k: spec.quicklook_min_span_k.unwrap_or(d.min_span_k),
+            }
+        },
     })
 }
 

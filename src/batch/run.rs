@@ -95,7 +95,16 @@ pub fn run(o: &RunOptions, event: &mut dyn FnMut(&RunEvent)) -> anyhow::Result<R
             continue;
         }
         let t0 = Instant::now();
-        let r = pool.install(|| render_frame(&batch.dir, f, &mut st, &mut st_key, None));
+        let r = pool.install(|| {
+            render_frame(
+                &batch.dir,
+                f,
+                batch.info.quicklook(),
+                &mut st,
+                &mut st_key,
+                None,
+            )
+        });
         let fail = batch.failure_path(f);
         match r {
             Ok(()) => {
@@ -154,11 +163,13 @@ fn claim(dir: &Path, f: &FrameJob) -> anyhow::Result<Option<std::fs::File>> {
 }
 
 /// Renders one frame and writes its files (EXR, PNG, then the JSON that
-/// marks it complete), reusing `st` when the scene and overrides are those
+/// marks it complete), its quicklook drawn as `batch_quicklook` says,
+/// reusing `st` when the scene and overrides are those
 /// of `st_key`.
 fn render_frame(
     dir: &Path,
     f: &FrameJob,
+    batch_quicklook: crate::output::frame::QuicklookOptions,
     st: &mut Option<Static>,
     st_key: &mut Option<(PathBuf, Vec<(String, String)>)>,
     progress: ProgressFn,
@@ -191,6 +202,7 @@ fn render_frame(
         &img,
         crate::output::frame::Formats {
             exr: true,
+            quicklook: batch_quicklook,
             ..Default::default()
         },
         Some(info),

@@ -40,6 +40,14 @@ pub struct BatchSpec {
     /// every `vary` key drawn anew.
     #[serde(default)]
     pub random: Option<Random>,
+    /// Every frame's PNG quicklook and the merged contact sheet span at
+    /// least this many kelvin of apparent temperature (default 2; as
+    /// `irsig render --quicklook-min-span-k`, the same bound).
+    #[serde(default)]
+    pub quicklook_min_span_k: Option<f64>,
+    /// Their colour map: `grey` (default) or `inferno`.
+    #[serde(default)]
+    pub colormap: Option<crate::output::quicklook::Colormap>,
 }
 
 fn one() -> usize {
@@ -167,6 +175,11 @@ impl SpecFile {
                 "no [[scene]]: expected at least one scene, e.g. [[scene]] path = \"airfield.toml\""
                     .into(),
             ));
+        }
+        if let Some(k) = s.quicklook_min_span_k {
+            crate::bounds::args::QUICKLOOK_MIN_SPAN_K
+                .check(k)
+                .map_err(|m| self.bad(&["quicklook_min_span_k"], m))?;
         }
         if !(1..=10_000).contains(&s.shards) {
             return Err(self.bad(

@@ -112,12 +112,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         Formats::of_path(&a.output, a.exr, a.geotiff, a.envi)?.with_planes(&a.planes)?;
     formats.exr_compression = a.exr_compression;
     formats.map_grid = a.map_grid;
-    if !(a.quicklook_min_span_k.is_finite() && (0.0..=1000.0).contains(&a.quicklook_min_span_k)) {
-        anyhow::bail!(
-            "--quicklook-min-span-k {}: expected kelvin in 0 .. 1000",
-            a.quicklook_min_span_k
-        );
-    }
+    crate::bounds::args::QUICKLOOK_MIN_SPAN_K
+        .check_flag(a.quicklook_min_span_k)
+        .map_err(anyhow::Error::msg)?;
     formats.quicklook = QuicklookOptions {
         colormap: a.colormap,
         min_span_k: a.quicklook_min_span_k,

@@ -8,6 +8,8 @@ use std::path::PathBuf;
 
 use super::render::parse_overrides;
 use crate::output::exr::ExrCompression;
+use crate::output::frame::QuicklookOptions;
+use crate::output::quicklook::Colormap;
 use crate::output::sequence::{FrameDone, SequenceOutput, write_sequence};
 use crate::render::sequence::{FramePlan, plan_sequence, plan_sweep, scene_text, time_steps};
 use crate::render::sequence::{parse_local_time, parse_step_s};
@@ -39,6 +41,15 @@ pub struct Common {
     /// Default: each frame's scene's `output.exr_compression` (zips).
     #[arg(long, value_name = "none|rle|zips|zip|piz")]
     pub exr_compression: Option<ExrCompression>,
+    /// The quicklooks' and the contact sheet's colour map (as `irsig
+    /// render --colormap`; a colour bar is drawn below each).
+    #[arg(long, value_enum, default_value_t = Colormap::Grey, value_name = "grey|inferno")]
+    pub colormap: Colormap,
+    /// Each quicklook's stretch, and the contact sheet's common one, spans
+    /// at least this many kelvin of apparent temperature (as `irsig render
+    /// --quicklook-min-span-k`).
+    #[arg(long, default_value_t = 2.0, value_name = "K")]
+    pub quicklook_min_span_k: f64,
     /// Render every frame, even those already complete in the output
     /// folder from an earlier run of the same scene (by default such
     /// frames, e.g. of a killed run, are kept and not rendered again).
@@ -92,6 +103,7 @@ fn edited_text(c: &Common) -> anyhow::Result<(String, Vec<(String, String)>)> {
 
 pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let c = &a.common;
+    quicklook_options(c)?;
     let step_s = parse_step_s(&a.step)?;
     let (text, set) = edited_text(c)?;
     let scene = crate::scene::load_edited(&c.scene, text, &set)?;
@@ -103,8 +115,20 @@ pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     run_frames(c, "sequence", None, plan_sequence(scene, &times))
 }
 
+/// The quicklook flags, checked (before any rendering).
+fn quicklook_options(c: &Common) -> anyhow::Result<QuicklookOptions> {
+    crate::bounds::args::QUICKLOOK_MIN_SPAN_K
+        .check_flag(c.quicklook_min_span_k)
+        .map_err(anyhow::Error::msg)?;
+    Ok(QuicklookOptions {
+        colormap: c.colormap,
+        min_span_k: c.quicklook_min_span_k,
+    })
+}
+
 pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
     let c = &a.common;
+    quicklook_options(c)?;
     let (text, set) = edited_text(c)?;
     let values: Vec<&str> = a.values.split(',').collect();
     let plans = plan_sweep(&c.scene, &text, &set, &a.key, &values)?;
@@ -128,6 +152,7 @@ fn run_frames(
         scene: c.scene.display().to_string(),
         envi: c.envi,
         exr_compression: c.exr_compression,
+        quicklook: quicklook_options(c)?,
     };
     let pool = thread_pool(c.threads)?;
     let n = plans.len();

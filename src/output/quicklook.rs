@@ -92,7 +92,17 @@ pub fn write_grey_png(
 }
 
 /// The colour map of a quicklook or a report image.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Colormap {
     /// Linear grey, black to white.
@@ -104,6 +114,14 @@ pub enum Colormap {
 }
 
 impl Colormap {
+    /// Its name as the command line writes it (`grey`, `inferno`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Colormap::Grey => "grey",
+            Colormap::Inferno => "inferno",
+        }
+    }
+
     /// The sRGB colour at `t` (0 … 1, clamped; NaN → black).
     pub fn colour(self, t: f64) -> [u8; 3] {
         if t.is_nan() {
@@ -244,15 +262,35 @@ pub fn compose(
 pub fn write_quicklook(
     out: &mut OutputSet,
     path: &Path,
-    (width, height): (u32, u32),
+    dims: (u32, u32),
     data: &[f32],
     style: &QuicklookStyle,
 ) -> Result<Stretch, OutputError> {
-    let s = with_min_span(percentile_stretch(data), style.min_span);
+    write_quicklook_described(out, path, dims, data, None, style, "")
+}
+
+/// [`write_quicklook`] under the stretch `stretch` (`None`: the 2-98 %
+/// percentile stretch of `data` widened to `style.min_span`), with `what`
+/// (e.g. a contact sheet's layout) leading the `Description`.
+pub fn write_quicklook_described(
+    out: &mut OutputSet,
+    path: &Path,
+    (width, height): (u32, u32),
+    data: &[f32],
+    stretch: Option<Stretch>,
+    style: &QuicklookStyle,
+    what: &str,
+) -> Result<Stretch, OutputError> {
+    let s = stretch.unwrap_or_else(|| with_min_span(percentile_stretch(data), style.min_span));
     let (cw, ch, px) = compose(width, height, data, s, style);
     let description = format!(
-        "{}; image {width}x{height} at the top left, colour bar below; linear stretch 2-98 percentile widened to a span of at least {}: {} .. {}; colour map {:?}",
-        style.caption, style.min_span, s.lo, s.hi, style.colormap
+        "{what}{}{}; image {width}x{height} at the top left, colour bar below; linear stretch 2-98 percentile widened to a span of at least {}: {} .. {}; colour map {:?}",
+        if what.is_empty() { "" } else { "; " },
+        style.caption,
+        style.min_span,
+        s.lo,
+        s.hi,
+        style.colormap
     );
     out.stage(path, |w| {
         let mut enc = png::Encoder::new(w, cw, ch);

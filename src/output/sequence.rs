@@ -11,8 +11,11 @@ use anyhow::{Context, bail};
 use serde::{Deserialize, Serialize};
 
 use super::exr::read_exr;
+use super::frame::{QuicklookOptions, min_span_radiance};
 use super::frame::{read_complete, write_rendered};
-use super::quicklook::{Stretch, percentile_stretch, to_grey, write_grey_png};
+use super::quicklook::{
+    QuicklookStyle, Stretch, percentile_stretch, with_min_span, write_quicklook_described,
+};
 use super::{OutputError, OutputSet, PlaneStats};
 use crate::render::Reused;
 use crate::render::sequence::{FramePlan, Frames, SequenceFrame};
@@ -101,13 +104,14 @@ pub struct Index {
     pub frames: Vec<FrameEntry>,
 }
 
-/// An 8-bit grey image of frames tiled row-major under one stretch.
+/// Frames tiled row-major, and the one stretch they are shown under.
 #[derive(Clone, Debug)]
 pub struct ContactSheet {
     pub width: u32,
     pub height: u32,
-    /// Row-major grey values (gaps and unused cell area are 0).
-    pub grey: Vec<u8>,
+    /// Row-major values (gaps and unused cell area are NaN: no data,
+    /// drawn black).
+    pub data: Vec<f32>,
     pub stretch: Stretch,
     pub columns: u32,
     pub rows: u32,
@@ -117,7 +121,8 @@ pub struct ContactSheet {
 }
 
 /// Tiles equally sized or smaller frames (`(width, height, data)`) into a
-/// grid of ⌈√n⌉ columns under the stretch `s`, `gap` pixels apart.
+/// grid of ⌈√n⌉ columns, `gap` pixels apart, to be shown under the
+/// stretch `s`.
 pub fn tile_sheet(frames: &[(u32, u32, &[f32])], s: Stretch, gap: u32) -> ContactSheet {
     let n = frames.len().max(1) as u32;
     let cols = (n as f64).sqrt().ceil() as u32;
@@ -125,21 +130,20 @@ pub fn tile_sheet(frames: &[(u32, u32, &[f32])], s: Stretch, gap: u32) -> Contac
     let cw = frames.iter().map(|f| f.0).max().unwrap_or(1);
     let ch = frames.iter().map(|f| f.1).max().unwrap_or(1);
     let (w, h) = (cols * cw + (cols - 1) * gap, rows * ch + (rows - 1) * gap);
-    let mut grey = vec![0u8; (w * h) as usize];
+    let mut tiled = vec![f32::NAN; (w * h) as usize];
     for (k, (fw, fh, data)) in frames.iter().enumerate() {
         let (c, r) = (k as u32 % cols, k as u32 / cols);
         let (x0, y0) = (c * (cw + gap), r * (ch + gap));
-        let g = to_grey(data, s);
         for y in 0..*fh {
             let dst = ((y0 + y) * w + x0) as usize;
             let src = (y * fw) as usize;
-            grey[dst..dst + *fw as usize].copy_from_slice(&g[src..src + *fw as usize]);
+            tiled[dst..dst + *fw as usize].copy_from_slice(&data[src..src + *fw as usize]);
         }
     }
     ContactSheet {
         width: w,
         height: h,
-        grey,
+        data: tiled,
         stretch: s,
         columns: cols,
         rows,
@@ -149,13 +153,64 @@ pub fn tile_sheet(frames: &[(u32, u32, &[f32])], s: Stretch, gap: u32) -> Contac
     }
 }
 
-/// The contact sheet of frames (`(width, height, data)`) under one 2-98 %
-/// percentile stretch of all their values together, [`GAP_PX`] apart.
-pub fn contact_sheet(frames: &[(u32, u32, &[f32])]) -> ContactSheet {
+/// The contact sheet of frames (`(width, height, data)`), [`GAP_PX`]
+/// apart, under one stretch: the 2-98 % percentile stretch of all their
+/// values together, widened to a span of at least `min_span` (the data's
+/// units; see [`with_min_span`]), as a single render's quicklook is.
+pub fn contact_sheet(frames: &[(u32, u32, &[f32])], min_span: f32) -> ContactSheet {
     let all: Vec<f32> = frames.iter().flat_map(|q| q.2.iter().copied()).collect();
-    let stretch = percentile_stretch(&all);
+    let stretch = with_min_span(percentile_stretch(&all), min_span);
     drop(all);
     tile_sheet(frames, stretch, GAP_PX)
+}
+
+/// The smallest stretch span (radiance) of a contact sheet, for
+/// `opts.min_span_k` kelvin: [`min_span_radiance`] about the median of the
+/// frames' median apparent temperatures (`medians_k`), over the band
+/// `band_um` (the first frame's; frames of a band sweep share one span, a
+/// display choice).
+pub fn sheet_min_span(medians_k: &[f32], band_um: (f64, f64), opts: QuicklookOptions) -> f32 {
+    min_span_radiance(medians_k, band_um, opts.min_span_k)
+}
+
+/// The median of the finite values of `data` (NaN when there are none).
+pub fn median_of(data: &[f32]) -> f32 {
+    let mut v: Vec<f32> = data.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return f32::NAN;
+    }
+    v.sort_by(f32::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Writes the contact sheet `sheet` as a single render's quicklook is
+/// drawn (`opts`' colour map, a colour bar below with the stretch's ends
+/// and `caption`), with `what` (the layout) and `min_span` (the smallest
+/// span its stretch was widened to) in the PNG's `Description`.
+pub fn write_contact_sheet(
+    set: &mut OutputSet,
+    path: &Path,
+    sheet: &ContactSheet,
+    min_span: f32,
+    opts: QuicklookOptions,
+    caption: &str,
+    what: &str,
+) -> Result<(), OutputError> {
+    let style = QuicklookStyle {
+        colormap: opts.colormap,
+        min_span,
+        caption: caption.into(),
+    };
+    write_quicklook_described(
+        set,
+        path,
+        (sheet.width, sheet.height),
+        &sheet.data,
+        Some(sheet.stretch),
+        &style,
+        what,
+    )?;
+    Ok(())
 }
 
 /// What a sequence's files are and where they go.
@@ -173,6 +228,8 @@ pub struct SequenceOutput {
     pub envi: bool,
     /// The frames' EXR compression (`None`: each frame's scene's).
     pub exr_compression: Option<super::exr::ExrCompression>,
+    /// How every frame's quicklook and the contact sheet are drawn.
+    pub quicklook: QuicklookOptions,
 }
 
 impl SequenceOutput {
@@ -268,6 +325,7 @@ pub fn write_frame(
         envi: out.envi,
         planes: None,
         exr_compression: out.exr_compression,
+        quicklook: out.quicklook,
         ..Default::default()
     };
     write_rendered(&exr, &f.image, formats, Some(frame_info))?;
@@ -275,15 +333,33 @@ pub fn write_frame(
 }
 
 /// The `sensor_radiance` plane of an EXR written by a frame: (width,
-/// height, values).
-fn quicklook_of(exr: &Path) -> anyhow::Result<(u32, u32, Vec<f32>)> {
+/// height, values, the median apparent temperature).
+fn quicklook_of(exr: &Path) -> anyhow::Result<(u32, u32, Vec<f32>, f32)> {
     let (w, h, chans) = read_exr(exr).map_err(|e| anyhow::anyhow!("cannot read frame {e}"))?;
+    let median_k = chans
+        .iter()
+        .find(|(n, _)| n == "apparent_temperature")
+        .map_or(f32::NAN, |c| median_of(&c.1));
     let data = chans
         .into_iter()
         .find(|(n, _)| n == "sensor_radiance")
         .map(|c| c.1)
         .with_context(|| format!("{}: no sensor_radiance plane", exr.display()))?;
-    Ok((w, h, data))
+    Ok((w, h, data, median_k))
+}
+
+/// The band support (µm) a render's JSON summary records (`band_um`);
+/// (0, 0) when it cannot be read (the minimum span is then not applied).
+pub fn band_of(summary_json: &Path) -> (f64, f64) {
+    let v: Option<serde_json::Value> = std::fs::read_to_string(summary_json)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let at = |i: usize| {
+        v.as_ref()
+            .and_then(|v| v["band_um"][i].as_f64())
+            .unwrap_or(0.0)
+    };
+    (at(0), at(1))
 }
 
 /// Writes the contact sheet and `index.json` (its marker, last) of the
@@ -298,12 +374,22 @@ pub fn write_index(out: &SequenceOutput, entries: Vec<FrameEntry>) -> anyhow::Re
         .collect::<anyhow::Result<Vec<_>>>()?;
     let views: Vec<(u32, u32, &[f32])> = quicklooks
         .iter()
-        .map(|(w, h, d)| (*w, *h, d.as_slice()))
+        .map(|(w, h, d, _)| (*w, *h, d.as_slice()))
         .collect();
-    let sheet = contact_sheet(&views);
+    let medians: Vec<f32> = quicklooks.iter().map(|q| q.3).collect();
+    let band_um = entries
+        .first()
+        .map_or((0.0, 0.0), |e| band_of(&o.dir.join(&e.json)));
+    let min_span = sheet_min_span(&medians, band_um, o.quicklook);
+    let sheet = contact_sheet(&views, min_span);
     let stretch_text = format!(
-        "linear, 2-98 percentile of all frames together: {} .. {} W m-2 sr-1 um-1 -> 0 .. 255",
-        sheet.stretch.lo, sheet.stretch.hi
+        "linear, 2-98 percentile of all frames together widened to at least {} K of apparent \
+         temperature ({min_span} W m-2 sr-1 um-1): {} .. {} W m-2 sr-1 um-1; colour map {}, \
+         colour bar below the frames",
+        o.quicklook.min_span_k,
+        sheet.stretch.lo,
+        sheet.stretch.hi,
+        o.quicklook.colormap.name()
     );
     let labels: Vec<&str> = entries.iter().map(|e| e.value.as_str()).collect();
     let what = match &o.key {
@@ -321,15 +407,17 @@ pub fn write_index(out: &SequenceOutput, entries: Vec<FrameEntry>) -> anyhow::Re
     } = sheet;
     let index_path = o.index_path();
     let mut set = OutputSet::new(&index_path)?;
-    write_grey_png(
+    write_contact_sheet(
         &mut set,
         &o.dir.join("contact_sheet.png"),
-        width,
-        height,
-        &sheet.grey,
+        &sheet,
+        min_span,
+        o.quicklook,
+        "sensor_radiance [W m-2 sr-1 um-1]",
         &format!(
             "irsig {what}; plane sensor_radiance; {n} frames row-major in {cols} columns x {rows} rows \
-             of {cw}x{ch} px with {GAP_PX} px gaps; common stretch for all frames: {stretch_text}"
+             of {cw}x{ch} px with {GAP_PX} px gaps ({width}x{height} px); common stretch for all \
+             frames: {stretch_text}"
         ),
     )?;
     let index = Index {
@@ -415,9 +503,21 @@ mod tests {
         let s = Stretch { lo: 0.0, hi: 10.0 };
         let t = tile_sheet(&[(2, 2, &a[..]), (2, 2, &b[..]), (2, 2, &c[..])], s, 1);
         assert_eq!((t.columns, t.rows, t.width, t.height), (2, 2, 5, 5));
-        assert_eq!(t.grey[0], 0); // frame a
-        assert_eq!(t.grey[3], 255); // frame b, right of the 1-px gap
-        assert_eq!(t.grey[3 * 5], 128); // frame c, below
+        assert_eq!(t.data[0], 0.0); // frame a
+        assert_eq!(t.data[3], 10.0); // frame b, right of the 1-px gap
+        assert_eq!(t.data[3 * 5], 5.0); // frame c, below
+        assert!(t.data[2].is_nan() && t.data[4 * 5 + 4].is_nan()); // a gap, the empty cell
+        // the sheet's stretch: all frames' 2-98 %, widened about its centre
+        let sheet = contact_sheet(&[(2, 2, &a[..]), (2, 2, &b[..])], 0.0);
+        assert_eq!(sheet.stretch, Stretch { lo: 0.0, hi: 10.0 });
+        let wide = contact_sheet(&[(2, 2, &a[..]), (2, 2, &b[..])], 30.0);
+        assert_eq!(
+            wide.stretch,
+            Stretch {
+                lo: -10.0,
+                hi: 20.0
+            }
+        );
     }
 
     #[test]

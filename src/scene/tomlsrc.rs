@@ -418,7 +418,9 @@ pub fn override_path(root: &toml_edit::Item, k: &str) -> Result<Vec<Seg>, String
                 Some(list) if *i < list.len() => list[*i].1,
                 Some(list) => {
                     return Err(format!(
-                        "`{k}`: `{shown}` has {} entries (indices 0..{}); no index {i}",
+                        "`{k}`: `{shown}` has {} entries (indices 0..{}); no index {i} (an \
+                         override changes or adds keys of the entries the scene writes, but adds \
+                         no entries: write another one in the scene)",
                         list.len(),
                         list.len().saturating_sub(1)
                     ));
@@ -551,7 +553,11 @@ fn edit_item(
         (toml_edit::Item::ArrayOfTables(a), Seg::Index(i)) => {
             let n = a.len();
             if *i >= n {
-                return Err(format!("`{shown}` has {n} entries; no index {i}"));
+                return Err(format!(
+                    "`{shown}` has {n} entries; no index {i} (an override changes or adds keys of \
+                     the entries the scene writes, but adds no entries: write another \
+                     `[[{shown}]]` in the scene)"
+                ));
             }
             if path.len() == 1 {
                 return match value {
@@ -608,6 +614,16 @@ fn edit_table(
     if t.get(k).is_none() {
         if value.is_none() {
             return Err(format!("the scene has no `{here}`"));
+        }
+        if let Seg::Index(i) = path[1] {
+            // An override changes, or adds, keys of what the scene writes;
+            // it cannot make up an array's other elements or a new entry.
+            return Err(format!(
+                "`{here}[{i}]`: the scene has no `{here}`, so it has no element {i} to set; \
+                 an override adds keys to the tables and entries the scene writes, but no new \
+                 entries or elements: write them in the scene file, or set the array whole, e.g. \
+                 --set '{here}=[...]'"
+            ));
         }
         let new = if inline {
             toml_edit::Item::Value(toml_edit::Value::InlineTable(Default::default()))
