@@ -447,7 +447,9 @@ fn level_two(
     (fine, slots)
 }
 /// Renders one frame with adaptive sampling (module docs); `n` =
-/// `render.supersample` > 1. The frame keeps no samples.
+/// `render.supersample` > 1. With [`Static::keep_samples`] the frame keeps
+/// its coarse samples (one per pixel: `sample_width` = the image's width),
+/// else none.
 pub fn render_adaptive(
     st: &Static,
     cond: &Conditions,
@@ -494,6 +496,7 @@ pub fn render_adaptive(
         None => Vec::new(),
     };
     let mut prev_row: Vec<Sample> = Vec::new();
+    let mut kept: Vec<Sample> = Vec::new();
     for (b, &(y0, y1)) in bands.iter().enumerate() {
         let next = match bands.get(b + 1) {
             Some(&nb) => Some(coarse_band(
@@ -646,6 +649,9 @@ pub fn render_adaptive(
             })?;
         stats.seconds.radiometry += t2.elapsed().as_secs_f64();
         trace_progress.add(1);
+        if st.keep_samples {
+            kept.extend(cur.iter().cloned());
+        }
         prev_row = cur.split_off((band_rows - 1) * wu);
         cur = next.unwrap_or_default();
     }
@@ -658,8 +664,8 @@ pub fn render_adaptive(
     Ok(Frame {
         planes,
         stats,
-        samples: Vec::new(),
-        sample_width: sw,
+        sample_width: if st.keep_samples { w } else { sw },
+        samples: kept,
     })
 }
 
