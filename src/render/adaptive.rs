@@ -344,6 +344,16 @@ fn sun_flags_at(
 /// list [coarse, first level (cells row-major), second level].
 type Slot = u32;
 
+/// The sample a [`Slot`] names: the coarse sample, a first-level sample
+/// (`l1`) or a second-level one (`l2`).
+fn slot_sample<'a>(sl: Slot, coarse: &'a Sample, l1: &'a [Sample], l2: &'a [Sample]) -> &'a Sample {
+    match sl as usize {
+        0 => coarse,
+        j if j <= l1.len() => &l1[j - 1],
+        j => &l2[j - 1 - l1.len()],
+    }
+}
+
 /// Step 3's second level and step 4 for refined pixel (`x`, `y`): every
 /// other sample of its refined cells, traced (primary and specular rays);
 /// each takes the sun/shadow history of the nearest first-level or coarse
@@ -608,14 +618,9 @@ pub fn render_adaptive(
                 .map_init(EvalMemo::default, |memo, (k, &i)| {
                     let mine = &l1[k * per1..(k + 1) * per1];
                     let two = &fine[offsets[k]..offsets[k + 1]];
-                    let get = |sl: Slot| -> &Sample {
-                        match sl as usize {
-                            0 => &cur[i],
-                            j if j <= per1 => &mine[j - 1],
-                            j => &two[j - 1 - per1],
-                        }
-                    };
-                    let px: Vec<&Sample> = slots[k].iter().map(|&sl| get(sl)).collect();
+                    let px: Vec<&Sample> = (slots[k].iter())
+                        .map(|&sl| slot_sample(sl, &cur[i], mine, two))
+                        .collect();
                     let mut first = vec![usize::MAX; 1 + per1 + two.len()];
                     let owner: Vec<usize> = (slots[k].iter().enumerate())
                         .map(|(q, &sl)| {
@@ -690,6 +695,9 @@ pub fn pixel_samples(
     let quiet = StageProgress::new(None, Stage::Thermal, 0);
     // The coarse samples of the 3×3 neighbourhood (None outside the image).
     let mut coarse: Vec<Option<Sample>> = Vec::with_capacity(9);
+    // (the 3×3 neighbourhood spans at most 4 blocks: each traced once)
+    type Traced = ((u32, u32), Vec<(u32, u32)>, Vec<Sample>);
+    let mut blocks: Vec<Traced> = Vec::new();
     for (dx, dy) in std::iter::once((0, 0)).chain(NEIGHBOURS) {
         let (px, py) = (x as i64 + dx, y as i64 + dy);
         if px < 0 || py < 0 || px >= w as i64 || py >= h as i64 {
@@ -697,13 +705,23 @@ pub fn pixel_samples(
             continue;
         }
         let (px, py) = (px as u32, py as u32);
-        let block = block_pixels(px / BLOCK * BLOCK, py / BLOCK * BLOCK, w, h);
-        let fine: Vec<(u32, u32)> = block.iter().map(|&(a, b)| centre(a, b, n)).collect();
+        let origin = (px / BLOCK * BLOCK, py / BLOCK * BLOCK);
+        let b = match blocks.iter().position(|(o, _, _)| *o == origin) {
+            Some(b) => b,
+            None => {
+                let block = block_pixels(origin.0, origin.1, w, h);
+                let fine: Vec<(u32, u32)> = block.iter().map(|&(a, b)| centre(a, b, n)).collect();
+                let traced = trace_block(st, cond, &cam, &fine, &c);
+                blocks.push((origin, block, traced));
+                blocks.len() - 1
+            }
+        };
+        let (_, block, traced) = &blocks[b];
         let k = block
             .iter()
             .position(|&q| q == (px, py))
             .expect("a pixel lies in its block");
-        let mut s = vec![trace_block(st, cond, &cam, &fine, &c).swap_remove(k)];
+        let mut s = vec![traced[k].clone()];
         solve_temperatures(st, cond, &mut s, stats, &quiet)?;
         coarse.push(s.pop());
     }
@@ -720,14 +738,8 @@ pub fn pixel_samples(
     let recent = recent_samples(cond);
     let (mut fine, slots) = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
     solve_temperatures(st, cond, &mut fine, stats, &quiet)?;
-    let per1 = l1.len();
-    let out = slots
-        .iter()
-        .map(|&sl| match sl as usize {
-            0 => me.clone(),
-            j if j <= per1 => l1[j - 1].clone(),
-            j => fine[j - 1 - per1].clone(),
-        })
+    let out = (slots.iter())
+        .map(|&sl| slot_sample(sl, &me, &l1, &fine).clone())
         .collect();
     c.flush(stats);
     Ok((out, n))
