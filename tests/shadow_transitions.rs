@@ -97,7 +97,7 @@ fn bisection_finds_the_transitions_of_the_fine_trace() {
 /// timing, so the sunlit flag at the image time is unchanged.
 #[test]
 fn old_transitions_share_a_key() {
-    // (at the 0.1 K step tolerance: the default 0.3 K lets two different
+    // (at a uniform-enough 0.1 K step tolerance: a looser one lets two different
     // histories' marches differ by their own step control)
     let base = [
         ("render.shadow_interval_min", "20"),

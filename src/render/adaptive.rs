@@ -22,7 +22,10 @@
 //! 3. **Refinement, in two levels.** A refined pixel's `n`×`n` grid is
 //!    cut into 4×4 cells (of (`n`/4)² samples; single samples when `n` is
 //!    not a multiple of 4). First level: the sample nearest each cell's
-//!    centre, traced with its own history and solved. A cell is refined
+//!    centre, traced and solved — with its own history, or with the one
+//!    history that the coarse samples of the pixel's 3×3 neighbourhood on
+//!    its plane and material share, if its sun rays of the last hour agree
+//!    (as in step 4: no history edge crosses the neighbourhood there). A cell is refined
 //!    when its first-level sample differs ([`differ`], the temperature
 //!    criterion ×[`CELL_THRESHOLD_FACTOR`]) from a neighbouring cell's, from
 //!    the neighbouring pixel's coarse sample across the pixel's edge, or
@@ -237,14 +240,18 @@ fn recent_samples(cond: &Conditions) -> Vec<usize> {
 }
 
 /// Step 3's first level for refined pixel (`x`, `y`): the sample nearest
-/// the centre of each of its cells, traced with its own history (row-major
-/// over the cells).
+/// the centre of each of its cells (row-major over the cells), each with
+/// its own history — or, where the pixel's 3×3 neighbourhood of coarse
+/// samples (`hood`: the pixel's own and its [`NEIGHBOURS`]) shows no
+/// history edge on the sample's plane, the history those samples share
+/// (module docs, step 4).
 fn level_one(
     st: &Static,
     cond: &Conditions,
     cam: &Camera,
     (x, y): (u32, u32),
     n: u32,
+    (hood, recent): (&[Option<&Sample>; 9], &[usize]),
     c: &Counters,
 ) -> Vec<Sample> {
     let (m, s) = layout(n);
@@ -252,8 +259,96 @@ fn level_one(
         .flat_map(|j| (0..m).map(move |i| (x * n + cell_centre(i, s), y * n + cell_centre(j, s))))
         .collect();
     let mut out = trace_geometry(st, cam, &pos, c);
-    super::trace_sample_histories(st, cond, &mut out, |_| true, c);
+    let coarse: Vec<&Surface> = hood
+        .iter()
+        .flatten()
+        .filter_map(|smp| smp.surface.as_ref())
+        .collect();
+    let given = shared_histories(&out, &coarse);
+    let own = check_recent(st, cond, &mut out, &given, recent, c);
+    super::trace_sample_histories(st, cond, &mut out, |i| own[i], c);
     out
+}
+
+/// A pixel's 3×3 neighbourhood of coarse samples: its own (`own`) and
+/// those of its [`NEIGHBOURS`] (`at(dx, dy)`, `None` outside the image).
+fn hood_of<'a>(
+    own: &'a Sample,
+    at: impl Fn(i64, i64) -> Option<&'a Sample>,
+) -> [Option<&'a Sample>; 9] {
+    let mut hood = [None; 9];
+    hood[0] = Some(own);
+    for (k, &(dx, dy)) in NEIGHBOURS.iter().enumerate() {
+        hood[k + 1] = at(dx, dy);
+    }
+    hood
+}
+
+/// For each sample of `fine`: the history of the coarse samples on its
+/// plane and material (`coarse`), when there is at least one and all of
+/// them have the same history (no history edge crosses the neighbourhood
+/// on that plane: a shadow edge that swept across it gave its coarse
+/// samples different transition times); `None` otherwise. (A specular
+/// background always traces its own.)
+fn shared_histories<'a>(fine: &[Sample], coarse: &[&'a Surface]) -> Vec<Option<&'a Surface>> {
+    fine.iter()
+        .map(|smp| {
+            let surf = smp.surface.as_ref()?;
+            let mut on_plane = coarse.iter().filter(|d| same_plane(surf, d));
+            let first = *on_plane.next()?;
+            on_plane
+                .all(|d| d.history == first.history)
+                .then_some(first)
+        })
+        .collect()
+}
+
+/// Gives each sample of `fine` its donor's history (`given`) if its own
+/// sun rays at the `recent` history samples agree with it; returns which
+/// samples must trace their own history (no donor, or a disagreement).
+fn check_recent(
+    st: &Static,
+    cond: &Conditions,
+    fine: &mut [Sample],
+    given: &[Option<&Surface>],
+    recent: &[usize],
+    c: &Counters,
+) -> Vec<bool> {
+    let checked: Vec<&Surface> = fine
+        .iter()
+        .zip(given)
+        .filter(|(_, g)| g.is_some())
+        .filter_map(|(smp, _)| smp.surface.as_ref())
+        .collect();
+    let flags = sun_flags_at(st, cond, &checked, recent, c);
+    let r = recent.len();
+    let mut agree = flags
+        .chunks(r.max(1))
+        .zip(given.iter().flatten())
+        .map(|(f, d)| {
+            f.iter()
+                .zip(recent)
+                .all(|(&lit, &k)| d.history.get(k) == lit)
+        });
+    let own: Vec<bool> = given
+        .iter()
+        .map(|g| match g {
+            Some(_) => !agree.next().unwrap_or(false),
+            None => true,
+        })
+        .collect();
+    let histories: Vec<Option<super::sunflags::SunFlags>> = given
+        .iter()
+        .zip(&own)
+        .map(|(g, &o)| g.filter(|_| !o).map(|d| d.history.clone()))
+        .collect();
+    super::add(&c.donated, histories.iter().flatten().count());
+    for (smp, h) in fine.iter_mut().zip(histories) {
+        if let (Some(surf), Some(h)) = (smp.surface.as_mut(), h) {
+            surf.history = h;
+        }
+    }
+    own
 }
 
 /// Which cells of a refined pixel are refined (module docs, step 3): a
@@ -419,40 +514,7 @@ fn level_two(
                 .map(|&(_, d)| d)
         })
         .collect();
-    let checked: Vec<&Surface> = fine
-        .iter()
-        .zip(&given)
-        .filter(|(_, g)| g.is_some())
-        .filter_map(|(smp, _)| smp.surface.as_ref())
-        .collect();
-    let flags = sun_flags_at(st, cond, &checked, recent, c);
-    let r = recent.len();
-    let mut agree = flags
-        .chunks(r.max(1))
-        .zip(given.iter().flatten())
-        .map(|(f, d)| {
-            f.iter()
-                .zip(recent)
-                .all(|(&lit, &k)| d.history.get(k) == lit)
-        });
-    let own: Vec<bool> = given
-        .iter()
-        .map(|g| match g {
-            Some(_) => !agree.next().unwrap_or(false),
-            None => true,
-        })
-        .collect();
-    let histories: Vec<Option<super::sunflags::SunFlags>> = given
-        .iter()
-        .zip(&own)
-        .map(|(g, &o)| g.filter(|_| !o).map(|d| d.history.clone()))
-        .collect();
-    super::add(&c.donated, histories.iter().flatten().count());
-    for (smp, h) in fine.iter_mut().zip(histories) {
-        if let (Some(surf), Some(h)) = (smp.surface.as_mut(), h) {
-            surf.history = h;
-        }
-    }
+    let own = check_recent(st, cond, &mut fine, &given, recent, c);
     super::trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
     (fine, slots)
 }
@@ -564,7 +626,9 @@ pub fn render_adaptive(
                     if cancel::cancelled() {
                         return Vec::new();
                     }
-                    level_one(st, cond, &cam, xy(i), n, &counters)
+                    let (x, y) = xy(i);
+                    let hood = hood_of(&cur[i], |dx, dy| at(x as i64 + dx, y as i64 + dy));
+                    level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &counters)
                 })
                 .collect();
             cancel::check()?;
@@ -732,10 +796,14 @@ pub fn pixel_samples(
         c.flush(stats);
         return Ok((vec![me], 1));
     }
-    let mut l1 = level_one(st, cond, &cam, (x, y), n, &c);
+    let recent = recent_samples(cond);
+    let hood = hood_of(&me, |dx, dy| {
+        let k = NEIGHBOURS.iter().position(|&q| q == (dx, dy))?;
+        nb[k]
+    });
+    let mut l1 = level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &c);
     solve_temperatures(st, cond, &mut l1, stats, &quiet)?;
     let cells = refined_cells(&l1, &me, &nb, n, threshold_k * CELL_THRESHOLD_FACTOR);
-    let recent = recent_samples(cond);
     let (mut fine, slots) = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
     solve_temperatures(st, cond, &mut fine, stats, &quiet)?;
     let out = (slots.iter())

@@ -92,6 +92,13 @@ pub struct SunSample {
     pub up: bool,
 }
 
+/// The render's thermal tolerance grows with a step's age before the image
+/// time on this scale, s: `thermal_tol_k·√(1 + age/15 min)`
+/// ([`ThermSettings::tol_at`]; chosen on the accuracy curves: at 48², 0.1 K
+/// with 15 min is more accurate than a uniform 0.3 K with a third fewer
+/// Newton iterations, BENCHMARKS.md "The default render").
+pub const THERMAL_TOL_AGE_S: f64 = 900.0;
+
 /// The conditions of one frame.
 pub struct Conditions {
     pub image_time: DateTime<Utc>,
@@ -558,6 +565,7 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     let settings = ThermSettings {
         step_s,
         tol_k: Some(opts.thermal_tol_k),
+        tol_age_s: Some(THERMAL_TOL_AGE_S),
         spin_up_h: opts.history_hours,
         ..ThermSettings::default()
     };

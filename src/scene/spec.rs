@@ -949,7 +949,7 @@ pub struct RenderOptions {
 // MWIR and LWIR, is within 0.1 K RMS, 0.1 K at the 99th percentile over all
 // pixels and 0.5 K max over the shadow-edge pixels; together (adaptive
 // 16×16 sampling, 48 h, transitions keyed at full
-// resolution for 2 h, 0.3 K step tolerance, 60-min traced shadow samples
+// resolution for 2 h, 0.1 K step tolerance at the image time (growing with age: render::prepare::THERMAL_TOL_AGE_S), 60-min traced shadow samples
 // bisected to 20 min) they meet issue #29's rule
 // against a 16×16 / 10-min / 72-h / 0.005 K reference: apparent temperature
 // RMS ≤ 0.05 K, p99 ≤ 0.15 K, max ≤ 0.75 K. The shadow sampling is what the
@@ -963,7 +963,7 @@ fn d_thermal_step() -> f64 {
     60.0
 }
 fn d_thermal_tol() -> f64 {
-    0.3
+    0.1
 }
 fn d_shadow_interval() -> f64 {
     60.0

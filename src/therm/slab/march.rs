@@ -983,7 +983,7 @@ impl SlabModel {
                     continue;
                 }
                 // Local error estimate  h²/2·|T''| ≈ h/(h + h_prev)·|Δ − (h/h_prev)·Δ_prev|.
-                if let Some(tol) = s.tol_k {
+                if let Some(tol) = s.tol_at(forcing[forcing.len() - 1].t_s - t_new) {
                     let hp = if prev_h.is_finite() { *prev_h } else { h };
                     let mut err = 0.0f64;
                     for i in 0..n {

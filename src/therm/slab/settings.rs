@@ -29,6 +29,10 @@ pub struct ThermSettings {
     pub step_s: f64,
     /// Local error tolerance per step, K; `None` = fixed steps of `step_s`.
     pub tol_k: Option<f64>,
+    /// With `Some(τ)`, s: the tolerance of a step that ends `A` seconds
+    /// before the last forcing sample is `tol_k·√(1 + A/τ)`
+    /// ([`Self::tol_at`]); `None`: `tol_k` everywhere.
+    pub tol_age_s: Option<f64>,
     /// Smallest adaptive step, s.
     pub min_step_s: f64,
     /// Hours of forcing before the image time that forcing builders should
@@ -55,6 +59,7 @@ impl Default for ThermSettings {
         ThermSettings {
             step_s: 900.0,
             tol_k: Some(0.0005),
+            tol_age_s: None,
             min_step_s: 0.05,
             spin_up_h: 24.0,
             spin_up_start: SpinUpStart::MeanForcing,
@@ -68,6 +73,31 @@ impl Default for ThermSettings {
     }
 }
 
+impl ThermSettings {
+    /// The local error tolerance of a step that ends `age_s` seconds before
+    /// the last forcing sample, K (`None`: fixed steps):
+    /// `tol_k·√(1 + age/τ)` with `τ` = [`Self::tol_age_s`].
+    ///
+    /// Why: a march that is read only at its end (a render's image time)
+    /// needs its early steps less accurate than its last ones. An error δ
+    /// left in the surface cell at age A has spread into the slab by the
+    /// end: on a semi-infinite solid the surface keeps about
+    /// `δ·d₀/√(πκA)` of it (d₀ the surface cell, κ the diffusivity; Carslaw
+    /// & Jaeger 1959 §2.2, an instantaneous plane source), i.e. it falls
+    /// off as `1/√A`, and faster once the surface exchange takes over — so
+    /// a tolerance growing as `√A` keeps each step's share of the end
+    /// error about even. The same argument sets the render's history keys
+    /// (`render::key_history`). τ was chosen on the accuracy curves
+    /// (BENCHMARKS.md, "The default render").
+    pub fn tol_at(&self, age_s: f64) -> Option<f64> {
+        let tol = self.tol_k?;
+        Some(match self.tol_age_s {
+            Some(tau) if tau > 0.0 => tol * (1.0 + age_s.max(0.0) / tau).sqrt(),
+            _ => tol,
+        })
+    }
+}
+
 /// Errors of the thermal solver (bad inputs; a non-converging step).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ThermError {
@@ -77,4 +107,32 @@ pub enum ThermError {
     BadInput(String),
     #[error("thermal solver failed at t = {t_s} s: {why}")]
     NoConvergence { t_s: f64, why: String },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The age rule: `tol_k` at the end, √2·tol_k one τ before it, 3·tol_k
+    /// eight τ before it; uniform without τ; none with fixed steps.
+    #[test]
+    fn tolerance_grows_with_the_square_root_of_age() {
+        let s = ThermSettings {
+            tol_k: Some(0.1),
+            tol_age_s: Some(900.0),
+            ..ThermSettings::default()
+        };
+        let at = |a: f64| s.tol_at(a).unwrap();
+        assert_eq!(at(0.0), 0.1);
+        assert_eq!(at(-5.0), 0.1);
+        assert!((at(900.0) - 0.1 * 2f64.sqrt()).abs() < 1e-15);
+        assert!((at(8.0 * 900.0) - 0.3).abs() < 1e-15);
+        let uniform = ThermSettings {
+            tol_age_s: None,
+            ..s
+        };
+        assert_eq!(uniform.tol_at(1e6), Some(0.1));
+        let fixed = ThermSettings { tol_k: None, ..s };
+        assert_eq!(fixed.tol_at(0.0), None);
+    }
 }
