@@ -49,18 +49,28 @@ const STRATA: usize = 16;
 /// normal's frame.
 pub fn cosine_directions(normal: Vec3) -> Vec<Vec3> {
     let (t, b) = normal.any_orthonormal_pair();
-    let mut out = Vec::with_capacity(SKY_RAYS);
-    for i in 0..STRATA {
-        for j in 0..STRATA {
+    local_directions()
+        .iter()
+        .map(|&[x, y, z]| (t * x + b * y + normal * z).normalize())
+        .collect()
+}
+
+/// The stratum centres' directions in the normal's frame (tangent,
+/// bitangent, normal components), computed once: every facet's sky view
+/// uses the same 256 (the trigonometry was a tenth of a render's sky-view
+/// work).
+fn local_directions() -> &'static [[f32; 3]; SKY_RAYS] {
+    static DIRS: std::sync::OnceLock<[[f32; 3]; SKY_RAYS]> = std::sync::OnceLock::new();
+    DIRS.get_or_init(|| {
+        std::array::from_fn(|k| {
+            let (i, j) = (k / STRATA, k % STRATA);
             let u1 = (i as f32 + 0.5) / STRATA as f32;
             let u2 = (j as f32 + 0.5) / STRATA as f32;
             let r = u1.sqrt();
             let phi = std::f32::consts::TAU * u2;
-            let d = t * (r * phi.cos()) + b * (r * phi.sin()) + normal * (1.0 - u1).sqrt();
-            out.push(d.normalize());
-        }
-    }
-    out
+            [r * phi.cos(), r * phi.sin(), (1.0 - u1).sqrt()]
+        })
+    })
 }
 
 /// The fraction of the cosine-weighted hemisphere above `point` (on a
