@@ -304,14 +304,10 @@ fn therm_times_without_seconds() {
 fn therm_and_render_share_the_deep_ground_rule() {
     let root = env!("CARGO_MANIFEST_DIR");
     let scene_path = std::path::Path::new(root).join("scenes/airfield/scene.toml");
-    let mut scene = irsig::scene::load(&scene_path).unwrap();
-    // A render applies the airfield's stand-in record in the site's solar
-    // time (9 min 22 s earlier; docs/weather-format.md) and `irsig therm`
-    // at its own times: the rule is one, its input differs by that shift
-    // (0.008 K here), so the render is asked for the record as measured.
-    if let irsig::scene::WeatherSpec::File { stand_in, .. } = &mut scene.scene.weather {
-        *stand_in = false;
-    }
+    // The airfield's record is a stand-in (`stand_in = true`): a render
+    // applies it in the site's solar time (9 min 22 s earlier;
+    // docs/weather-format.md), and so does `irsig therm --stand-in`.
+    let scene = irsig::scene::load(&scene_path).unwrap();
     let image = irsig::sun::report::parse_time("2001-08-08T16:00:00Z").unwrap();
     let render_k = irsig::render::prepare::frame_weather(&scene, image)
         .unwrap()
@@ -347,10 +343,16 @@ fn therm_and_render_share_the_deep_ground_rule() {
         "2001-08-08T16:00:00Z",
         "--spin-up-h",
         "24",
+        "--stand-in",
         "--json",
     ]);
     assert!(
         out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        !String::from_utf8_lossy(&out.stderr).contains("warning"),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
