@@ -153,6 +153,7 @@ fn therm_arguments_out_of_range_are_refused_not_panics() {
         forcing: irsig::therm::series::ForcingSource::Weather {
             path: PathBuf::from(DATA).join("tmy3_723170_greensboro_jun18-22.csv"),
             typical_year: false,
+            stand_in: false,
         },
         site: irsig::sun::Site {
             latitude_deg: 36.1,

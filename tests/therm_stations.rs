@@ -40,8 +40,12 @@ const BON_MATERIAL: &str = "grass_irrigated";
 const SLV_MATERIAL: &str = "soil_bare";
 
 /// NOAA ATDD/ARL Bondville 1998-05-17: bare soil with crop residue before
-/// emergence, clear and hot.
-const BND_BARE_MATERIAL: &str = "soil_bare";
+/// emergence, clear and hot, its top layer moist (θ(5 cm) 0.38-0.39, a
+/// wetness θ/θ_sat ≈ 0.8 of a silt loam): the library's `soil_moist`,
+/// which evaporates through the Sellers et al. (1992) soil resistance.
+/// With `soil_bare` (no soil evaporation) the day runs 5 K too warm
+/// (RMS 5.10 K, bias +4.99 K; docs/validation-stations.md).
+const BND_BARE_MATERIAL: &str = "soil_moist";
 /// Bondville 1998-07-25 and 1998-08-01: the crop at full cover,
 /// transpiring (latent heat flux up to 525 W/m²): the library's `crop`
 /// (a 1 m canopy skin over the soil). With `grass_irrigated` (a 0.12 m
@@ -259,10 +263,10 @@ fn station_slv_20160101_winter_dry() {
 /// Spring, bare soil with residue, clear and hot: Bondville 1998-05-17
 /// (IRT skin; 1998-05-16 measured as spin-up).
 #[test]
-#[ignore = "misses: RMS 5.10 K, bias +4.99 K day and night. Limited by the missing soil evaporation \
-            (soil_bare has no evaporation but its 2 mm wet store: model latent 0 against 150-200 W/m2 \
-            measured by day) and by the bare 0.5 m slab under the skin (the residue layer insulates: \
-            modelled soil heat flux back to the surface 90-120 W/m2 at night against 30-45 measured); \
+#[ignore = "misses: RMS 2.06 K, bias -0.12 K (day -1.29 K, night +1.52 K; soil_bare: 5.10 K, +4.99 K). \
+            By day the soil evaporates too much (Sellers resistance at the library's W 0.8: 274 W/m2 \
+            against 151 closure-corrected; no vapour resistance of the residue); at night the slab \
+            returns 80-90 W/m2 to the surface against 30-45 W/m2 at the plates; \
             docs/validation-stations.md"]
 fn station_bnd_19980517_bare_soil_hot() {
     check("bnd-19980517", BND_BARE_MATERIAL);
@@ -294,8 +298,23 @@ fn station_bnd_19980801_crop_peak_transpiration() {
 /// the mean: the largest half-hour excess over λE_c stays under 100 W/m².
 #[test]
 fn station_bnd_19980801_transpiration_against_closure_corrected_latent_heat() {
-    let name = "bnd-19980801";
-    let (_, rows) = run_model(name, BND_CROP_MATERIAL);
+    let (n, m, c, worst) = latent_against_closure("bnd-19980801", BND_CROP_MATERIAL);
+    assert!(n >= 18, "{n} daytime rows");
+    assert!(
+        (m - c).abs() <= 0.10 * c,
+        "model {m:.0} against corrected {c:.0} W/m²"
+    );
+    assert!(worst < 100.0, "largest half-hour excess {worst:.0} W/m²");
+}
+
+/// The modelled latent heat of `material` on a station-day against the
+/// measured one corrected for the energy-balance closure (Twine et al.
+/// 2000: `λE_c = λE·(R_n − G)/(H + λE)`), over the daytime half-hours
+/// (R_n > 100 W/m², H + λE > 50 W/m²): (rows, mean model λE, mean λE_c,
+/// largest half-hour excess of the model over λE_c), W/m², evaporation
+/// positive.
+fn latent_against_closure(name: &str, material: &str) -> (usize, f64, f64, f64) {
+    let (_, rows) = run_model(name, material);
     let path = format!("{STATIONS}{name}.csv");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
@@ -330,15 +349,29 @@ fn station_bnd_19980801_transpiration_against_closure_corrected_latent_heat() {
     }
     let (m, c, e) = (model_sum / n as f64, corr_sum / n as f64, ec_sum / n as f64);
     eprintln!(
-        "{name} ({BND_CROP_MATERIAL}): {n} daytime half-hours, mean λE model {m:.0} W/m², \
+        "{name} ({material}): {n} daytime half-hours, mean λE model {m:.0} W/m², \
          closure-corrected {c:.0}, eddy covariance {e:.0}; largest excess over corrected {worst:.0}"
     );
+    (n, m, c, worst)
+}
+
+/// Bare-soil evaporation (Sellers et al. 1992 soil resistance) against the
+/// closure-corrected latent heat of the bare-soil day (Bondville
+/// 1998-05-17, θ(5 cm) 0.38-0.39 measured, W ≈ 0.8 of a silt loam):
+/// the daytime mean of `soil_moist` within 25 % of the corrected
+/// measurement (the soil resistance is a fit to another soil, FIFE's
+/// prairie, and W is the library's, not the day's).
+#[test]
+#[ignore = "misses: model 274 W/m2 against 151 closure-corrected (140 measured) over 22 daytime \
+            half-hours: the residue's vapour resistance is not modelled (W = 0.5 would give 155, \
+            but the measured top-soil water says 0.8); docs/validation-stations.md"]
+fn station_bnd_19980517_soil_evaporation_against_closure_corrected_latent_heat() {
+    let (n, m, c, _) = latent_against_closure("bnd-19980517", BND_BARE_MATERIAL);
     assert!(n >= 18, "{n} daytime rows");
     assert!(
-        (m - c).abs() <= 0.10 * c,
+        (m - c).abs() <= 0.25 * c,
         "model {m:.0} against corrected {c:.0} W/m²"
     );
-    assert!(worst < 100.0, "largest half-hour excess {worst:.0} W/m²");
 }
 
 /// Snow-covered, clear and calm: Col de Porte 2002-01-10 (IRT snow

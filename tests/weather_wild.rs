@@ -566,7 +566,8 @@ fn site_coordinates_from_the_weather_file() {
 /// (naming the key) and `--strict` refuses; with the site at the station,
 /// or with the scene's own `stand_in = true`, there is no warning. `irsig
 /// therm` does the same with --lat/--lon (Greensboro's TMY3 run with
-/// Sydney's coordinates).
+/// Sydney's coordinates). The stand-in is applied in the site's solar
+/// time, and `irsig check` says by how much.
 #[test]
 fn station_far_from_the_site_warns_or_is_refused_with_strict() {
     let scene = common::airfield();
@@ -601,6 +602,12 @@ fn station_far_from_the_site_warns_or_is_refused_with_strict() {
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("warning"), "{err}");
     assert!(out.contains("(a stand-in for the site)"), "{out}");
+    // ... applied in the site's solar time (issue #30 item 6): Greensboro
+    // (79.950 W) for Rochester (77.609 W) moves 9 min 22 s earlier.
+    assert!(
+        out.contains("applied in the site's solar time: moved -9.4 min"),
+        "{out}"
+    );
     let weather = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/tmy3_723170_greensboro_jun18-22.csv");
     let therm = |lat: &str, lon: &str| {

@@ -762,7 +762,11 @@ fn therm(
             material: load_material(&materials, &material)?,
             forcing: match (forcing, weather) {
                 (Some(p), None) => ForcingSource::ForcingCsv(p),
-                (None, Some(path)) => ForcingSource::Weather { path, typical_year },
+                (None, Some(path)) => ForcingSource::Weather {
+                    path,
+                    typical_year,
+                    stand_in: false,
+                },
                 _ => anyhow::bail!("give weather= or forcing= (one of them)"),
             },
             site: irsig::sun::Site {

@@ -74,6 +74,12 @@ pub struct Args {
     /// `typical_year = true` in [weather.file]).
     #[arg(long)]
     pub typical_year: bool,
+    /// The weather file's station stands in for the site on purpose (the
+    /// scene key `weather.file.stand_in`): no warning about its distance,
+    /// and the record is applied in the site's solar time (moved by the
+    /// longitude difference / 15 deg h), as a render applies it.
+    #[arg(long)]
+    pub stand_in: bool,
     /// Refuse what would only be a warning (a weather station more than
     /// 0.5 deg from the site).
     #[arg(long)]
@@ -164,9 +170,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     }
     if let Some(p) = &a.weather {
         let station = crate::weather::read_station(p, a.typical_year)?;
-        let warning = station.and_then(|st| {
-            crate::weather::station_mismatch(&st, &p.display().to_string(), a.lat, a.lon)
-        });
+        let file = p.display().to_string();
+        let warning = if a.stand_in {
+            crate::weather::stand_in_solar_shift(station.as_ref(), &file, a.lon).err()
+        } else {
+            station.and_then(|st| crate::weather::station_mismatch(&st, &file, a.lat, a.lon))
+        };
         super::warn_or_refuse(&warning.into_iter().collect::<Vec<_>>(), a.strict)?;
     }
     let run = FacetRun {
@@ -177,6 +186,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             (None, Some(p)) => ForcingSource::Weather {
                 path: p.clone(),
                 typical_year: a.typical_year,
+                stand_in: a.stand_in,
             },
             (None, None) => bail!("give --weather or --forcing"),
         },

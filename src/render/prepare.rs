@@ -354,7 +354,11 @@ pub fn ground_material(scene: &LoadedScene) -> Option<u32> {
 }
 
 /// The scene's weather record: its file (whole), or its constant weather
-/// generated every 15 min from `from` to `to`.
+/// generated every 15 min from `from` to `to`. A stand-in record
+/// (`weather.file.stand_in`) whose file names its station is applied in
+/// the site's solar time: its times are moved by
+/// [`crate::weather::stand_in_solar_shift`] (one without a station is
+/// applied at its own times, and [`weather_warnings`] says why).
 pub fn scene_weather(
     scene: &LoadedScene,
     from: DateTime<Utc>,
@@ -363,7 +367,10 @@ pub fn scene_weather(
     let sc = &scene.scene;
     Ok(match &sc.weather {
         WeatherSpec::File {
-            path, typical_year, ..
+            path,
+            typical_year,
+            stand_in,
+            ..
         } => {
             // The reader recognises TMY3/EPW/CSV from the file itself; the
             // scene's `format` key is not cross-checked (yet).
@@ -372,12 +379,19 @@ pub fn scene_weather(
                 typical_year: typical_year.then(|| YearSpan::around(from, to)),
                 ..ReadOptions::default()
             };
-            scene
+            let parsed = scene
                 .weather_record
                 .parsed(&p, &opts)
-                .with_context(|| format!("weather file of {}", scene.path.display()))?
-                .history
-                .clone()
+                .with_context(|| format!("weather file of {}", scene.path.display()))?;
+            let history = parsed.history.clone();
+            match crate::weather::stand_in_solar_shift(
+                parsed.station.as_ref(),
+                &p.display().to_string(),
+                sc.site.location.longitude_deg,
+            ) {
+                Ok(by) if *stand_in => history.shifted(by),
+                _ => history,
+            }
         }
         WeatherSpec::Constant(c) => crate::weather::constant_weather(
             c,
@@ -399,7 +413,28 @@ pub fn scene_weather(
 pub fn weather_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
     let mut out = station_warnings(scene)?;
     let sc = &scene.scene;
-    if let WeatherSpec::File { .. } = &sc.weather {
+    if let WeatherSpec::File {
+        path,
+        typical_year,
+        stand_in,
+        ..
+    } = &sc.weather
+    {
+        // A stand-in that cannot be moved to the site's solar time says why.
+        if *stand_in {
+            let p = scene.resolve(path);
+            if let Ok(parsed) = scene
+                .weather_record
+                .parsed(&p, &crate::weather::station_options(*typical_year))
+                && let Err(why) = crate::weather::stand_in_solar_shift(
+                    parsed.station.as_ref(),
+                    &p.display().to_string(),
+                    sc.site.location.longitude_deg,
+                )
+            {
+                out.push(why);
+            }
+        }
         let to = sc.time.utc(&sc.site);
         let from = to - chrono::Duration::seconds((sc.render.history_hours * 3600.0) as i64);
         // A window the file does not cover is the render's error to report.

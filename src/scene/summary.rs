@@ -225,9 +225,9 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
                 s.resolve(path).display(),
                 if *typical_year { " (typical year)" } else { "" },
                 if *stand_in {
-                    " (a stand-in for the site)"
+                    stand_in_note(s, path, *typical_year)
                 } else {
-                    ""
+                    String::new()
                 }
             ),
             WeatherSpec::Constant(w) => format!(
@@ -253,6 +253,32 @@ pub fn summarize(s: &LoadedScene) -> SceneSummary {
             shadow_samples: (sc.render.history_hours * 60.0 / sc.render.shadow_interval_min).ceil()
                 as usize,
         },
+    }
+}
+
+/// The weather line's note on a stand-in record: how far it is moved to
+/// the site's solar time ([`crate::weather::stand_in_solar_shift`]), or
+/// that it is not.
+fn stand_in_note(s: &super::LoadedScene, path: &std::path::Path, typical_year: bool) -> String {
+    let p = s.resolve(path);
+    let shift = s
+        .weather_record
+        .parsed(&p, &crate::weather::station_options(typical_year))
+        .ok()
+        .and_then(|f| {
+            crate::weather::stand_in_solar_shift(
+                f.station.as_ref(),
+                "",
+                s.scene.site.location.longitude_deg,
+            )
+            .ok()
+        });
+    match shift {
+        Some(by) => format!(
+            " (a stand-in for the site) applied in the site's solar time: moved {:+.1} min",
+            by.num_seconds() as f64 / 60.0
+        ),
+        None => " (a stand-in for the site) applied at its own UTC times (no station named)".into(),
     }
 }
 

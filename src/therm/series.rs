@@ -101,8 +101,16 @@ pub fn parse_time(s: &str) -> anyhow::Result<DateTime<Utc>> {
 #[derive(Clone, Debug)]
 pub enum ForcingSource {
     /// A weather file (any format of [`crate::weather::read_weather`]);
-    /// `typical_year`: a typical year, laid on every year of the run.
-    Weather { path: PathBuf, typical_year: bool },
+    /// `typical_year`: a typical year, laid on every year of the run;
+    /// `stand_in`: its station stands in for the site, and the record is
+    /// applied in the site's solar time
+    /// ([`crate::weather::stand_in_solar_shift`], as a render does; a file
+    /// without a station is applied at its own times).
+    Weather {
+        path: PathBuf,
+        typical_year: bool,
+        stand_in: bool,
+    },
     /// A ready forcing CSV (see [`super::forcing_csv`]).
     ForcingCsv(PathBuf),
 }
@@ -172,7 +180,7 @@ pub struct FacetSeries {
 /// [`weather_window`]).
 fn forcing_from_weather(
     path: &Path,
-    typical_year: bool,
+    (typical_year, stand_in): (bool, bool),
     site: &crate::sun::Site,
     start: DateTime<Utc>,
     step_s: f64,
@@ -184,7 +192,16 @@ fn forcing_from_weather(
         typical_year: typical_year.then(|| crate::weather::YearSpan::around(w_from, w_to)),
         ..Default::default()
     };
-    let history = crate::weather::read_weather_file_with(path, &opts)?.history;
+    let file = crate::weather::read_weather_file_with(path, &opts)?;
+    let shift = crate::weather::stand_in_solar_shift(
+        file.station.as_ref(),
+        &path.display().to_string(),
+        site.longitude_deg,
+    );
+    let history = match shift {
+        Ok(by) if stand_in => file.history.shifted(by),
+        _ => file.history,
+    };
     let (forcing, report) = super::forcing::build_forcing(&history, site, start, step_s, n_steps)?;
     let deep_k = deep_ground_temp_k(&history, site, start, image_time)?;
     Ok((forcing, report.lines(), deep_k))
@@ -285,12 +302,23 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
             let deep_k = forcing_deep_ground_k(&f, end_s);
             (f, Vec::new(), deep_k)
         }
-        ForcingSource::Weather { path, typical_year } => {
+        ForcingSource::Weather {
+            path,
+            typical_year,
+            stand_in,
+        } => {
             let step_s = run.step_min * 60.0;
             let total_s = (to - start).num_milliseconds() as f64 / 1e3;
             let n_steps = (total_s / step_s).ceil().max(1.0) as usize;
-            let (f, lines, deep_k) =
-                forcing_from_weather(path, *typical_year, &run.site, start, step_s, n_steps, to)?;
+            let (f, lines, deep_k) = forcing_from_weather(
+                path,
+                (*typical_year, *stand_in),
+                &run.site,
+                start,
+                step_s,
+                n_steps,
+                to,
+            )?;
             (f, lines, Some(deep_k))
         }
     };

@@ -8,7 +8,10 @@
 //!   urban pavements); while it holds water the surface evaporates at the
 //!   potential rate (no surface resistance), limited to what the store
 //!   holds; beyond the capacity the water runs off. Starts dry at the
-//!   beginning of the thermal history.
+//!   beginning of the thermal history. A bare soil with `soil_wetness`
+//!   also evaporates from its pores through the soil surface resistance of
+//!   Sellers et al. (1992) ([`soil_resistance_s_m`]), with the wetness a
+//!   fixed parameter (no soil-moisture dynamics).
 //! * **Vegetation**: a big-leaf canopy skin over the soil slab, with its own
 //!   temperature and heat capacity, coupled to the soil surface through the
 //!   skin conductance Λ_sk of the ECMWF land surface scheme (the slab's node
@@ -52,6 +55,12 @@ pub enum SurfaceKind {
         water_capacity_mm: f64,
         /// Roughness length for momentum, m.
         roughness_m: f64,
+        /// Bare soil: the top layer's water content over its saturated
+        /// value, θ/θ_sat (Sellers et al. 1992's W); the soil evaporates
+        /// through [`soil_resistance_s_m`]. `None`: no evaporation but from
+        /// the surface store (pavement, metal, a dry soil).
+        #[serde(default)]
+        soil_wetness: Option<f64>,
     },
     Vegetation(Canopy),
     Water(WaterBody),
@@ -70,8 +79,30 @@ impl Default for SurfaceKind {
         SurfaceKind::Solid {
             water_capacity_mm: 0.0,
             roughness_m: DEFAULT_SOLID_ROUGHNESS_M,
+            soil_wetness: None,
         }
     }
+}
+
+/// Coefficients of the bare-soil surface resistance of Sellers, Heiser &
+/// Hall (1992, *J. Geophys. Res.* 97(D17), 19033, eq. 19; fitted to the
+/// FIFE 1987 prairie soil; the form SiB2 uses, Sellers et al. 1996, *J.
+/// Climate* 9, 676): `r_soil = exp(A − B·W)` s/m.
+pub const SOIL_RESISTANCE_A: f64 = 8.206;
+/// See [`SOIL_RESISTANCE_A`].
+pub const SOIL_RESISTANCE_B: f64 = 4.255;
+
+/// Surface resistance of a bare soil to evaporation, s/m, from the wetness
+/// `W = θ/θ_sat` of its top layer (Sellers et al. 1992):
+/// `r_soil = exp(8.206 − 4.255·W)` — 3663 s/m dry (W = 0), 436 s/m at W =
+/// 0.5, 52 s/m saturated (W = 1). W is clamped to [0, 1]. The soil
+/// evaporates as `λE = (ρ_a c_p/γ)·(e°(T_s) − e_a)/(r_a + r_soil)` (the
+/// latent path of every surface, [`super::aero::latent_w_m2`]); the
+/// humidity of the soil pores is taken as saturated (SiB2's soil-water
+/// potential factor `exp(ψg/(R_v T))` is above 0.99 for a moist loam, W ≥
+/// 0.5).
+pub fn soil_resistance_s_m(wetness: f64) -> f64 {
+    (SOIL_RESISTANCE_A - SOIL_RESISTANCE_B * wetness.clamp(0.0, 1.0)).exp()
 }
 
 /// Momentum roughness of smooth built surfaces (pavement, concrete, sheet
@@ -148,8 +179,12 @@ impl SurfaceKind {
             SurfaceKind::Solid {
                 water_capacity_mm,
                 roughness_m,
+                soil_wetness,
             } => {
                 check("water_capacity_mm", water_capacity_mm, 0.0, 50.0)?;
+                if let Some(w) = soil_wetness {
+                    check("soil_wetness", w, 0.0, 1.0)?;
+                }
                 check("roughness_m", roughness_m, 1e-5, 0.5)
             }
             SurfaceKind::Vegetation(c) => {
@@ -335,6 +370,7 @@ pub mod keys {
 
     pub const WATER_CAPACITY: Bound = Bound::new("water_capacity_mm", 0.0, 50.0, "mm");
     pub const SOLID_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-5, 0.5, "m");
+    pub const SOIL_WETNESS: Bound = Bound::new("soil_wetness", 0.0, 1.0, "");
     pub const CANOPY_HEIGHT: Bound = Bound::new("canopy_height_m", 0.01, 30.0, "m");
     pub const LAI: Bound = Bound::new("lai", 0.1, 10.0, "m²/m²");
     pub const SOIL_MOISTURE: Bound = Bound::new("soil_moisture", 0.0, 1.0, "");
@@ -387,6 +423,12 @@ pub mod keys {
             "0.005",
             SOLID_ROUGHNESS,
             "solid: roughness length for momentum",
+        ),
+        row(
+            &["soil_wetness"],
+            "none (no soil evaporation)",
+            SOIL_WETNESS,
+            "solid, bare soil: top-layer water content over saturation θ/θ_sat; evaporation through the Sellers (1992) soil resistance",
         ),
         row(
             &["roughness_m"],
@@ -490,6 +532,8 @@ pub struct SurfaceSpec {
     pub water_capacity_mm: Option<f64>,
     /// Solid and water: roughness length for momentum, m.
     pub roughness_m: Option<f64>,
+    /// Solid (bare soil): top-layer water content over saturation, θ/θ_sat.
+    pub soil_wetness: Option<f64>,
     /// Vegetation: canopy height, m (required).
     pub canopy_height_m: Option<f64>,
     /// Vegetation: leaf area index (required).
@@ -531,8 +575,9 @@ impl SurfaceSpec {
         use surface_defaults as d;
         let m = self;
         let kind_name = m.kind.name();
-        let all: [(&'static str, Option<f64>, &[KindSpec]); 16] = [
+        let all: [(&'static str, Option<f64>, &[KindSpec]); 17] = [
             ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
+            ("soil_wetness", m.soil_wetness, &[Solid]),
             ("roughness_m", m.roughness_m, &[Solid, Water, Snow]),
             ("canopy_height_m", m.canopy_height_m, &[Vegetation]),
             ("lai", m.lai, &[Vegetation]),
@@ -618,9 +663,13 @@ impl SurfaceSpec {
                 range(K::WATER_CAPACITY, cap)?;
                 let z0 = m.roughness_m.unwrap_or(DEFAULT_SOLID_ROUGHNESS_M);
                 range(K::SOLID_ROUGHNESS, z0)?;
+                if let Some(w) = m.soil_wetness {
+                    range(K::SOIL_WETNESS, w)?;
+                }
                 SurfaceKind::Solid {
                     water_capacity_mm: cap,
                     roughness_m: z0,
+                    soil_wetness: m.soil_wetness,
                 }
             }
             Vegetation => {
@@ -713,6 +762,42 @@ mod tests {
         assert!((water_density_kg_m3(303.15) - 995.65).abs() < 0.5);
         assert!(water_density_kg_m3(277.0) > water_density_kg_m3(280.0));
         assert!(water_density_kg_m3(277.0) > water_density_kg_m3(274.0));
+    }
+
+    /// Sellers et al. (1992) eq. 19, r_soil = exp(8.206 − 4.255·W),
+    /// evaluated by hand: 3662.9 s/m at W = 0, 436.4 at 0.5, 52.0 at 1;
+    /// W is clamped to [0, 1]. The key builds for a solid only and is
+    /// range-checked by name.
+    #[test]
+    fn soil_resistance_follows_sellers_1992() {
+        for (w, r) in [(0.0, 3662.86), (0.5, 436.374), (1.0, 51.9873)] {
+            assert!((soil_resistance_s_m(w) - r).abs() < 1e-4 * r, "{w}");
+        }
+        assert_eq!(soil_resistance_s_m(1.5), soil_resistance_s_m(1.0));
+        let spec = SurfaceSpec {
+            soil_wetness: Some(0.8),
+            ..Default::default()
+        };
+        assert_eq!(
+            spec.build().unwrap(),
+            SurfaceKind::Solid {
+                water_capacity_mm: 0.0,
+                roughness_m: DEFAULT_SOLID_ROUGHNESS_M,
+                soil_wetness: Some(0.8),
+            }
+        );
+        let bad = SurfaceSpec {
+            soil_wetness: Some(1.2),
+            ..Default::default()
+        };
+        let e = bad.build().unwrap_err();
+        assert_eq!(e.path, vec!["soil_wetness"]);
+        let veg = SurfaceSpec {
+            kind: KindSpec::Vegetation,
+            soil_wetness: Some(0.5),
+            ..Default::default()
+        };
+        assert!(veg.build().unwrap_err().msg.contains("soil_wetness"));
     }
 
     /// Beer-Lambert fractions: they sum to 1, the skin takes β, and the

@@ -690,6 +690,43 @@ pub fn station_mismatch(
     })
 }
 
+/// The shift that applies a stand-in record (`weather.file.stand_in`)
+/// in the site's solar time: a record measured at the station's longitude
+/// λ_st meets the sun at the same hour angle at the site's longitude λ
+/// `(λ − λ_st)/15°` hours earlier (east of the station) or later (west),
+/// so each sample is moved by `−(λ − λ_st)/15` h (the longitude difference
+/// wrapped to ±180°; rounded to the second). The equation of time is the
+/// same at both places on one date, so the shift is exact for the sun's
+/// hour angle; a difference in *latitude* (day length, noon elevation) is
+/// not a shift and stays ([`sunlight_mismatch`] names the hours it
+/// leaves). A file that names no station (a plain CSV) cannot be moved:
+/// the error says why, for the user.
+pub fn stand_in_solar_shift(
+    station: Option<&WeatherStation>,
+    file: &str,
+    site_lon_deg: f64,
+) -> Result<Duration, String> {
+    let Some(st) = station else {
+        return Err(format!(
+            "weather.file.stand_in: {file} names no station longitude, so its record cannot be \
+             moved to the site's solar time and is applied at its own UTC times (if it was \
+             measured at another longitude, shift its times by (site − station longitude)/15° h)"
+        ));
+    };
+    let dlon = (site_lon_deg - st.lon_deg + 540.0).rem_euclid(360.0) - 180.0;
+    Ok(Duration::seconds((-dlon / 15.0 * 3600.0).round() as i64))
+}
+
+impl WeatherHistory {
+    /// The same record with every sample time moved by `by`.
+    pub fn shifted(mut self, by: Duration) -> WeatherHistory {
+        for t in &mut self.times {
+            *t += by;
+        }
+        self
+    }
+}
+
 /// Splits one CSV line; double-quoted fields may contain commas.
 fn split_csv(line: &str) -> Vec<String> {
     let mut out = Vec::new();
@@ -1157,7 +1194,7 @@ pub fn sunlight_mismatch(
         ));
     }
     Some(format!(
-        "weather {}: {} — the record follows another longitude's solar time (irsig applies it at the same UTC instant; pick a station nearer in longitude, or shift the record's times)",
+        "weather {}: {} — the record follows another place's sun (a stand-in record with a named station is applied in the site's solar time, any other at its own UTC times; a difference in latitude is not undone by a shift): pick a station nearer the site, set weather.file.stand_in = true, or shift the record's times",
         history.source,
         parts.join("; ")
     ))

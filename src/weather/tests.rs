@@ -507,3 +507,79 @@ fn stand_in_sunlight_in_another_solar_time_is_named() {
         "{west}"
     );
 }
+
+/// Issue #30 item 6: a stand-in record measured 45° west of the site,
+/// moved by `stand_in_solar_shift` (−3 h), meets the site's sun: the
+/// sunlight check that named its hours before the shift finds none after
+/// it (same latitude); a site 2.34° east (the airfield's Rochester for
+/// Greensboro) moves it 9 min 22 s earlier, a site west later; a file
+/// without a station cannot be moved and the message says why.
+#[test]
+fn stand_in_record_is_moved_to_the_site_solar_time() {
+    let t0 = utc("2024-06-20T00:00:00Z");
+    let times: Vec<_> = (0..72).map(|h| t0 + Duration::hours(h)).collect();
+    let samples = times
+        .iter()
+        .map(|t| {
+            let e = crate::sun::solar_position(*t, 40.0, -80.0, 0.0).true_elevation_deg;
+            WeatherSample {
+                air_temp_k: 295.0,
+                dew_point_k: 285.0,
+                wind_speed_m_s: 2.0,
+                pressure_pa: 101_325.0,
+                cloud_fraction: None,
+                ghi_w_m2: Some((1000.0 * e.to_radians().sin()).max(0.0)),
+                dni_w_m2: None,
+                dhi_w_m2: None,
+                sky_temp_k: None,
+                precip_mm_h: 0.0,
+            }
+        })
+        .collect();
+    let h = WeatherHistory {
+        times,
+        samples,
+        source: "station.csv".into(),
+    };
+    let station = WeatherStation {
+        name: "station".into(),
+        lat_deg: 40.0,
+        lon_deg: -80.0,
+        elevation_m: 0.0,
+        utc_offset_h: -5.0,
+    };
+    let (from, to) = (t0 + Duration::hours(4), t0 + Duration::hours(66));
+    assert!(sunlight_mismatch(&h, 40.0, -35.0, from, to).is_some());
+    let by = stand_in_solar_shift(Some(&station), "station.csv", -35.0).unwrap();
+    assert_eq!(by, Duration::hours(-3));
+    let moved = h.clone().shifted(by);
+    assert_eq!(moved.times[5], h.times[5] - Duration::hours(3));
+    assert_eq!(sunlight_mismatch(&moved, 40.0, -35.0, from, to), None);
+    // West of the station: later. Across the date line: the short way.
+    assert_eq!(
+        stand_in_solar_shift(Some(&station), "s", -125.0).unwrap(),
+        Duration::hours(3)
+    );
+    let far_east = WeatherStation {
+        lon_deg: 179.0,
+        ..station.clone()
+    };
+    assert_eq!(
+        stand_in_solar_shift(Some(&far_east), "s", -179.0).unwrap(),
+        Duration::minutes(-8)
+    );
+    // The airfield: Greensboro (79.950 W) for Rochester (77.6088 W).
+    let gso = WeatherStation {
+        lon_deg: -79.95,
+        ..station
+    };
+    assert_eq!(
+        stand_in_solar_shift(Some(&gso), "s", -77.6088).unwrap(),
+        Duration::seconds(-562)
+    );
+    let why = stand_in_solar_shift(None, "wx.csv", -77.6).unwrap_err();
+    assert!(
+        why.contains("wx.csv") && why.contains("cannot be moved to the site's solar time"),
+        "{why}"
+    );
+}

@@ -51,6 +51,7 @@ fn arguments_therm() {
         forcing: ForcingSource::Weather {
             path: weather,
             typical_year: false,
+            stand_in: false,
         },
         site: irsig::sun::Site {
             latitude_deg: 36.1,

@@ -324,10 +324,15 @@ impl SlabModel {
         };
         match self.material.surface {
             SurfaceKind::Solid {
-                water_capacity_mm, ..
+                water_capacity_mm,
+                soil_wetness,
+                ..
             } => {
-                d.conductance_m_s = 0.0;
-                d.dew = water_capacity_mm > 0.0;
+                // A bare soil evaporates through its surface resistance
+                // (Sellers et al. 1992); other solids only from the store.
+                d.conductance_m_s = soil_wetness
+                    .map_or(0.0, |w| 1.0 / crate::therm::surface::soil_resistance_s_m(w));
+                d.dew = water_capacity_mm > 0.0 || soil_wetness.is_some();
             }
             SurfaceKind::Vegetation(c) => {
                 let r_s = c.resistance_s_m(

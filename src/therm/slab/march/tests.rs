@@ -366,3 +366,73 @@ fn snow_surface_is_capped_at_zero_celsius_and_the_surplus_melts() {
     let t = model.equilibrium(&cold, 0.0, Some(268.15)).unwrap();
     assert!(t[0] < cap);
 }
+
+/// Bare soil with `soil_wetness` (Sellers et al. 1992 soil resistance):
+/// in the steady state under a sunny sky and dry air, the latent flux of
+/// the solved surface is the resistance form `−(ρ_a c_p/γ)·(e°(T_s) −
+/// e_a)/(r_a + r_soil)` with `r_a = ρ_a c_p/h` and `r_soil = exp(8.206 −
+/// 4.255·W)` written out here (1e-9 relative); the balance closes against
+/// conduction into the slab (1e-6); the moist soil is cooler than the same
+/// soil without evaporation, and a wetter soil cooler still.
+#[test]
+fn bare_soil_evaporates_through_the_sellers_resistance() {
+    use crate::therm::aero;
+    use crate::therm::surface::SurfaceKind;
+    let soil = |w: Option<f64>| SlabMaterial {
+        density_kg_m3: 2050.0,
+        specific_heat_j_kgk: 1840.0,
+        conductivity_w_mk: 0.52,
+        thickness_m: 0.5,
+        solar_absorptivity: 0.8,
+        thermal_emissivity: 0.94,
+        back: BackBoundary::DeepGround {
+            temp_k: Some(290.0),
+        },
+        internal_power_w_m2: 0.0,
+        ground_albedo: None,
+        surface: SurfaceKind::Solid {
+            water_capacity_mm: 0.0,
+            roughness_m: 0.005,
+            soil_wetness: w,
+        },
+    };
+    let s = ThermSettings::default();
+    let mut sunny = f(0.0, 300.0);
+    sunny.dni_w_m2 = 700.0;
+    sunny.ghi_w_m2 = 700.0;
+    sunny.sun_dir_enu = [0.0, 0.0, 1.0];
+    sunny.wind_speed_m_s = 3.0;
+    sunny.dew_point_k = 285.0;
+    let solve = |w: Option<f64>| {
+        let mat = soil(w);
+        let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+        let t = model.equilibrium(&sunny, 1.0, Some(290.0)).unwrap();
+        let (sf, _) = balance::surface_fluxes(&model.drive(&sunny, 1.0), 0.94, &s.convection, t[0]);
+        (t, sf, model.drive(&sunny, 1.0))
+    };
+    let (t_dry, sf_dry, _) = solve(None);
+    assert_eq!(sf_dry.latent_w_m2, 0.0);
+    let (t, sf, d) = solve(Some(0.6));
+    let r_soil = (8.206f64 - 4.255 * 0.6).exp();
+    let rho_cp = d.exchange.rho_cp_j_m3k;
+    let r_a = rho_cp / sf.convection_coeff_w_m2k;
+    let gamma = aero::psychrometric_pa_k(sunny.pressure_pa, sunny.air_temp_k);
+    let e_a = aero::saturation_vapour_pressure_pa(sunny.dew_point_k);
+    let expect =
+        -rho_cp / gamma * (aero::saturation_vapour_pressure_pa(t[0]) - e_a) / (r_a + r_soil);
+    assert!(
+        (sf.latent_w_m2 - expect).abs() < 1e-9 * expect.abs(),
+        "{} vs {expect}",
+        sf.latent_w_m2
+    );
+    assert!(sf.latent_w_m2 < -50.0, "{}", sf.latent_w_m2);
+    let conducted = 0.52 / 0.5 * (t[0] - 290.0);
+    assert!(
+        (sf.net_w_m2 - conducted).abs() < 1e-6 * conducted.abs(),
+        "{} vs {conducted}",
+        sf.net_w_m2
+    );
+    assert!(t[0] < t_dry[0] - 2.0, "{} vs {}", t[0], t_dry[0]);
+    let (t_wet, _, _) = solve(Some(0.9));
+    assert!(t_wet[0] < t[0], "{} vs {}", t_wet[0], t[0]);
+}
