@@ -379,6 +379,64 @@ impl Check<'_> {
     }
 }
 
+/// The materials of a scene: every library's, later libraries overriding
+/// earlier ones of the same name (index = material id).
+pub(crate) struct SceneMaterials {
+    pub materials: Vec<Material>,
+    /// The library files, in the scene's order.
+    pub files: Vec<PathBuf>,
+    pub by_name: std::collections::HashMap<String, u32>,
+}
+
+impl SceneMaterials {
+    /// Reads the libraries `libs` named at the scene key `materials`
+    /// (each checked against the path policy `allow`).
+    pub fn load(
+        src: &TomlSource,
+        libs: &[PathBuf],
+        allow: &[PathBuf],
+    ) -> Result<SceneMaterials, SceneError> {
+        let mut materials: Vec<Material> = Vec::new();
+        let mut files = Vec::new();
+        for (i, lib) in libs.iter().enumerate() {
+            let at = [Seg::Key("materials".into()), Seg::Index(i)];
+            let file = super::paths::referenced_file(src, allow, lib, &at, "material library")?;
+            for m in load_library(&file)? {
+                match materials.iter().position(|x| x.name == m.name) {
+                    Some(j) => materials[j] = m,
+                    None => materials.push(m),
+                }
+            }
+            files.push(file);
+        }
+        let by_name = (materials.iter().enumerate())
+            .map(|(i, m)| (m.name.clone(), i as u32))
+            .collect();
+        Ok(SceneMaterials {
+            materials,
+            files,
+            by_name,
+        })
+    }
+
+    /// The id of the material `name` named at key `at` of `src`, or the
+    /// error naming it there, the libraries and the closest name.
+    pub fn id(&self, src: &TomlSource, at: &[Seg], name: &str) -> Result<u32, SceneError> {
+        self.by_name
+            .get(name)
+            .copied()
+            .ok_or_else(|| SceneError::UndefinedMaterial {
+                loc: src.loc_of(at),
+                name: name.to_string(),
+                libraries: self.files.clone().into(),
+                suggestion: super::error::closest(
+                    name,
+                    self.materials.iter().map(|m| m.name.as_str()),
+                ),
+            })
+    }
+}
+
 /// Reads and validates one material library file.
 pub fn load_library(path: &Path) -> Result<Vec<Material>, SceneError> {
     load_library_source(path, TomlSource::read(path)?)
