@@ -55,7 +55,8 @@ run_test() {
   local t="$1" exe
   shift
   exe=$(cargo test --release --locked --test "$t" --no-run --message-format=json-render-diagnostics \
-    | sed -n 's/.*"executable":"\([^"]*\)".*/\1/p' | tail -n 1)
+    | grep '"reason":"compiler-artifact"' | grep "\"name\":\"$t\"" | grep '"test":true' \
+    | sed -n 's/.*"executable":"\([^"]*\)".*/\1/p' | tail -n 1 || true)
   if [ -z "$exe" ]; then
     echo "fuzz: cannot find the $t test binary" >&2
     exit 1
