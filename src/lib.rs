@@ -15,7 +15,6 @@ pub mod bounds;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod cli;
 pub mod files;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod output;
 pub mod radiometry;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet

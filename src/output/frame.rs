@@ -37,8 +37,11 @@ use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 /// written).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Formats {
+    /// Write the EXR (`x.exr`).
     pub exr: bool,
+    /// Write the GeoTIFFs (`x.tif`, `x_geo.tif`, `x_map.tif`).
     pub geotiff: bool,
+    /// Write the ENVI cubes (`x.img`, `x_truth.img`, `x_dn.img`, `x_class.img`).
     pub envi: bool,
     /// The planes the EXR and the GeoTIFF hold (`None`: all; the ENVI
     /// cubes, the PNG and the geolocation are not affected).
@@ -56,6 +59,7 @@ pub struct Formats {
 /// The PNG quicklook's colour map and smallest stretch span.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuicklookOptions {
+    /// The colour map.
     pub colormap: Colormap,
     /// The stretch spans at least this many kelvin of apparent temperature
     /// about the scene's median (converted to radiance, see
@@ -224,6 +228,7 @@ fn envi_f32(d: &[f32]) -> Vec<f32> {
 pub struct MaterialEntry {
     /// The `material` plane's value (-1: no surface).
     pub index: i64,
+    /// The material's name.
     pub name: String,
     /// The classification's class (0: no surface).
     pub class: u32,
@@ -232,24 +237,31 @@ pub struct MaterialEntry {
 /// What built this image and from what (recorded in every output).
 #[derive(Serialize)]
 pub struct Summary<'a> {
+    /// The build (version, commit).
     pub irsig: crate::version::BuildInfo,
+    /// The scene file.
     pub scene: String,
     /// The `--set` overrides applied, `key=value`.
     pub overrides: Vec<String>,
     /// RFC 3339, UTC (`Z`).
     pub image_time_utc: String,
+    /// Sun zenith angle at the image time, degrees.
     pub sun_zenith_deg: f64,
+    /// Sun azimuth, degrees clockwise from north.
     pub sun_azimuth_deg: f64,
+    /// Sun elevation, degrees (90 − zenith).
     pub sun_elevation_deg: f64,
     /// Lower-case identifier and limits, e.g. `lwir 8-14 um`.
     pub band: String,
     /// The band's spectral support, µm.
     pub band_um: [f64; 2],
+    /// How the planes were estimated (sampling, supersampling).
     pub estimators: String,
     /// The atmosphere table, why, and how it followed the weather.
     pub atmosphere: &'a crate::render::atmosphere::AtmosphereReport,
     /// The sensor's pose (as the scene states it) and camera.
     pub pose: &'a crate::scene::spec::SensorPose,
+    /// The camera the rays came from.
     pub camera: &'a crate::scene::Camera,
     /// CRS, footprint, GSD, affine transform, ground origin.
     pub georef: &'a Georef,
@@ -263,6 +275,7 @@ pub struct Summary<'a> {
     /// (name, unit) of every plane of the EXR/GeoTIFF (all, or those of
     /// `--planes`), in render order.
     pub planes: Vec<(String, String)>,
+    /// Counters and timings of the render.
     pub stats: &'a Stats,
 }
 
