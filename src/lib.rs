@@ -7,7 +7,6 @@
 //! radiometry, the sensor, the render loop and the outputs.
 
 pub mod atmos;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod batch;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bench;
