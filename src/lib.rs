@@ -8,7 +8,6 @@
 
 pub mod atmos;
 pub mod batch;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bench;
 pub mod bounds;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet

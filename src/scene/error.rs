@@ -7,8 +7,11 @@ use std::path::{Path, PathBuf};
 /// A place in an input file: 1-based line and column; 0 means unknown.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Location {
+    /// The file.
     pub file: PathBuf,
+    /// 1-based line (0: unknown).
     pub line: usize,
+    /// 1-based column (0: unknown).
     pub col: usize,
     /// What put the item there when it is not the file's own text: the
     /// command-line override (`--set key=value`) that set it (then `line`

@@ -36,13 +36,15 @@ pub struct ObjectInfo {
     pub instance: usize,
     /// Its triangles are `first_triangle .. first_triangle + triangle_count`.
     pub first_triangle: u32,
+    /// Number of its triangles.
     pub triangle_count: u32,
     /// Faces (polygons) of the object.
     pub face_count: u32,
     /// Zero-area triangles skipped.
     pub degenerate_skipped: u32,
-    /// Axis-aligned bounds in world coordinates, metres.
+    /// Axis-aligned bounds' minimum, world coordinates, m.
     pub bounds_min_m: [f64; 3],
+    /// Axis-aligned bounds' maximum, world coordinates, m.
     pub bounds_max_m: [f64; 3],
 }
 

@@ -39,8 +39,11 @@ pub mod keys {
     pub use crate::therm::slab::keys::*;
     pub use crate::therm::surface::keys::*;
 
+    /// `specularity`: the specular fraction of the reflectance.
     pub const SPECULARITY: Bound = Bound::new("specularity", 0.0, 1.0, "");
+    /// `emissivity = { fresnel = { n } }`: the refractive index.
     pub const FRESNEL_N: Bound = Bound::new("n", 1e-6, 1e4, "");
+    /// `emissivity = { fresnel = { k } }`: the extinction coefficient.
     pub const FRESNEL_K: Bound = Bound::new("k", 0.0, 1e4, "");
 
     /// The description and optics keys, in the order the docs list them.
@@ -309,7 +312,9 @@ pub enum Emissivity {
 /// internal power and surface kind) and the optics the radiometry uses.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Material {
+    /// The material's name (its `[material.NAME]`).
     pub name: String,
+    /// Its `description`, if given.
     pub description: Option<String>,
     /// The thermal construction (today one homogeneous slab): what
     /// `therm` solves, exactly as the scene gave it (a deep-ground back face

@@ -51,6 +51,7 @@ use paths::resolve;
 /// A square convolution kernel (odd size), weights normalised to sum 1.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PsfKernel {
+    /// Rows and columns (odd).
     pub size: usize,
     /// Row-major weights.
     pub weights: Vec<f64>,
@@ -81,6 +82,7 @@ pub struct LoadedScene {
     /// Facet id of each triangle: the index of its mesh face within its
     /// object (the triangles of a polygon keep one facet id).
     pub tri_facet: Vec<u32>,
+    /// Every object (instances and terrains): name, file, triangles, bounds.
     pub objects: Vec<ObjectInfo>,
     /// The sensor camera in world coordinates (as the scene gives it).
     pub camera: Camera,

@@ -58,6 +58,7 @@ pub struct Ground<'a> {
 /// The terrain under a footprint: its lowest point and mean normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Under {
+    /// The lowest terrain point under the footprint, local frame, m.
     pub min_z_m: f64,
     /// Area-weighted mean of the unit normals (upward), normalised.
     pub normal: DVec3,
@@ -332,7 +333,9 @@ fn polygon_area(p: &[DVec3]) -> f64 {
 /// How one instance stands: from its own keys, else its object's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stand {
+    /// The point that stands on the ground.
     pub anchor: Anchor,
+    /// Upright, or tilted to the slope.
     pub align: Align,
     /// Height of the anchor above the terrain, m (the z of `translate_m`,
     /// object's plus instance's).
@@ -421,7 +424,9 @@ pub fn stands(
 /// terrain under it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NoGround {
+    /// The point with no terrain under it (x, y), local frame, m.
     pub at_m: [f64; 2],
+    /// What the point is, for the message (e.g. "its footprint").
     pub what: &'static str,
 }
 

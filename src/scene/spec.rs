@@ -333,6 +333,7 @@ pub struct ObjectSpec {
     /// when `material` is not set).
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub materials: std::collections::BTreeMap<String, String>,
+    /// Repeated placements (`[[object.instance]]`), each applied before the object's own transform.
     #[serde(default, skip_serializing_if = "Vec::is_empty", rename = "instance")]
     pub instances: Vec<Transform>,
 }
@@ -489,6 +490,7 @@ impl Default for Scale {
 }
 
 impl Scale {
+    /// The factor on each axis.
     pub fn xyz(&self) -> [f64; 3] {
         match *self {
             Scale::Uniform(s) => [s; 3],
@@ -876,7 +878,7 @@ pub struct RenderOptions {
     /// Spectral integration step, cm⁻¹ (0.1-100).
     #[serde(default = "d_spectral_step")]
     pub spectral_step_cm1: f64,
-    /// Thermal model time step, minutes (0 < step <= 60).
+    /// Thermal model time step, minutes (1/60 to 60: 1 s to 1 h).
     #[serde(default = "d_thermal_step")]
     pub thermal_step_min: f64,
     /// Local error tolerance of the adaptive thermal steps, K (1e-6 to 1).

@@ -17,7 +17,9 @@ pub enum Seg {
 
 /// A TOML file's path and text.
 pub struct TomlSource {
+    /// The file.
     pub path: PathBuf,
+    /// The text parsed (after any edits).
     pub text: String,
     /// Set when `text` is the file's text edited on the command line
     /// (`--set`, `--unset`): errors are then reported where the item is in
@@ -27,6 +29,7 @@ pub struct TomlSource {
 
 /// The file's own text and the overrides applied to it.
 pub struct Edits {
+    /// The file's own text.
     pub original: String,
     /// (dotted key, value) as given on the command line.
     pub overrides: Vec<(String, String)>,
@@ -47,6 +50,7 @@ impl TomlSource {
         Ok(Self::from_text(path, text))
     }
 
+    /// A source of `text`, reported as the file `path`.
     pub fn from_text(path: &Path, text: String) -> Self {
         Self {
             path: path.to_path_buf(),

@@ -51,8 +51,11 @@ impl RasterCrs {
 /// A single-band raster with its georeferencing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Raster {
+    /// Columns.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Its coordinate reference system.
     pub crs: RasterCrs,
     /// Pixel → CRS affine transform in GDAL's order (x = g0 + col·g1 +
     /// row·g2, y = g3 + col·g4 + row·g5), (col, row) at pixel corners: the
