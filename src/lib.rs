@@ -17,7 +17,6 @@ pub mod output;
 pub mod radiometry;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod render;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod scene;
 pub mod sensor;
 pub mod sun;

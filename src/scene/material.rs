@@ -300,9 +300,17 @@ pub enum EmissivitySpec {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Emissivity {
+    /// Grey and Lambertian: the construction's `thermal_emissivity`.
     Constant,
+    /// A table ε(θ, λ) read from its file.
     Table(EmissivityTable),
-    Fresnel { n: f64, k: f64 },
+    /// From the Fresnel equations of a complex index n + ik.
+    Fresnel {
+        /// Refractive index.
+        n: f64,
+        /// Extinction coefficient.
+        k: f64,
+    },
 }
 
 /// A material ready for the model: the one model description of a material,

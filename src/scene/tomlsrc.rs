@@ -11,7 +11,9 @@ use super::error::{Location, SceneError, closest};
 /// One step of a key path: a table key or an array index.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Seg {
+    /// A table key.
     Key(String),
+    /// An array index (0-based).
     Index(usize),
 }
 

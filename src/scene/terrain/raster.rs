@@ -34,7 +34,12 @@ pub enum RasterCrs {
     Geographic,
     /// WGS 84 / UTM zone `zone` (1-60), north or south (EPSG 326zz/327zz):
     /// x easting, y northing, metres.
-    Utm { zone: u32, north: bool },
+    Utm {
+        /// UTM zone, 1-60.
+        zone: u32,
+        /// Northern hemisphere (EPSG 326zz), else southern (327zz).
+        north: bool,
+    },
 }
 
 impl RasterCrs {
@@ -72,6 +77,7 @@ pub struct Raster {
 /// A bilinear sample of a raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Sample {
+    /// The interpolated value.
     Value(f64),
     /// A pixel the interpolation needs holds no data: (col, row).
     NoData([u32; 2]),
