@@ -28,6 +28,7 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 
 use super::{Batch, FrameJob};
+pub use crate::output::frame::MaterialEntry;
 use crate::output::sequence::{
     GAP_PX, band_of, contact_sheet, median_of, sheet_min_span, write_contact_sheet,
 };
@@ -121,17 +122,6 @@ struct FrameMeta {
     band: String,
     planes: Vec<(String, String)>,
     materials: Vec<MaterialEntry>,
-}
-
-/// One entry of a frame's material table (as its JSON summary has it).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
-pub struct MaterialEntry {
-    /// The `material` plane's value (-1: no surface).
-    pub index: i64,
-    /// The material's name.
-    pub name: String,
-    /// The classification's class (0: no surface).
-    pub class: u32,
 }
 
 /// CF `flag_values`/`flag_meanings` of the `case` plane (docs/render.md).

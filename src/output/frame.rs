@@ -223,8 +223,9 @@ fn envi_f32(d: &[f32]) -> Vec<f32> {
         .collect()
 }
 
-/// One entry of the material table.
-#[derive(Clone, Debug, Serialize)]
+/// One entry of the material table (the one type: the frame's JSON summary
+/// writes it, `batch::merge` reads it back).
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct MaterialEntry {
     /// The `material` plane's value (-1: no surface).
     pub index: i64,
