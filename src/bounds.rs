@@ -17,13 +17,16 @@
 pub struct Bound {
     /// The key as written in the input (TOML key, CSV column, header field).
     pub key: &'static str,
+    /// Lowest value allowed (inclusive).
     pub lo: f64,
+    /// Highest value allowed (inclusive).
     pub hi: f64,
     /// Unit, as printed after the range (empty for dimensionless).
     pub unit: &'static str,
 }
 
 impl Bound {
+    /// The range `lo <= key <= hi unit`.
     pub const fn new(key: &'static str, lo: f64, hi: f64, unit: &'static str) -> Self {
         Self { key, lo, hi, unit }
     }
@@ -83,21 +86,32 @@ pub mod time {
 /// Weather record fields (docs/weather-format.md), after unit conversion.
 pub mod weather {
     use super::Bound;
+    /// Air temperature.
     pub const AIR_TEMP: Bound = Bound::new("air temperature", -90.0, 60.0, "°C");
+    /// Dew-point temperature.
     pub const DEW_POINT: Bound = Bound::new("dew point", -100.0, 60.0, "°C");
+    /// Relative humidity.
     pub const RELATIVE_HUMIDITY: Bound = Bound::new("relative humidity", 0.0, 100.0, "%");
+    /// Wind speed.
     pub const WIND: Bound = Bound::new("wind speed", 0.0, 100.0, "m/s");
+    /// Station pressure.
     pub const PRESSURE: Bound = Bound::new("pressure", 300.0, 1100.0, "hPa");
+    /// Total cloud cover as a fraction.
     pub const CLOUD: Bound = Bound::new("cloud fraction", 0.0, 1.0, "");
+    /// Each irradiance (GHI, DNI, DHI, longwave down).
     pub const IRRADIANCE: Bound = Bound::new("irradiance", 0.0, 1500.0, "W/m²");
+    /// Sky (radiative) temperature.
     pub const SKY_TEMP: Bound = Bound::new("sky temperature", -150.0, 60.0, "°C");
+    /// Precipitation rate.
     pub const PRECIPITATION: Bound = Bound::new("precipitation", 0.0, 500.0, "mm/h");
     /// A station's UTC offset (TMY3/EPW header); the CSV `utc_offset:`
     /// comment is bounded the same way.
     pub const TIME_ZONE: Bound = Bound::new("time zone", -12.0, 14.0, "hours from UTC");
     /// Station latitude and longitude (EPW header).
     pub const LATITUDE: Bound = Bound::new("latitude", -90.0, 90.0, "degrees");
+    /// Station longitude, east positive.
     pub const LONGITUDE: Bound = Bound::new("longitude", -180.0, 180.0, "degrees");
+    /// Station elevation above sea level.
     pub const ELEVATION: Bound = Bound::new("elevation", -500.0, 9000.0, "m");
 
     /// Every record bound, in the order docs/weather-format.md lists them.
@@ -136,8 +150,10 @@ pub mod data {
     pub const KERNEL_SIZE: Bound = Bound::new("kernel size", 1.0, 255.0, "rows");
     /// Emissivity table angles from the normal.
     pub const EMISSIVITY_ANGLE: Bound = Bound::new("angle_deg", 0.0, 90.0, "degrees");
+    /// Emissivity table values.
     pub const EMISSIVITY: Bound = Bound::new("emissivity", 0.0, 1.0, "");
 
+    /// Every data-file bound, as docs/scene-format.md lists them.
     pub const ALL: &[Bound] = &[
         WAVELENGTH_UM,
         RESPONSE,
@@ -182,6 +198,7 @@ pub mod atmos_table {
         }
     }
 
+    /// Every atmosphere-table bound, as docs/reliability.md lists them.
     pub const ALL: &[Bound] = &[
         WAVENUMBER,
         WAVENUMBER_COUNT,
@@ -216,6 +233,7 @@ pub mod terrain {
     /// are no data.
     pub const HEIGHT: Bound = Bound::new("height", -12_000.0, 10_000.0, "m");
 
+    /// The `[[terrain]]` key bounds docs/scene-format.md lists.
     pub const ALL: &[Bound] = &[RESOLUTION, EXTENT, EXTENT_SIDE];
 }
 
@@ -238,6 +256,7 @@ pub mod args {
     }
 
     impl Arg {
+        /// The argument `flag` with the range `bound`.
         pub const fn new(flag: &'static str, bound: Bound) -> Self {
             Self { flag, bound }
         }
@@ -431,7 +450,9 @@ impl Key {
 /// `file:line:col: message`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct KeyError {
+    /// The key path inside the table.
     pub path: Vec<&'static str>,
+    /// What is wrong and what was expected.
     pub msg: String,
 }
 
@@ -453,8 +474,37 @@ impl KeyError {
 /// limits) are still written out in `scene/validate.rs`.
 pub mod scene_keys {
     use super::Bound;
-    /// (path in the scene TOML, range).
+    /// (path in the scene TOML, range). A path segment `*` is every entry
+    /// of an array of tables (`[[object]]`); a number array at the end of
+    /// a path (`translate_m = [x, y, z]`) has each element checked. Only
+    /// values the file writes (after `--set`) are checked: every default
+    /// lies inside its range.
     pub type Row = (&'static [&'static str], Bound);
+    /// Coordinates: the farthest a scene point or a pose may lie from the
+    /// scene origin, m (projected coordinate systems stay within ±2.1e7 m).
+    pub const COORD: f64 = 1e8;
+    /// `translate_m` of an object or instance, each coordinate.
+    pub const TRANSLATE: Bound = Bound::new("translate_m", -COORD, COORD, "m");
+    /// `rotate_deg` of an object or instance, each angle.
+    pub const ROTATE: Bound = Bound::new("rotate_deg", -COORD, COORD, "degrees");
+    /// `scale`, one factor or each of three.
+    pub const SCALE: Bound = Bound::new("scale", 1e-9, 1e9, "");
+    /// A pose's `target_m`, each coordinate.
+    pub const TARGET: Bound = Bound::new("target_m", -COORD, COORD, "m");
+    /// A pose's `azimuth_deg` (target → sensor, clockwise from north).
+    pub const AZIMUTH: Bound = Bound::new("azimuth_deg", -360.0, 360.0, "degrees");
+    /// `weather.constant`: the air temperatures (and `air_max_c >=
+    /// air_min_c`, checked beside the table).
+    /// `air_min_c`.
+    pub const AIR_MIN: Bound = Bound::new("air_min_c", -90.0, 60.0, "°C");
+    /// `air_max_c`.
+    pub const AIR_MAX: Bound = Bound::new("air_max_c", -90.0, 60.0, "°C");
+    /// `weather.constant.dew_point_c` (and `<= air_min_c`, beside the table).
+    pub const DEW_POINT: Bound = Bound::new("dew_point_c", -100.0, 60.0, "°C");
+    /// `sensor.band.range_um` (and `range_um[1] > range_um[0]`).
+    pub const RANGE_UM: Bound = Bound::new("range_um", 0.2, 100.0, "µm");
+    /// Every range of the scene file, checked by `scene::validate` and
+    /// listed in docs/scene-format.md.
     pub const ALL: &[Row] = &[
         (
             &["site", "latitude_deg"],
@@ -476,6 +526,27 @@ pub mod scene_keys {
             &["atmosphere", "visibility_km"],
             Bound::new("visibility_km", 0.05, 1000.0, "km"),
         ),
+        (&["object", "*", "translate_m"], TRANSLATE),
+        (&["object", "*", "rotate_deg"], ROTATE),
+        (&["object", "*", "scale"], SCALE),
+        (&["object", "*", "instance", "*", "translate_m"], TRANSLATE),
+        (&["object", "*", "instance", "*", "rotate_deg"], ROTATE),
+        (&["object", "*", "instance", "*", "scale"], SCALE),
+        (
+            &["weather", "constant", "wind_m_s"],
+            Bound::new("wind_m_s", 0.0, 100.0, "m/s"),
+        ),
+        (&["weather", "constant", "air_min_c"], AIR_MIN),
+        (&["weather", "constant", "air_max_c"], AIR_MAX),
+        (&["weather", "constant", "dew_point_c"], DEW_POINT),
+        (
+            &["weather", "constant", "cloud_fraction"],
+            Bound::new("cloud_fraction", 0.0, 1.0, ""),
+        ),
+        (
+            &["weather", "constant", "pressure_pa"],
+            Bound::new("pressure_pa", 30_000.0, 110_000.0, "Pa"),
+        ),
         (
             &["sensor", "width_px"],
             Bound::new("width_px", 1.0, 65536.0, "pixels"),
@@ -492,6 +563,96 @@ pub mod scene_keys {
             &["sensor", "fov_v_deg"],
             Bound::new("fov_v_deg", 1e-6, 170.0, "degrees"),
         ),
+        (
+            &["sensor", "pose", "look_at", "position_m"],
+            Bound::new("position_m", -COORD, COORD, "m"),
+        ),
+        (&["sensor", "pose", "look_at", "target_m"], TARGET),
+        (
+            &["sensor", "pose", "look_at", "up"],
+            Bound::new("up", -COORD, COORD, ""),
+        ),
+        (
+            &["sensor", "pose", "altitude", "altitude_m"],
+            Bound::new("altitude_m", -1e3, COORD, "m"),
+        ),
+        (
+            &["sensor", "pose", "altitude", "view_zenith_deg"],
+            Bound::new("view_zenith_deg", 0.0, 89.0, "degrees"),
+        ),
+        (&["sensor", "pose", "altitude", "azimuth_deg"], AZIMUTH),
+        (&["sensor", "pose", "altitude", "target_m"], TARGET),
+        (
+            &["sensor", "pose", "slant_range", "slant_range_m"],
+            Bound::new("slant_range_m", 0.0, COORD, "m"),
+        ),
+        (
+            &["sensor", "pose", "slant_range", "view_zenith_deg"],
+            Bound::new("view_zenith_deg", 0.0, 89.999, "degrees"),
+        ),
+        (&["sensor", "pose", "slant_range", "azimuth_deg"], AZIMUTH),
+        (&["sensor", "pose", "slant_range", "target_m"], TARGET),
+        (&["sensor", "band", "range_um"], RANGE_UM),
+        (
+            &["sensor", "psf", "gaussian", "sigma_px"],
+            Bound::new("sigma_px", 1e-6, 100.0, "pixels"),
+        ),
+        (
+            &["sensor", "noise", "random_sigma_w_m2_sr_um"],
+            Bound::new("random_sigma_w_m2_sr_um", 0.0, 1e6, "W m⁻² sr⁻¹ µm⁻¹"),
+        ),
+        (
+            &["sensor", "noise", "periodic", "amplitude_w_m2_sr_um"],
+            Bound::new("amplitude_w_m2_sr_um", 0.0, 1e6, "W m⁻² sr⁻¹ µm⁻¹"),
+        ),
+        (
+            &["sensor", "noise", "periodic", "period_px"],
+            Bound::new("period_px", 2.0, 1e6, "pixels"),
+        ),
+        (
+            &["sensor", "quantisation", "bits"],
+            Bound::new("bits", 1.0, 16.0, ""),
+        ),
+        (
+            &["render", "max_memory_mib"],
+            crate::bounds::render::MAX_MEMORY,
+        ),
+        (
+            &["render", "supersample"],
+            Bound::new("supersample", 1.0, 16.0, ""),
+        ),
+        (
+            &["render", "spectral_step_cm1"],
+            Bound::new("spectral_step_cm1", 0.1, 100.0, "cm⁻¹"),
+        ),
+        (
+            &["render", "thermal_step_min"],
+            Bound::new("thermal_step_min", 1.0 / 60.0, 60.0, "minutes"),
+        ),
+        (
+            &["render", "refine_threshold_k"],
+            Bound::new("refine_threshold_k", 0.001, 100.0, "K"),
+        ),
+        (
+            &["render", "thermal_tol_k"],
+            Bound::new("thermal_tol_k", 1e-6, 1.0, "K"),
+        ),
+        (
+            &["render", "shadow_interval_min"],
+            Bound::new("shadow_interval_min", 1.0, 120.0, "minutes"),
+        ),
+        (
+            &["render", "shadow_resolution_min"],
+            Bound::new("shadow_resolution_min", 0.5, 120.0, "minutes"),
+        ),
+        (
+            &["render", "shadow_key_recent_h"],
+            Bound::new("shadow_key_recent_h", 0.1, 240.0, "hours"),
+        ),
+        (
+            &["render", "history_hours"],
+            Bound::new("history_hours", 1.0, 240.0, "hours"),
+        ),
     ];
 }
 
@@ -500,7 +661,6 @@ pub fn documented() -> Vec<(&'static str, Bound)> {
     let mut v: Vec<(&str, Bound)> = Vec::new();
     v.extend(data::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.push(("docs/scene-format.md", time::YEAR));
-    v.push(("docs/scene-format.md", render::MAX_MEMORY));
     v.extend(terrain::ALL.iter().map(|b| ("docs/scene-format.md", *b)));
     v.extend(
         scene_keys::ALL

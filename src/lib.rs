@@ -6,26 +6,18 @@
 //! tracer, the sun ephemeris, the thermal model, the atmosphere, the
 //! radiometry, the sensor, the render loop and the outputs.
 
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod atmos;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod batch;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bench;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod bounds;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod cli;
 pub mod files;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod output;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod radiometry;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod render;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod scene;
-#[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet
 pub mod sensor;
 pub mod sun;
 #[allow(missing_docs)] // issue 31 item 6: its public items are not all documented yet

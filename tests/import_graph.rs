@@ -54,16 +54,6 @@ const KNOWN_UP_IMPORTS: &[(&str, &str)] = &[];
 /// `table::…`) while the child uses an item of the `mod.rs` by `super::`
 /// (found when the bare paths were added to the check, issue 31 item 5).
 const KNOWN_FILE_CYCLES: &[&[&str]] = &[
-    &["atmos/mod.rs", "atmos/table.rs"],
-    &[
-        "cli/bench.rs",
-        "cli/check.rs",
-        "cli/mod.rs",
-        "cli/probe.rs",
-        "cli/render.rs",
-        "cli/sequence.rs",
-        "cli/therm.rs",
-    ],
     &[
         "render/adaptive.rs",
         "render/assemble.rs",
@@ -72,7 +62,6 @@ const KNOWN_FILE_CYCLES: &[&[&str]] = &[
         "render/pixel.rs",
         "render/prepare.rs",
     ],
-    &["scene/mod.rs", "scene/validate.rs"],
     &["trace/bvh.rs", "trace/embree/mod.rs", "trace/mod.rs"],
     &["weather/mod.rs", "weather/tmy2.rs"],
 ];

@@ -9,16 +9,15 @@ use std::path::{Path, PathBuf};
 use glam::{DAffine3, DVec3};
 use irsig::scene::mesh::Mesh;
 use irsig::scene::placement::{Ground, Stand, stand};
-use irsig::scene::terrain::TerrainMesh;
 use irsig::scene::{Align, Anchor};
 
 /// A terrain of n × n cells of `cell` m over [0, n·cell]², heights h(x, y).
-fn terrain(n: usize, cell: f64, h: impl Fn(f64, f64) -> f64) -> TerrainMesh {
-    let mut m = TerrainMesh::default();
+fn terrain(n: usize, cell: f64, h: impl Fn(f64, f64) -> f64) -> Mesh {
+    let mut m = Mesh::default();
     for j in 0..=n {
         for i in 0..=n {
             let (x, y) = (i as f64 * cell, j as f64 * cell);
-            m.positions_m.push([x, y, h(x, y)]);
+            m.positions.push([x, y, h(x, y)]);
         }
     }
     let v = |i: usize, j: usize| (j * (n + 1) + i) as u32;
@@ -92,7 +91,7 @@ fn overlapping_terrains_give_the_highest_and_none_gives_nothing() {
     let g = Ground::new(&t, [0.0; 3]);
     assert!((g.at(5.0, 5.0).unwrap().0 - 3.05).abs() < 1e-12);
     assert!((g.at(35.0, 5.0).unwrap().0 - 1.0).abs() < 1e-12);
-    let none: [TerrainMesh; 0] = [];
+    let none: [Mesh; 0] = [];
     let g = Ground::new(&none, [0.0; 3]);
     assert_eq!(g.at(0.0, 0.0), None);
     assert_eq!(g.under([0.0, 0.0], [1.0, 1.0]), Err([0.5, 0.5]));

@@ -425,6 +425,33 @@ fn out_of_range_scene_value_names_its_line() {
     );
 }
 
+/// The scene's ranges are one table (`bounds::scene_keys::ALL`): its `*`
+/// rows reach every `[[object]]` and `[[object.instance]]`, a number
+/// array has each element checked at its index, and the message names the
+/// element's line and column.
+#[test]
+fn out_of_range_array_element_of_an_instance_names_its_line_and_column() {
+    let scene = format!(
+        "{SCENE}[[object.instance]]\ntranslate_m = [0.0, 0.0, 0.0]\n\
+         [[object.instance]]\ntranslate_m = [1.0, 2.0, 3.0]\nscale = [1.0, 0.0, 1.0]\n"
+    );
+    let f = Fixture::new(&scene, MATS, OBJ);
+    assert_eq!(
+        f.err(),
+        "D/scene.toml:34:15: `scale` = 0 is out of range: expected 1e-9 <= scale <= 1e9"
+    );
+    let f = Fixture::new(
+        &SCENE.replace("view_zenith_deg = 0.0", "view_zenith_deg = 89.5"),
+        MATS,
+        OBJ,
+    );
+    assert_eq!(
+        f.err(),
+        "D/scene.toml:25:19: `view_zenith_deg` = 89.5 is out of range: expected 0 <= \
+         view_zenith_deg <= 89 degrees"
+    );
+}
+
 #[test]
 fn out_of_range_material_value_names_the_library_line() {
     let f = Fixture::new(

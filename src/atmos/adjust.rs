@@ -62,8 +62,9 @@ use crate::units::STEFAN_BOLTZMANN_W_M2K4 as SIGMA_W_M2_K4;
 pub const VAPOUR_SCALE_HEIGHT_KM: f64 = 2.0;
 /// Depth of the diurnal temperature signal, km.
 pub const DIURNAL_DEPTH_KM: f64 = 1.0;
-/// Bounds of the sky optical-depth scale.
+/// Lower bound of the sky optical-depth scale.
 pub const SKY_SCALE_MIN: f64 = 0.05;
+/// Upper bound of the sky optical-depth scale.
 pub const SKY_SCALE_MAX: f64 = 50.0;
 
 /// Fraction g(H) of the surface temperature change seen by the emission of a
@@ -89,6 +90,7 @@ pub struct WeatherAdjustment {
 }
 
 impl WeatherAdjustment {
+    /// No correction: the table as stored.
     pub const NONE: WeatherAdjustment = WeatherAdjustment {
         delta_t_k: 0.0,
         vapour_scale: 1.0,
@@ -261,6 +263,7 @@ pub struct SkyFit {
     pub thermal_w_m2: f64,
     /// After the fit, W/m² (= thermal unless clamped).
     pub fitted_w_m2: f64,
+    /// The corrections the fit found.
     pub adjustment: WeatherAdjustment,
     /// s hit a bound: the table cannot reach the thermal sky.
     pub clamped: bool,

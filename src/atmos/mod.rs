@@ -65,57 +65,15 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod adjust;
+mod error;
 pub mod standard;
 pub mod table;
 pub mod view;
 
 use std::path::{Path, PathBuf};
 
+pub use error::AtmosError;
 pub use table::{AtmosTable, Axis, Quantity};
-
-/// Errors from loading or querying atmosphere tables.
-#[derive(Debug, thiserror::Error)]
-pub enum AtmosError {
-    #[error("cannot read {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("{file}: header line {line}: {msg}")]
-    Format {
-        file: String,
-        line: usize,
-        msg: String,
-    },
-    #[error("{file}: truncated: the header describes {expected} bytes of data, the file has {got}")]
-    Truncated {
-        file: String,
-        expected: usize,
-        got: usize,
-    },
-    #[error(
-        "{file}: quantity {quantity}: non-finite value (NaN or inf) in spectrum {spectrum} at {wavenumber_cm1} cm-1"
-    )]
-    NonFinite {
-        file: String,
-        quantity: String,
-        spectrum: usize,
-        wavenumber_cm1: f64,
-    },
-    #[error(
-        "atmosphere {atmosphere}: {quantity}: {axis} = {value} is outside the table ({min} .. {max}); no extrapolation"
-    )]
-    OutOfRange {
-        atmosphere: String,
-        quantity: String,
-        axis: String,
-        value: f64,
-        min: f64,
-        max: f64,
-    },
-    #[error("unknown atmosphere '{name}' (available: {available})")]
-    Unknown { name: String, available: String },
-}
 
 /// The shipped tables (`data/atmos/*.atm.gz`), embedded in the binary as
 /// they are shipped (gzip), so that a copied or `cargo install`ed `irsig`
@@ -223,6 +181,7 @@ pub fn list_builtin() -> Result<Vec<(String, TableSource, String)>, AtmosError> 
 /// A loaded atmosphere (the stored table).
 #[derive(Clone, Debug)]
 pub struct Atmosphere {
+    /// The table as read.
     pub table: AtmosTable,
 }
 
@@ -267,6 +226,7 @@ impl Atmosphere {
         }
     }
 
+    /// The atmosphere's name (the table's `name`).
     pub fn name(&self) -> &str {
         &self.table.name
     }
@@ -536,6 +496,7 @@ impl Field {
 /// Path spectra target→sensor on the working wavenumbers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PathSpectra {
+    /// Transmittance τ₂.
     pub tau2: Vec<f64>,
     /// W m⁻² sr⁻¹ µm⁻¹
     pub l_ue_w_m2_sr_um: Vec<f64>,
@@ -549,7 +510,9 @@ pub struct PathSpectra {
 /// the table (see the module docs for the rules).
 #[derive(Clone, Debug)]
 pub struct SpectralAtmosphere {
+    /// The atmosphere's name.
     pub name: String,
+    /// The working wavenumbers, cm⁻¹.
     pub wavenumber_cm1: Vec<f64>,
     tau_path: Field,
     l_ue: Field,
@@ -562,10 +525,12 @@ pub struct SpectralAtmosphere {
 }
 
 impl SpectralAtmosphere {
+    /// Number of working wavenumbers.
     pub fn len(&self) -> usize {
         self.wavenumber_cm1.len()
     }
 
+    /// Whether there are no working wavenumbers.
     pub fn is_empty(&self) -> bool {
         self.wavenumber_cm1.is_empty()
     }

@@ -129,6 +129,7 @@ pub const CHOICE_LATITUDE_PENALTY: f64 = 1.0;
 /// One candidate's score.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Candidate {
+    /// The standard atmosphere's name.
     pub name: &'static str,
     /// d² of the rule (smaller fits better).
     pub distance2: f64,
@@ -137,11 +138,13 @@ pub struct Candidate {
 /// The choice and why.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Choice {
+    /// The standard atmosphere chosen.
     pub name: &'static str,
     /// Mean air temperature the rule used, K.
     pub mean_air_temp_k: f64,
     /// Mean vapour pressure the rule used, Pa.
     pub mean_vapour_pressure_pa: f64,
+    /// The site's latitude, degrees.
     pub latitude_deg: f64,
     /// Every model, best first.
     pub candidates: Vec<Candidate>,

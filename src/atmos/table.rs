@@ -3,7 +3,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use super::AtmosError;
+use super::error::AtmosError;
 use crate::bounds;
 
 /// Current (and only) table format version.
@@ -22,9 +22,13 @@ pub struct Axis {
 /// wavenumber fastest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Quantity {
+    /// Its name in the table (`tau_path`, `l_ue`, ...).
     pub name: String,
+    /// Its unit, as the header gives it.
     pub unit: String,
+    /// The axes before the wavenumber, outermost first.
     pub axes: Vec<Axis>,
+    /// The values, row-major, wavenumber fastest.
     pub data: Vec<f64>,
     /// Number of wavenumber samples (length of the last dimension).
     pub n_wavenumber: usize,
@@ -71,7 +75,9 @@ pub const REQUIRED: &[(&str, &[&str])] = &[
 /// A loaded atmosphere table, as stored.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AtmosTable {
+    /// The atmosphere's name (header `name`).
     pub name: String,
+    /// What it is (header `description`).
     pub description: String,
     /// The command that generated the table (header `command`).
     pub command: String,
@@ -79,6 +85,7 @@ pub struct AtmosTable {
     pub header: Vec<(String, String)>,
     /// Ascending wavenumbers, cm⁻¹.
     pub wavenumber_cm1: Vec<f64>,
+    /// The tabulated quantities.
     pub quantities: Vec<Quantity>,
     /// Where it was loaded from.
     pub source: PathBuf,

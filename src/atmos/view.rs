@@ -19,6 +19,7 @@ pub struct AtmosGeometry {
     pub view_zenith_deg: f64,
     /// Sky zenith angle for L_DE and L_DS, degrees.
     pub sky_zenith_deg: f64,
+    /// Sun zenith angle, degrees.
     pub sun_zenith_deg: f64,
     /// Sun azimuth minus line-of-sight azimuth, degrees.
     pub rel_azimuth_deg: f64,
@@ -28,32 +29,41 @@ pub struct AtmosGeometry {
 /// W m⁻² sr⁻¹ µm⁻¹, irradiance in W m⁻² µm⁻¹).
 #[derive(Clone, Debug, Serialize)]
 pub struct AtmosView {
+    /// The atmosphere's name.
     pub name: String,
+    /// What it is.
     pub description: String,
     /// The table file.
     pub source: PathBuf,
+    /// The geometry the terms are for.
     pub geometry: AtmosGeometry,
-    /// Band label, bins of the band and of the table's grid.
+    /// Band label.
     pub band: String,
+    /// Bins of the table's grid inside the band.
     pub grid_bins: usize,
+    /// The band's bins, cm⁻¹.
     pub wavenumber_cm1: Vec<f64>,
     /// Band weight of each bin (the weights sum to 1).
     pub weight: Vec<f64>,
     /// Target → sensor transmission.
     pub tau2: Vec<f64>,
-    /// Path thermal and scattered radiance.
+    /// Path thermal radiance.
     pub l_ue: Vec<f64>,
+    /// Path scattered radiance.
     pub l_us: Vec<f64>,
-    /// Sky thermal and scattered radiance toward the sky zenith.
+    /// Sky thermal radiance toward the sky zenith.
     pub l_de: Vec<f64>,
+    /// Sky scattered radiance toward the sky zenith.
     pub l_ds: Vec<f64>,
-    /// The same averaged over the sky dome.
+    /// Sky thermal radiance averaged over the sky dome.
     pub l_de_dome: Vec<f64>,
+    /// Sky scattered radiance averaged over the sky dome.
     pub l_ds_dome: Vec<f64>,
     /// Sun → ground transmission.
     pub tau1: Vec<f64>,
-    /// Exo-atmospheric solar irradiance and τ₁·E_S at the ground.
+    /// Exo-atmospheric solar irradiance.
     pub e_sun_exo: Vec<f64>,
+    /// τ₁·E_S at the ground.
     pub e_sun_ground: Vec<f64>,
     /// The response-weighted mean of each term over the band, labelled.
     pub band_integrated: Vec<(String, f64)>,

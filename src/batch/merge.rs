@@ -28,6 +28,7 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 
 use super::{Batch, FrameJob};
+pub use crate::output::frame::MaterialEntry;
 use crate::output::sequence::{
     GAP_PX, band_of, contact_sheet, median_of, sheet_min_span, write_contact_sheet,
 };
@@ -40,35 +41,55 @@ pub const SHEET_MAX: usize = 100;
 /// What [`merge`] wrote.
 #[derive(Debug, Clone, Serialize)]
 pub struct MergeReport {
+    /// Frames merged.
     pub frames: usize,
+    /// Image width, pixels.
     pub width: u32,
+    /// Image height, pixels.
     pub height: u32,
+    /// The planes stacked.
     pub planes: Vec<String>,
+    /// The stacked planes' file.
     pub stack: PathBuf,
+    /// The merged `index.json`.
     pub index: PathBuf,
+    /// The contact sheet's PNG.
     pub contact_sheet: PathBuf,
 }
 
 /// One frame of the merged `index.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct MergedFrame {
+    /// The frame's id.
     pub id: String,
+    /// Its position in the manifest.
     pub index: usize,
+    /// Its labels (scene, time, sweep keys, draw).
     pub labels: std::collections::BTreeMap<String, String>,
+    /// Local image time.
     pub local_time: String,
+    /// Image time, RFC 3339 UTC.
     pub image_time_utc: String,
+    /// Sun zenith angle, degrees.
     pub sun_zenith_deg: f64,
+    /// Sun azimuth, degrees clockwise from north.
     pub sun_azimuth_deg: f64,
+    /// The frame's EXR, relative to the batch folder.
     pub exr: PathBuf,
+    /// Statistics of the band radiance, W m⁻² sr⁻¹ µm⁻¹.
     pub band_radiance_w_m2_sr_um: PlaneStats,
+    /// Statistics of the apparent temperature, K.
     pub apparent_temperature_k: PlaneStats,
 }
 
 /// The merged `index.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct MergedIndex {
+    /// The batch's name.
     pub name: String,
+    /// The spec it was planned from.
     pub spec: PathBuf,
+    /// The label keys that vary across frames.
     pub dimensions: Vec<String>,
     /// The stack's dimensions before `y`, `x`: the product's axes, or
     /// `["frame"]` where the frames are not a regular product.
@@ -78,11 +99,17 @@ pub struct MergedIndex {
     pub materials: Option<Vec<MaterialEntry>>,
     /// Each scene's material table (by its `scene` label).
     pub materials_by_scene: std::collections::BTreeMap<String, Vec<MaterialEntry>>,
+    /// The band.
     pub band: String,
+    /// The stacked planes' file.
     pub stack: String,
+    /// The contact sheet's PNG.
     pub contact_sheet: String,
+    /// The frames the contact sheet shows, in order.
     pub contact_sheet_frames: Vec<String>,
+    /// How the contact sheet's stretch was chosen.
     pub contact_sheet_stretch: String,
+    /// Every frame, in manifest order.
     pub frames: Vec<MergedFrame>,
 }
 
@@ -95,16 +122,6 @@ struct FrameMeta {
     band: String,
     planes: Vec<(String, String)>,
     materials: Vec<MaterialEntry>,
-}
-
-/// One entry of a frame's material table (as its JSON summary has it).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
-pub struct MaterialEntry {
-    /// The `material` plane's value (-1: no surface).
-    pub index: i64,
-    pub name: String,
-    /// The classification's class (0: no surface).
-    pub class: u32,
 }
 
 /// CF `flag_values`/`flag_meanings` of the `case` plane (docs/render.md).
@@ -148,6 +165,7 @@ pub fn material_flags(table: &[MaterialEntry]) -> (Vec<f32>, String) {
 /// frame's position on them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Product {
+    /// Each axis: its name and its values (as labels), in order.
     pub axes: Vec<(String, Vec<String>)>,
     /// Per frame (manifest order), its index on each axis.
     pub positions: Vec<Vec<usize>>,

@@ -43,14 +43,19 @@ pub use slurm::{SlurmOptions, SlurmScripts, slurm};
 pub struct BatchInfo {
     /// Format marker.
     pub format: String,
+    /// The batch's name.
     pub name: String,
+    /// The spec it was planned from.
     pub spec: PathBuf,
+    /// The default shard count.
     pub shards: usize,
+    /// The label keys that vary across frames.
     pub dimensions: Vec<String>,
     /// The product's axes (see [`Plan::axes`]); empty in a batch planned
     /// before they were recorded (its stack is then flat over `frame`).
     #[serde(default)]
     pub axes: Vec<String>,
+    /// Number of frames.
     pub frames: usize,
     /// irsig's version that planned it.
     pub irsig_version: String,
@@ -130,8 +135,11 @@ pub fn write_plan(dir: &Path, p: &Plan) -> anyhow::Result<BatchInfo> {
 
 /// A batch folder read back: its info and frames.
 pub struct Batch {
+    /// The batch folder.
     pub dir: PathBuf,
+    /// Its `batch.json`.
     pub info: BatchInfo,
+    /// Its frames (manifest order).
     pub frames: Vec<FrameJob>,
 }
 
@@ -224,10 +232,13 @@ pub fn is_done(dir: &Path, f: &FrameJob) -> bool {
 /// How far a batch is.
 #[derive(Debug, Clone, Serialize)]
 pub struct Status {
+    /// Frames in the batch.
     pub total: usize,
+    /// Frames complete.
     pub done: usize,
     /// (frame id, error)
     pub failed: Vec<(String, String)>,
+    /// Frames neither complete nor failed.
     pub missing: Vec<String>,
 }
 

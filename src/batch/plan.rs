@@ -44,8 +44,11 @@ pub struct FrameJob {
 /// A frame's files, relative to the batch folder.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Outputs {
+    /// The EXR.
     pub exr: PathBuf,
+    /// The PNG quicklook.
     pub png: PathBuf,
+    /// The JSON summary (the set's marker).
     pub json: PathBuf,
 }
 
@@ -64,8 +67,11 @@ impl Outputs {
 /// dimensions that vary, and the frames.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Plan {
+    /// The batch's name.
     pub name: String,
+    /// The spec it was planned from.
     pub spec: PathBuf,
+    /// The default shard count.
     pub shards: usize,
     /// The label keys that vary across frames, `scene` first.
     pub dimensions: Vec<String>,
@@ -73,6 +79,7 @@ pub struct Plan {
     /// `[time]`), each sweep key, `draw` (of `[random]`); the merged stack's
     /// dimensions where the frames are regular over them.
     pub axes: Vec<String>,
+    /// The frames, in manifest order.
     pub frames: Vec<FrameJob>,
     /// How the frames' quicklooks and the contact sheet are drawn (kept in
     /// `batch.json`, see [`super::BatchInfo`]).

@@ -37,20 +37,39 @@ pub struct RunOptions {
 #[derive(Debug, Clone)]
 pub enum RunEvent {
     /// Already complete: skipped.
-    Skipped { id: String },
+    Skipped {
+        /// The frame's id.
+        id: String,
+    },
     /// Rendered and written in `seconds`.
-    Done { id: String, seconds: f64 },
+    Done {
+        /// The frame's id.
+        id: String,
+        /// Wall time of the render and the writes, s.
+        seconds: f64,
+    },
     /// Failed with this error (recorded under `failed/`).
-    Failed { id: String, error: String },
+    Failed {
+        /// The frame's id.
+        id: String,
+        /// The error, as recorded.
+        error: String,
+    },
     /// Being rendered by another runner (its lock is held): skipped.
-    Busy { id: String },
+    Busy {
+        /// The frame's id.
+        id: String,
+    },
 }
 
 /// [`run`]'s counts.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct RunReport {
+    /// Frames of the shard.
     pub frames: usize,
+    /// Frames rendered now.
     pub rendered: usize,
+    /// Frames already complete.
     pub skipped: usize,
     /// Frames another runner held the lock of (rendering them).
     pub busy: usize,

@@ -35,9 +35,13 @@ pub struct SlurmOptions {
 /// The scripts written, and the job ids when submitted.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SlurmScripts {
+    /// The array job's script (one task per shard).
     pub array_script: PathBuf,
+    /// The merge job's script.
     pub merge_script: PathBuf,
+    /// The script that submits both (the merge after the array).
     pub submit_script: PathBuf,
+    /// Number of shards (array tasks).
     pub shards: usize,
     /// (array job id, merge job id) when submitted.
     pub jobs: Option<(String, String)>,

@@ -74,12 +74,16 @@ pub struct SceneEntry {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeRange {
+    /// First clock time (`HH:MM`), with `to` and `step`.
     #[serde(default)]
     pub from: Option<String>,
+    /// Last clock time (`HH:MM`), inclusive.
     #[serde(default)]
     pub to: Option<String>,
+    /// Interval, e.g. `"1h"` (as `irsig sequence --step`).
     #[serde(default)]
     pub step: Option<String>,
+    /// Or the clock times as a list.
     #[serde(default)]
     pub at: Option<Vec<String>>,
 }
@@ -88,7 +92,9 @@ pub struct TimeRange {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Sweep {
+    /// The dotted scene key (as `--set` takes it).
     pub key: String,
+    /// Its values, one frame each.
     pub values: Vec<toml::Value>,
 }
 
@@ -110,16 +116,21 @@ pub struct Random {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Vary {
+    /// The dotted scene key (or `time`).
     pub key: String,
+    /// Uniform over [lo, hi].
     #[serde(default)]
     pub range: Option<[toml::Value; 2]>,
+    /// Or uniform over these values.
     #[serde(default)]
     pub choice: Option<Vec<toml::Value>>,
 }
 
 /// A spec read from its file, kept with its text for located errors.
 pub struct SpecFile {
+    /// The spec's text, for located errors.
     pub src: TomlSource,
+    /// The spec as parsed.
     pub spec: BatchSpec,
 }
 

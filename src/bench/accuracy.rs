@@ -107,29 +107,48 @@ fn knob_named(key: &str, name: &str) -> bool {
 pub struct AccuracyRow {
     /// The knob varied ("reference", "default", or a key).
     pub knob: String,
+    /// The knob's value.
     pub value: f64,
+    /// Wall time of the render, s.
     pub wall_s: f64,
     /// CPU time of the process (all threads) during the render, s: the
     /// cost measure that a shared machine disturbs least.
     pub cpu_s: f64,
+    /// Rays traced.
     pub rays: u64,
+    /// Thermal solves (cache misses).
     pub thermal_solves: u64,
+    /// Surface temperature error, RMS, K.
     pub surface_temp_rms_k: f64,
+    /// Surface temperature error, 99th percentile, K.
     pub surface_temp_p99_k: f64,
+    /// Surface temperature error, largest, K.
     pub surface_temp_max_k: f64,
+    /// Band radiance error, RMS, % of the reference.
     pub radiance_rms_pct: f64,
+    /// Band radiance error, 99th percentile, %.
     pub radiance_p99_pct: f64,
+    /// Band radiance error, largest, %.
     pub radiance_max_pct: f64,
+    /// Apparent temperature error, RMS, K.
     pub apparent_temp_rms_k: f64,
+    /// Apparent temperature error, 99th percentile, K.
     pub apparent_temp_p99_k: f64,
+    /// Apparent temperature error, largest, K.
     pub apparent_temp_max_k: f64,
     /// Number of shadow-edge pixels (of the reference).
     pub edge_pixels: usize,
+    /// As `surface_temp_rms_k`, over the shadow-edge pixels.
     pub edge_surface_temp_rms_k: f64,
+    /// As `surface_temp_p99_k`, over the shadow-edge pixels.
     pub edge_surface_temp_p99_k: f64,
+    /// As `surface_temp_max_k`, over the shadow-edge pixels.
     pub edge_surface_temp_max_k: f64,
+    /// As `apparent_temp_rms_k`, over the shadow-edge pixels.
     pub edge_apparent_temp_rms_k: f64,
+    /// As `apparent_temp_p99_k`, over the shadow-edge pixels.
     pub edge_apparent_temp_p99_k: f64,
+    /// As `apparent_temp_max_k`, over the shadow-edge pixels.
     pub edge_apparent_temp_max_k: f64,
 }
 
@@ -153,8 +172,11 @@ pub fn percentile(v: &mut [f64], p: f64) -> f64 {
 /// RMS, 99th percentile and max of |error|.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ErrStats {
+    /// Root mean square.
     pub rms: f64,
+    /// 99th percentile (nearest rank).
     pub p99: f64,
+    /// Largest.
     pub max: f64,
 }
 

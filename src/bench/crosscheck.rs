@@ -39,8 +39,11 @@ impl Default for Tolerances {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RayKind {
+    /// Camera rays.
     Primary,
+    /// Specular-bounce rays from the primary hits.
     Specular,
+    /// Solar-history rays from the primary hits.
     Solar,
 }
 
@@ -48,32 +51,47 @@ pub enum RayKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
+    /// Both miss, or the same triangle at the same `t`.
     Identical,
+    /// Different triangles at the same `t` (shared edges, coplanar overlaps).
     Tie,
+    /// One backend hits within `edge_eps` of an edge the other goes through.
     EdgeGraze,
+    /// `t` within the tolerance widened by 1/|cos θ| (grazing incidence).
     GrazingT,
+    /// A hit at the very start or end of the ray interval (a ray starting on a surface).
     SurfaceStart,
+    /// Anything else: a failure.
     Unexplained,
 }
 
 /// One unexplained difference, for the report.
 #[derive(Clone, Debug, Serialize)]
 pub struct Example {
+    /// The kind of ray.
     pub kind: RayKind,
     /// Pixel of the primary ray the ray derives from, when there is one.
     pub pixel: Option<(u32, u32)>,
+    /// Ray origin, the tracer's local frame, m.
     pub origin: [f32; 3],
+    /// Ray direction (unit).
     pub direction: [f32; 3],
+    /// Embree's hit (`None`: a miss).
     pub embree: Option<HitJson>,
+    /// obvhs's hit (`None`: a miss).
     pub bvh: Option<HitJson>,
 }
 
 /// A hit, for JSON.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct HitJson {
+    /// Distance along the ray.
     pub t: f32,
+    /// The triangle hit.
     pub prim: u32,
+    /// Barycentric u.
     pub u: f32,
+    /// Barycentric v.
     pub v: f32,
 }
 
@@ -91,12 +109,19 @@ impl From<Hit> for HitJson {
 /// Counts per ray kind.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Counts {
+    /// Pairs compared.
     pub compared: u64,
+    /// Identical pairs.
     pub identical: u64,
+    /// Ties.
     pub tie: u64,
+    /// Edge grazes.
     pub edge_graze: u64,
+    /// Grazing-incidence `t` differences.
     pub grazing_t: u64,
+    /// Hits at the ray interval's ends.
     pub surface_start: u64,
+    /// Unexplained differences (a failure).
     pub unexplained: u64,
 }
 
@@ -121,10 +146,15 @@ impl Counts {
 /// The whole report.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Report {
+    /// Triangles of the scene.
     pub triangles: usize,
+    /// Zero-area triangles not traced.
     pub skipped_degenerate: usize,
+    /// Primary rays.
     pub primary: Counts,
+    /// Specular-bounce rays.
     pub specular: Counts,
+    /// Solar-history rays (hits).
     pub solar: Counts,
     /// Occlusion answers (`occluded` queries) compared for solar rays.
     pub occlusion: Counts,
@@ -137,6 +167,7 @@ pub struct Report {
 }
 
 impl Report {
+    /// Unexplained differences over every kind.
     pub fn unexplained(&self) -> u64 {
         self.primary.unexplained
             + self.specular.unexplained
@@ -277,12 +308,16 @@ fn edge_distance_m(geometry: &Geometry, h: &Hit) -> f32 {
 /// Rays to compare, with the pixel they derive from.
 #[derive(Clone, Debug, Default)]
 pub struct RaySet {
+    /// Each ray's kind.
     pub kind: Vec<RayKind>,
+    /// Each ray's pixel (of the primary ray it derives from).
     pub pixel: Vec<Option<(u32, u32)>>,
+    /// The rays.
     pub rays: Vec<Ray>,
 }
 
 impl RaySet {
+    /// Adds a ray.
     pub fn push(&mut self, kind: RayKind, pixel: Option<(u32, u32)>, ray: Ray) {
         self.kind.push(kind);
         self.pixel.push(pixel);

@@ -17,8 +17,9 @@ use crate::trace::{Geometry, QueryMode};
 /// The camera and sun directions of a mesh input (a scene has its own).
 #[derive(Clone, Copy, Debug)]
 pub struct MeshView {
-    /// Image size of the generated oblique camera, pixels.
+    /// Image width of the generated oblique camera, pixels.
     pub width: u32,
+    /// Image height, pixels.
     pub height: u32,
     /// Number of solar-history directions (a summer day's arc).
     pub sun_samples: u32,

@@ -38,22 +38,34 @@ impl Default for RaysOptions {
 /// One row: a workload (primary or shadow rays) on one backend and mode.
 #[derive(Debug, Clone, Serialize)]
 pub struct RayRow {
+    /// `primary` or `shadow`.
     pub workload: String,
+    /// The tracer backend's name.
     pub backend: String,
+    /// Query mode (single rays or packets).
     pub mode: String,
+    /// Rays per repeat.
     pub rays: usize,
+    /// Best time over the repeats, s.
     pub best_s: f64,
+    /// Million rays per second at the best time.
     pub mrays_per_s: f64,
 }
 
 /// [`rays`]'s result: the rows and what they were measured on.
 #[derive(Debug, Clone, Serialize)]
 pub struct RaysReport {
+    /// Triangles of the scene.
     pub triangles: usize,
+    /// Image width and height of the camera, pixels.
     pub size: u32,
+    /// Threads used.
     pub threads: usize,
+    /// Embree's version.
     pub embree_version: String,
+    /// Repeats per row (the best is kept).
     pub repeat: u32,
+    /// The rows.
     pub rows: Vec<RayRow>,
 }
 

@@ -50,14 +50,23 @@ impl SpeedOptions {
 /// One row of `bench speed`.
 #[derive(Debug, Clone, Serialize)]
 pub struct SpeedRow {
+    /// Image width and height, pixels.
     pub size: u32,
+    /// Triangles of the (subdivided) scene.
     pub triangles: usize,
+    /// Loading the scene and building the BVH, s.
     pub load_bvh_s: f64,
+    /// The frame's conditions (weather, atmosphere, sun samples), s.
     pub conditions_s: f64,
+    /// Tracing (primary, bounce and solar-history rays), s.
     pub trace_s: f64,
+    /// Thermal solves, s.
     pub thermal_s: f64,
+    /// Radiometry, s.
     pub radiometry_s: f64,
+    /// The sensor chain, s.
     pub sensor_s: f64,
+    /// Load, conditions and the four stages, s.
     pub total_s: f64,
     /// Writing the frame as `irsig render` does (EXR with every plane at the
     /// scene's `output.exr_compression`, PNG
@@ -65,13 +74,18 @@ pub struct SpeedRow {
     pub output_s: f64,
     /// `total_s` + `output_s`.
     pub total_with_output_s: f64,
+    /// Rays traced.
     pub rays: u64,
+    /// Million rays (primary, solar, specular) per second of the trace stage.
     pub mrays_per_s: f64,
     /// Time of the same numbers of primary and shadow rays at the
     /// pure-Embree packet rate measured on this scene and camera.
     pub embree_floor_s: f64,
+    /// The four stages' time (trace, thermal, radiometry, sensor) / `embree_floor_s`.
     pub ratio_to_floor: f64,
+    /// Thermal solves (cache misses).
     pub thermal_solves: u64,
+    /// Peak resident memory of the process, MiB.
     pub peak_rss_mib: f64,
 }
 

@@ -234,7 +234,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     // would need it (a scene whose weather cannot be read fails here).
     let image_time = s.scene.time.utc(&s.scene.site);
     crate::render::prepare::frame_weather(&s, image_time)?;
-    super::warn_or_refuse(&crate::render::prepare::weather_warnings(&s)?, a.strict)?;
+    super::log::warn_or_refuse(&crate::render::prepare::weather_warnings(&s)?, a.strict)?;
     let r = check_report(&s);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

@@ -11,6 +11,27 @@ use std::time::Instant;
 
 use crate::render::{Progress, Stage};
 
+/// Prints the scene's precision warning ([`crate::scene::LocalFrame::warning`]),
+/// if any, and its input warnings ([`crate::scene::LoadedScene::warnings`])
+/// to stderr.
+pub fn warn_about_frame(s: &crate::scene::LoadedScene) {
+    for w in s.frame.warning().iter().chain(&s.warnings) {
+        eprintln!("irsig: warning: {w}");
+    }
+}
+
+/// Prints warnings about the inputs to stderr, or with `--strict` refuses
+/// them (an error listing them).
+pub fn warn_or_refuse(warnings: &[String], strict: bool) -> anyhow::Result<()> {
+    if strict && !warnings.is_empty() {
+        anyhow::bail!("{} (refused with --strict)", warnings.join("; "));
+    }
+    for w in warnings {
+        eprintln!("irsig: warning: {w}");
+    }
+    Ok(())
+}
+
 /// 0: quiet, 1: normal, 2: verbose.
 static LEVEL: AtomicU8 = AtomicU8::new(1);
 

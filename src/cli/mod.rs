@@ -16,26 +16,7 @@ pub mod sequence;
 pub mod sun;
 pub mod therm;
 
-/// Prints the scene's precision warning ([`crate::scene::LocalFrame::warning`]),
-/// if any, and its input warnings ([`crate::scene::LoadedScene::warnings`])
-/// to stderr.
-pub fn warn_about_frame(s: &crate::scene::LoadedScene) {
-    for w in s.frame.warning().iter().chain(&s.warnings) {
-        eprintln!("irsig: warning: {w}");
-    }
-}
-
-/// Prints warnings about the inputs to stderr, or with `--strict` refuses
-/// them (an error listing them).
-pub fn warn_or_refuse(warnings: &[String], strict: bool) -> anyhow::Result<()> {
-    if strict && !warnings.is_empty() {
-        anyhow::bail!("{} (refused with --strict)", warnings.join("; "));
-    }
-    for w in warnings {
-        eprintln!("irsig: warning: {w}");
-    }
-    Ok(())
-}
+pub use log::{warn_about_frame, warn_or_refuse};
 
 /// irsig — physics-based thermal-infrared synthetic image generator.
 #[derive(Parser, Debug)]

@@ -345,7 +345,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = super::render::parse_overrides(&a.set)?;
     let pool = crate::render::thread_pool(None)?;
     let scene = crate::scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
-    super::warn_about_frame(&scene);
+    super::log::warn_about_frame(&scene);
     let report = pool.install(|| probe_scene(scene, a.tracer, px, a.spectral))?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);

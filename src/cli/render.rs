@@ -124,8 +124,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     let pool = thread_pool(a.threads)?;
     note("loading scene");
     let scene = crate::scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
-    super::warn_about_frame(&scene);
-    super::warn_or_refuse(&crate::render::prepare::weather_warnings(&scene)?, a.strict)?;
+    super::log::warn_about_frame(&scene);
+    super::log::warn_or_refuse(&crate::render::prepare::weather_warnings(&scene)?, a.strict)?;
     let memory = crate::render::memory::estimate(&scene);
     let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;
@@ -148,7 +148,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             &cond,
             &image.frame.planes,
         )?;
-        super::warn_or_refuse(&implausible, a.strict)?;
+        super::log::warn_or_refuse(&implausible, a.strict)?;
         // On the same pool: the EXR blocks are compressed in parallel.
         write_rendered(&a.output, &image, formats, None)?;
         Ok(image)

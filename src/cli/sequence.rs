@@ -107,7 +107,7 @@ pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let step_s = parse_step_s(&a.step)?;
     let (text, set) = edited_text(c)?;
     let scene = crate::scene::load_edited(&c.scene, text, &set)?;
-    super::warn_about_frame(&scene);
+    super::log::warn_about_frame(&scene);
     let date = scene.scene.time.local.date();
     let from = parse_local_time("--from", &a.from, date)?;
     let to = parse_local_time("--to", &a.to, date)?;
@@ -133,7 +133,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
     let values: Vec<&str> = a.values.split(',').collect();
     let plans = plan_sweep(&c.scene, &text, &set, &a.key, &values)?;
     if let Some(s) = plans.iter().find_map(|p| p.scene.as_ref()) {
-        super::warn_about_frame(s);
+        super::log::warn_about_frame(s);
     }
     run_frames(c, "sweep", Some(a.key.trim()), plans)
 }

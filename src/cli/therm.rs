@@ -176,7 +176,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         } else {
             station.and_then(|st| crate::weather::station_mismatch(&st, &file, a.lat, a.lon))
         };
-        super::warn_or_refuse(&warning.into_iter().collect::<Vec<_>>(), a.strict)?;
+        super::log::warn_or_refuse(&warning.into_iter().collect::<Vec<_>>(), a.strict)?;
     }
     let run = FacetRun {
         material_name: a.material.clone(),

@@ -13,6 +13,7 @@ use super::{OutputError, OutputSet, Planes};
 pub trait EnviSample: Copy {
     /// ENVI `data type`: 1 byte, 12 uint16, 4 float32, 5 float64.
     const DATA_TYPE: u32;
+    /// Writes the sample little-endian (ENVI `byte order = 0`).
     fn write_le(self, w: &mut dyn Write) -> std::io::Result<()>;
 }
 

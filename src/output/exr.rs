@@ -61,7 +61,9 @@ pub fn channel_name(plane: &str) -> String {
 /// A header attribute's value.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Attr {
+    /// A text attribute.
     Text(String),
+    /// A double attribute.
     F64(f64),
 }
 

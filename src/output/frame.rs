@@ -37,8 +37,11 @@ use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 /// written).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Formats {
+    /// Write the EXR (`x.exr`).
     pub exr: bool,
+    /// Write the GeoTIFFs (`x.tif`, `x_geo.tif`, `x_map.tif`).
     pub geotiff: bool,
+    /// Write the ENVI cubes (`x.img`, `x_truth.img`, `x_dn.img`, `x_class.img`).
     pub envi: bool,
     /// The planes the EXR and the GeoTIFF hold (`None`: all; the ENVI
     /// cubes, the PNG and the geolocation are not affected).
@@ -56,6 +59,7 @@ pub struct Formats {
 /// The PNG quicklook's colour map and smallest stretch span.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuicklookOptions {
+    /// The colour map.
     pub colormap: Colormap,
     /// The stretch spans at least this many kelvin of apparent temperature
     /// about the scene's median (converted to radiance, see
@@ -219,11 +223,13 @@ fn envi_f32(d: &[f32]) -> Vec<f32> {
         .collect()
 }
 
-/// One entry of the material table.
-#[derive(Clone, Debug, Serialize)]
+/// One entry of the material table (the one type: the frame's JSON summary
+/// writes it, `batch::merge` reads it back).
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct MaterialEntry {
     /// The `material` plane's value (-1: no surface).
     pub index: i64,
+    /// The material's name.
     pub name: String,
     /// The classification's class (0: no surface).
     pub class: u32,
@@ -232,24 +238,31 @@ pub struct MaterialEntry {
 /// What built this image and from what (recorded in every output).
 #[derive(Serialize)]
 pub struct Summary<'a> {
+    /// The build (version, commit).
     pub irsig: crate::version::BuildInfo,
+    /// The scene file.
     pub scene: String,
     /// The `--set` overrides applied, `key=value`.
     pub overrides: Vec<String>,
     /// RFC 3339, UTC (`Z`).
     pub image_time_utc: String,
+    /// Sun zenith angle at the image time, degrees.
     pub sun_zenith_deg: f64,
+    /// Sun azimuth, degrees clockwise from north.
     pub sun_azimuth_deg: f64,
+    /// Sun elevation, degrees (90 − zenith).
     pub sun_elevation_deg: f64,
     /// Lower-case identifier and limits, e.g. `lwir 8-14 um`.
     pub band: String,
     /// The band's spectral support, µm.
     pub band_um: [f64; 2],
+    /// How the planes were estimated (sampling, supersampling).
     pub estimators: String,
     /// The atmosphere table, why, and how it followed the weather.
     pub atmosphere: &'a crate::render::atmosphere::AtmosphereReport,
     /// The sensor's pose (as the scene states it) and camera.
     pub pose: &'a crate::scene::spec::SensorPose,
+    /// The camera the rays came from.
     pub camera: &'a crate::scene::Camera,
     /// CRS, footprint, GSD, affine transform, ground origin.
     pub georef: &'a Georef,
@@ -263,6 +276,7 @@ pub struct Summary<'a> {
     /// (name, unit) of every plane of the EXR/GeoTIFF (all, or those of
     /// `--planes`), in render order.
     pub planes: Vec<(String, String)>,
+    /// Counters and timings of the render.
     pub stats: &'a Stats,
 }
 
@@ -447,7 +461,9 @@ fn envi_georef_fields(g: &Georef, geoloc: &Geolocation, width: u32) -> Vec<(Stri
 /// Writes a rendered image's files as `irsig render` does, beside `path`
 /// (whose extension is that of the main format): see the module docs.
 /// `frame_info` (a sequence frame's description) is added to the summary
-/// as its `frame` key (the summary's keys are then sorted).
+/// as its `frame` key (the summary's keys are then sorted). Each format
+/// is written by its own function ([`write_exr_files`],
+/// [`write_geotiff_files`], [`write_envi_files`]) into the one set.
 pub fn write_rendered(
     path: &Path,
     r: &Rendered,
@@ -456,421 +472,25 @@ pub fn write_rendered(
 ) -> anyhow::Result<()> {
     let json_path = path.with_extension("json");
     let mut set = OutputSet::new(&json_path)?;
-    let p = &r.frame.planes;
-    let (w, h) = (p.width, p.height);
-    let g = &r.georef;
-    let time = r
-        .image_time_utc
-        .to_rfc3339_opts(chrono::SecondsFormat::Secs, true);
-    let sun_el = 90.0 - r.sun_zenith_deg;
-    let materials: Vec<MaterialEntry> = r
-        .materials
-        .iter()
-        .enumerate()
-        .map(|(i, n)| MaterialEntry {
-            index: i as i64,
-            name: n.clone(),
-            class: i as u32 + 1,
-        })
-        .collect();
-    let plane = |name: &str| p.get(name).map(|pl| pl.data.as_slice());
-    let nan = vec![f32::NAN; (w * h) as usize];
-    let gx = plane("ground_x").unwrap_or(&nan);
-    let gy = plane("ground_y").unwrap_or(&nan);
-    let gz = plane("ground_z").unwrap_or(&nan);
-    let geo = Geo::for_georef(g)?;
-    // Every pixel's latitude/longitude and map coordinates (four f64
-    // planes, a projection per pixel): made only for the outputs that
-    // carry them (GeoTIFF, ENVI).
-    let geoloc_cell = std::cell::OnceCell::new();
-    let geoloc = || geoloc_cell.get_or_init(|| geolocate(&geo, g.ground_origin_m, gx, gy, gz));
-
+    let c = Ctx::new(path, r, &formats)?;
     let quicklook = write_sensor_quicklook(
         &mut set,
         &path.with_extension("png"),
-        p,
+        c.p,
         r.band_um,
         formats.quicklook,
     )?;
-    let common_meta: Vec<(String, String)> = vec![
-        ("irsig_version".into(), crate::version::LONG_VERSION.into()),
-        ("scene".into(), r.scene.clone()),
-        ("image_time_utc".into(), time.clone()),
-        ("sun_azimuth_deg".into(), format!("{}", r.sun_azimuth_deg)),
-        ("sun_elevation_deg".into(), format!("{sun_el}")),
-        ("band".into(), r.band.clone()),
-        (
-            "ground_origin_m".into(),
-            format!(
-                "{} {} {}",
-                g.ground_origin_m[0], g.ground_origin_m[1], g.ground_origin_m[2]
-            ),
-        ),
-        ("crs".into(), g.crs.name.clone()),
-        (
-            "materials".into(),
-            serde_json::to_string(&materials).unwrap_or_default(),
-        ),
-    ];
-    let kept: Vec<&crate::render::planes::Plane> = p
-        .planes
-        .iter()
-        .filter(|pl| formats.keeps(&pl.name))
-        .collect();
     if formats.exr {
-        let mut attrs: Vec<(String, Attr)> = common_meta
-            .iter()
-            .filter(|(k, _)| {
-                !matches!(
-                    k.as_str(),
-                    "irsig_version" | "sun_azimuth_deg" | "sun_elevation_deg"
-                )
-            })
-            .map(|(k, v)| (k.clone(), Attr::Text(v.clone())))
-            .collect();
-        attrs.extend([
-            ("sun_zenith_deg".into(), Attr::F64(r.sun_zenith_deg)),
-            ("sun_azimuth_deg".into(), Attr::F64(r.sun_azimuth_deg)),
-            ("sun_elevation_deg".into(), Attr::F64(sun_el)),
-            ("band_lo_um".into(), Attr::F64(r.band_um.0)),
-            ("band_hi_um".into(), Attr::F64(r.band_um.1)),
-            ("crs_wkt".into(), Attr::Text(g.crs.wkt.clone())),
-            ("crs_proj".into(), Attr::Text(g.crs.proj.clone())),
-        ]);
-        if let Some(epsg) = g.crs.epsg {
-            attrs.push(("crs_epsg".into(), Attr::Text(format!("EPSG:{epsg}"))));
-        }
-        if let Some(t) = g.geotransform {
-            let t: Vec<String> = t.iter().map(|v| v.to_string()).collect();
-            attrs.push(("geotransform".into(), Attr::Text(t.join(" "))));
-        }
-        write_exr_planes(
-            &mut set,
-            &path.with_extension("exr"),
-            (w, h),
-            &kept,
-            &attrs,
-            formats.exr_compression.unwrap_or(r.output.exr_compression),
-        )?;
+        write_exr_files(&mut set, &c)?;
     }
     if formats.geotiff {
-        let bands: Vec<Band<f32>> = kept
-            .iter()
-            .map(|pl| Band {
-                name: &pl.name,
-                unit: &pl.unit,
-                data: &pl.data,
-            })
-            .collect();
-        let place = placement(g, w, &geoloc().map_x_m, &geoloc().map_y_m, 10);
-        // Without an affine transform GDAL's GEOLOCATION metadata points
-        // to the per-pixel map coordinates in `x_geo.tif` (GDAL RFC 4
-        // geolocation arrays; `gdalwarp -geoloc`, `gdaltransform -geoloc`).
-        let geo_name = sibling(path, "_geo", "tif")
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let domains = if g.geotransform.is_none() {
-            vec![("GEOLOCATION", geolocation_metadata(g, &geo_name))]
-        } else {
-            Vec::new()
-        };
-        write_geotiff(
-            &mut set,
-            &path.with_extension("tif"),
-            (w, h),
-            &bands,
-            Some(&g.crs),
-            &place,
-            &common_meta,
-            &domains,
-        )?;
-        let geo_bands = [
-            Band {
-                name: "lat",
-                unit: "deg",
-                data: geoloc().lat_deg.as_slice(),
-            },
-            Band {
-                name: "lon",
-                unit: "deg",
-                data: geoloc().lon_deg.as_slice(),
-            },
-            Band {
-                name: "map_x",
-                unit: "m",
-                data: geoloc().map_x_m.as_slice(),
-            },
-            Band {
-                name: "map_y",
-                unit: "m",
-                data: geoloc().map_y_m.as_slice(),
-            },
-        ];
-        write_geotiff(
-            &mut set,
-            &sibling(path, "_geo", "tif"),
-            (w, h),
-            &geo_bands,
-            Some(&g.crs),
-            &place,
-            &common_meta,
-            &[],
-        )?;
-        // A nadir view whose transform is rotated (UTM grid convergence, a
-        // yawed camera) also gets the planes on a north-up map grid at its
-        // GSD, which GIS tools turn into x/y coordinates.
-        if let Some((gt, ogt, ow, oh)) = g
-            .geotransform
-            .filter(|_| formats.map_grid == MapGrid::Auto)
-            .and_then(|gt| north_up_grid(gt, w, h).map(|(o, ow, oh)| (gt, o, ow, oh)))
-        {
-            let data: Vec<Vec<f32>> = kept
-                .iter()
-                .map(|pl| {
-                    resample_affine(
-                        &pl.data,
-                        (w, h),
-                        gt,
-                        ogt,
-                        (ow, oh),
-                        is_class_plane(&pl.name),
-                    )
-                })
-                .collect();
-            let bands: Vec<Band<f32>> = kept
-                .iter()
-                .zip(&data)
-                .map(|(pl, d)| Band {
-                    name: &pl.name,
-                    unit: &pl.unit,
-                    data: d,
-                })
-                .collect();
-            let mut meta = common_meta.clone();
-            meta.push((
-                "resampling".into(),
-                format!(
-                    "north-up map grid at the GSD {} m from the image grid {}: bilinear, nearest for material facet case dn; NaN off the image",
-                    ogt[1],
-                    gt.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
-                ),
-            ));
-            write_geotiff(
-                &mut set,
-                &sibling(path, "_map", "tif"),
-                (ow, oh),
-                &bands,
-                Some(&g.crs),
-                &Placement::Affine(ogt),
-                &meta,
-                &[],
-            )?;
-        }
+        write_geotiff_files(&mut set, &c)?;
     }
     if formats.envi {
-        let (centre, fwhm) = r.band_centre_fwhm_um;
-        // ENVI's default display stretch: the quicklook's 2-98 % percentiles.
-        let s = p
-            .get("sensor_radiance")
-            .map(|pl| percentile_stretch(&pl.data))
-            .unwrap_or(super::quicklook::Stretch { lo: 0.0, hi: 1.0 });
-        let geo_fields = envi_georef_fields(g, geoloc(), w);
-        let mut common = vec![
-            ("acquisition time".to_string(), time.clone()),
-            ("sun azimuth".into(), format!("{:.6}", r.sun_azimuth_deg)),
-            ("sun elevation".into(), format!("{sun_el:.6}")),
-            ("sensor type".into(), format!("irsig {}", r.band)),
-            ("data ignore value".into(), format!("{ENVI_IGNORE}")),
-            ("irsig version".into(), crate::version::LONG_VERSION.into()),
-        ];
-        common.extend(geo_fields);
-        // Radiance cube: the radiances at the sensor's band, each band
-        // labelled with the response-weighted centre and the FWHM.
-        let rad: Vec<_> = radiance_cube_planes().filter_map(|n| p.get(n)).collect();
-        let names: Vec<String> = rad
-            .iter()
-            .map(|pl| format!("{} [{}]", pl.name, pl.unit))
-            .collect();
-        let rad_data: Vec<Vec<f32>> = rad.iter().map(|pl| envi_f32(&pl.data)).collect();
-        let bands: Vec<(&str, &[f32])> = names
-            .iter()
-            .zip(&rad_data)
-            .map(|(n, d)| (n.as_str(), d.as_slice()))
-            .collect();
-        let mut fields = vec![
-            ("wavelength units".to_string(), "Micrometers".to_string()),
-            (
-                "wavelength".into(),
-                list(rad.iter().map(|_| format!("{centre:.6}"))),
-            ),
-            (
-                "fwhm".into(),
-                list(rad.iter().map(|_| format!("{fwhm:.6}"))),
-            ),
-            ("data units".into(), "W m-2 sr-1 um-1".into()),
-            (
-                "default stretch".into(),
-                format!("{:.6} {:.6} linear", s.lo, s.hi),
-            ),
-        ];
-        fields.extend(common.iter().cloned());
-        write_cube(
-            &mut set,
-            &path.with_extension("img"),
-            (w, h),
-            &bands,
-            "ENVI Standard",
-            &format!("irsig radiance cube, {}, {time}", r.band),
-            &fields,
-        )?;
-        // Truth cube, float64: exact indices and full-precision positions.
-        let to64 = |name: &str| -> Vec<f64> {
-            plane(name).map_or_else(
-                || vec![ENVI_IGNORE; (w * h) as usize],
-                |d| {
-                    d.iter()
-                        .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v as f64 })
-                        .collect()
-                },
-            )
-        };
-        let abs = |d: &[f32], o: f64| -> Vec<f64> {
-            d.iter()
-                .map(|&v| {
-                    if v.is_nan() {
-                        ENVI_IGNORE
-                    } else {
-                        v as f64 + o
-                    }
-                })
-                .collect()
-        };
-        let fill = |d: &[f64]| -> Vec<f64> {
-            d.iter()
-                .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v })
-                .collect()
-        };
-        let o = g.ground_origin_m;
-        let mut truth: Vec<(String, String, Vec<f64>)> = [
-            "material",
-            "facet",
-            "case",
-            "sun_now",
-            "hours_sunlit",
-            "range",
-            "view_angle",
-            "surface_temperature",
-            "apparent_temperature",
-        ]
-        .iter()
-        .filter_map(|n| p.get(n).map(|pl| (n.to_string(), pl.unit.clone(), to64(n))))
-        .collect();
-        let scene_m = "m scene frame".to_string();
-        truth.push(("ground_x".into(), scene_m.clone(), abs(gx, o[0])));
-        truth.push(("ground_y".into(), scene_m.clone(), abs(gy, o[1])));
-        truth.push(("ground_z".into(), scene_m, abs(gz, o[2])));
-        truth.push(("lat".into(), "deg".into(), fill(&geoloc().lat_deg)));
-        truth.push(("lon".into(), "deg".into(), fill(&geoloc().lon_deg)));
-        let map_m = format!("m {}", g.crs.name);
-        truth.push(("map_x".into(), map_m.clone(), fill(&geoloc().map_x_m)));
-        truth.push(("map_y".into(), map_m, fill(&geoloc().map_y_m)));
-        let truth_names: Vec<String> = truth.iter().map(|(n, u, _)| format!("{n} [{u}]")).collect();
-        let bands: Vec<(&str, &[f64])> = truth_names
-            .iter()
-            .zip(&truth)
-            .map(|(n, t)| (n.as_str(), t.2.as_slice()))
-            .collect();
-        let mut fields = vec![(
-            "band units".to_string(),
-            list(truth.iter().map(|t| t.1.replace([',', '{', '}'], ";"))),
-        )];
-        fields.extend(common.iter().cloned());
-        write_cube(
-            &mut set,
-            &sibling(path, "_truth", "img"),
-            (w, h),
-            &bands,
-            "ENVI Standard",
-            &format!("irsig truth cube, {time}"),
-            &fields,
-        )?;
-        // DN, alone: uint16 counts where every value is one, else float32.
-        if let Some(dn) = p.get("dn") {
-            let common_int: Vec<(String, String)> = common
-                .iter()
-                .filter(|(k, _)| k != "data ignore value")
-                .cloned()
-                .collect();
-            let mut fields = vec![
-                ("data units".to_string(), "counts".to_string()),
-                ("wavelength units".into(), "Micrometers".into()),
-                ("wavelength".into(), list([format!("{centre:.6}")])),
-                ("fwhm".into(), list([format!("{fwhm:.6}")])),
-            ];
-            let dn_path = sibling(path, "_dn", "img");
-            let desc = format!("irsig sensor counts, {}, {time}", r.band);
-            let counts = dn
-                .data
-                .iter()
-                .all(|&v| v.fract() == 0.0 && (0.0..=65535.0).contains(&v));
-            if counts {
-                fields.extend(common_int);
-                let d: Vec<u16> = dn.data.iter().map(|&v| v as u16).collect();
-                write_cube(
-                    &mut set,
-                    &dn_path,
-                    (w, h),
-                    &[("dn [counts]", d.as_slice())],
-                    "ENVI Standard",
-                    &desc,
-                    &fields,
-                )?;
-            } else {
-                fields.extend(common.iter().cloned());
-                let d = envi_f32(&dn.data);
-                write_cube(
-                    &mut set,
-                    &dn_path,
-                    (w, h),
-                    &[("dn [counts]", d.as_slice())],
-                    "ENVI Standard",
-                    &desc,
-                    &fields,
-                )?;
-            }
-        }
-        // Material classification: class = material index + 1, 0 = none.
-        let class: Vec<u16> = plane("material")
-            .unwrap_or(&nan)
-            .iter()
-            .map(|&m| if m >= 0.0 { m as u16 + 1 } else { 0 })
-            .collect();
-        let mut names = vec!["no surface".to_string()];
-        names.extend(r.materials.iter().map(|n| n.replace([',', '{', '}'], ";")));
-        let lookup: Vec<u8> = (0..names.len() as u32).flat_map(class_colour).collect();
-        let mut fields = vec![
-            ("classes".to_string(), names.len().to_string()),
-            ("class names".into(), list(&names)),
-            ("class lookup".into(), list(&lookup)),
-        ];
-        // Class 0 is "no surface"; there are no missing values.
-        fields.extend(
-            common
-                .iter()
-                .filter(|(k, _)| k != "data ignore value")
-                .cloned(),
-        );
-        write_cube(
-            &mut set,
-            &sibling(path, "_class", "img"),
-            (w, h),
-            &[("material", class.as_slice())],
-            "ENVI Classification",
-            &format!("irsig material classification, {time}"),
-            &fields,
-        )?;
+        write_envi_files(&mut set, &c)?;
     }
+    let (g, time, sun_el, kept) = (c.g, c.time, c.sun_el, c.kept);
+    let materials = c.materials;
     commit_with_json(set, &json_path, |files| {
         let summary = Summary {
             irsig: crate::version::build_info(),
@@ -909,4 +529,485 @@ pub fn write_rendered(
             }
         })
     })
+}
+
+/// What every format of a rendered frame shares: the planes kept, the
+/// time, sun and band, the metadata common to all files, and the
+/// per-pixel geolocation (made on first use: GeoTIFF and ENVI carry it).
+struct Ctx<'a> {
+    path: &'a Path,
+    r: &'a Rendered,
+    formats: &'a Formats,
+    p: &'a crate::render::planes::Planes,
+    w: u32,
+    h: u32,
+    g: &'a Georef,
+    time: String,
+    sun_el: f64,
+    materials: Vec<MaterialEntry>,
+    kept: Vec<&'a crate::render::planes::Plane>,
+    common_meta: Vec<(String, String)>,
+    nan: Vec<f32>,
+    geo: Geo,
+    geoloc: std::cell::OnceCell<Geolocation>,
+}
+
+impl<'a> Ctx<'a> {
+    fn new(path: &'a Path, r: &'a Rendered, formats: &'a Formats) -> anyhow::Result<Ctx<'a>> {
+        let p = &r.frame.planes;
+        let (w, h) = (p.width, p.height);
+        let g = &r.georef;
+        let time = r
+            .image_time_utc
+            .to_rfc3339_opts(chrono::SecondsFormat::Secs, true);
+        let sun_el = 90.0 - r.sun_zenith_deg;
+        let materials: Vec<MaterialEntry> = r
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, n)| MaterialEntry {
+                index: i as i64,
+                name: n.clone(),
+                class: i as u32 + 1,
+            })
+            .collect();
+        let common_meta: Vec<(String, String)> = vec![
+            ("irsig_version".into(), crate::version::LONG_VERSION.into()),
+            ("scene".into(), r.scene.clone()),
+            ("image_time_utc".into(), time.clone()),
+            ("sun_azimuth_deg".into(), format!("{}", r.sun_azimuth_deg)),
+            ("sun_elevation_deg".into(), format!("{sun_el}")),
+            ("band".into(), r.band.clone()),
+            (
+                "ground_origin_m".into(),
+                format!(
+                    "{} {} {}",
+                    g.ground_origin_m[0], g.ground_origin_m[1], g.ground_origin_m[2]
+                ),
+            ),
+            ("crs".into(), g.crs.name.clone()),
+            (
+                "materials".into(),
+                serde_json::to_string(&materials).unwrap_or_default(),
+            ),
+        ];
+        let kept: Vec<&crate::render::planes::Plane> = p
+            .planes
+            .iter()
+            .filter(|pl| formats.keeps(&pl.name))
+            .collect();
+        Ok(Ctx {
+            path,
+            r,
+            formats,
+            p,
+            w,
+            h,
+            g,
+            time,
+            sun_el,
+            materials,
+            kept,
+            common_meta,
+            nan: vec![f32::NAN; (w * h) as usize],
+            geo: Geo::for_georef(g)?,
+            geoloc: std::cell::OnceCell::new(),
+        })
+    }
+
+    /// A plane's values, if the frame has it.
+    fn plane(&self, name: &str) -> Option<&'a [f32]> {
+        self.p.get(name).map(|pl| pl.data.as_slice())
+    }
+
+    /// The ground point planes (scene frame, relative to the ground
+    /// origin), NaN where absent.
+    fn ground(&self) -> [&[f32]; 3] {
+        ["ground_x", "ground_y", "ground_z"].map(|n| self.plane(n).unwrap_or(&self.nan))
+    }
+
+    /// Every pixel's latitude/longitude and map coordinates (four f64
+    /// planes, a projection per pixel), made on first use.
+    fn geoloc(&self) -> &Geolocation {
+        self.geoloc.get_or_init(|| {
+            let [gx, gy, gz] = self.ground();
+            geolocate(&self.geo, self.g.ground_origin_m, gx, gy, gz)
+        })
+    }
+}
+
+/// EXR: every kept plane in `x.exr`, the metadata as header attributes.
+fn write_exr_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
+    let (path, r, formats, g) = (c.path, c.r, c.formats, c.g);
+    let (w, h, sun_el, kept) = (c.w, c.h, c.sun_el, &c.kept);
+    let common_meta = &c.common_meta;
+    let mut attrs: Vec<(String, Attr)> = common_meta
+        .iter()
+        .filter(|(k, _)| {
+            !matches!(
+                k.as_str(),
+                "irsig_version" | "sun_azimuth_deg" | "sun_elevation_deg"
+            )
+        })
+        .map(|(k, v)| (k.clone(), Attr::Text(v.clone())))
+        .collect();
+    attrs.extend([
+        ("sun_zenith_deg".into(), Attr::F64(r.sun_zenith_deg)),
+        ("sun_azimuth_deg".into(), Attr::F64(r.sun_azimuth_deg)),
+        ("sun_elevation_deg".into(), Attr::F64(sun_el)),
+        ("band_lo_um".into(), Attr::F64(r.band_um.0)),
+        ("band_hi_um".into(), Attr::F64(r.band_um.1)),
+        ("crs_wkt".into(), Attr::Text(g.crs.wkt.clone())),
+        ("crs_proj".into(), Attr::Text(g.crs.proj.clone())),
+    ]);
+    if let Some(epsg) = g.crs.epsg {
+        attrs.push(("crs_epsg".into(), Attr::Text(format!("EPSG:{epsg}"))));
+    }
+    if let Some(t) = g.geotransform {
+        let t: Vec<String> = t.iter().map(|v| v.to_string()).collect();
+        attrs.push(("geotransform".into(), Attr::Text(t.join(" "))));
+    }
+    write_exr_planes(
+        set,
+        &path.with_extension("exr"),
+        (w, h),
+        kept,
+        &attrs,
+        formats.exr_compression.unwrap_or(r.output.exr_compression),
+    )?;
+    Ok(())
+}
+
+/// GeoTIFF: the kept planes (`x.tif`), the geolocation (`x_geo.tif`) and,
+/// for a rotated nadir view, the planes on a north-up map grid
+/// (`x_map.tif`).
+fn write_geotiff_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
+    let (path, formats, g, w) = (c.path, c.formats, c.g, c.w);
+    let (h, kept, common_meta) = (c.h, &c.kept, &c.common_meta);
+    let bands: Vec<Band<f32>> = kept
+        .iter()
+        .map(|pl| Band {
+            name: &pl.name,
+            unit: &pl.unit,
+            data: &pl.data,
+        })
+        .collect();
+    let place = placement(g, w, &c.geoloc().map_x_m, &c.geoloc().map_y_m, 10);
+    // Without an affine transform GDAL's GEOLOCATION metadata points
+    // to the per-pixel map coordinates in `x_geo.tif` (GDAL RFC 4
+    // geolocation arrays; `gdalwarp -geoloc`, `gdaltransform -geoloc`).
+    let geo_name = sibling(path, "_geo", "tif")
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let domains = if g.geotransform.is_none() {
+        vec![("GEOLOCATION", geolocation_metadata(g, &geo_name))]
+    } else {
+        Vec::new()
+    };
+    write_geotiff(
+        set,
+        &path.with_extension("tif"),
+        (w, h),
+        &bands,
+        Some(&g.crs),
+        &place,
+        common_meta,
+        &domains,
+    )?;
+    let geo_bands = [
+        Band {
+            name: "lat",
+            unit: "deg",
+            data: c.geoloc().lat_deg.as_slice(),
+        },
+        Band {
+            name: "lon",
+            unit: "deg",
+            data: c.geoloc().lon_deg.as_slice(),
+        },
+        Band {
+            name: "map_x",
+            unit: "m",
+            data: c.geoloc().map_x_m.as_slice(),
+        },
+        Band {
+            name: "map_y",
+            unit: "m",
+            data: c.geoloc().map_y_m.as_slice(),
+        },
+    ];
+    write_geotiff(
+        set,
+        &sibling(path, "_geo", "tif"),
+        (w, h),
+        &geo_bands,
+        Some(&g.crs),
+        &place,
+        common_meta,
+        &[],
+    )?;
+    // A nadir view whose transform is rotated (UTM grid convergence, a
+    // yawed camera) also gets the planes on a north-up map grid at its
+    // GSD, which GIS tools turn into x/y coordinates.
+    if let Some((gt, ogt, ow, oh)) = g
+        .geotransform
+        .filter(|_| formats.map_grid == MapGrid::Auto)
+        .and_then(|gt| north_up_grid(gt, w, h).map(|(o, ow, oh)| (gt, o, ow, oh)))
+    {
+        let data: Vec<Vec<f32>> = kept
+            .iter()
+            .map(|pl| {
+                resample_affine(
+                    &pl.data,
+                    (w, h),
+                    gt,
+                    ogt,
+                    (ow, oh),
+                    is_class_plane(&pl.name),
+                )
+            })
+            .collect();
+        let bands: Vec<Band<f32>> = kept
+            .iter()
+            .zip(&data)
+            .map(|(pl, d)| Band {
+                name: &pl.name,
+                unit: &pl.unit,
+                data: d,
+            })
+            .collect();
+        let mut meta = common_meta.clone();
+        meta.push((
+            "resampling".into(),
+            format!(
+                "north-up map grid at the GSD {} m from the image grid {}: bilinear, nearest for material facet case dn; NaN off the image",
+                ogt[1],
+                gt.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
+            ),
+        ));
+        write_geotiff(
+            set,
+            &sibling(path, "_map", "tif"),
+            (ow, oh),
+            &bands,
+            Some(&g.crs),
+            &Placement::Affine(ogt),
+            &meta,
+            &[],
+        )?;
+    }
+    Ok(())
+}
+
+/// ENVI: the radiance cube (`x.img`), the truth cube (`x_truth.img`), the
+/// counts (`x_dn.img`) and the material classification (`x_class.img`).
+fn write_envi_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
+    let (path, r, p, g) = (c.path, c.r, c.p, c.g);
+    let (w, h, time, sun_el) = (c.w, c.h, &c.time, c.sun_el);
+    let plane = |name: &str| c.plane(name);
+    let nan = &c.nan;
+    let [gx, gy, gz] = c.ground();
+    let (centre, fwhm) = r.band_centre_fwhm_um;
+    // ENVI's default display stretch: the quicklook's 2-98 % percentiles.
+    let s = p
+        .get("sensor_radiance")
+        .map(|pl| percentile_stretch(&pl.data))
+        .unwrap_or(super::quicklook::Stretch { lo: 0.0, hi: 1.0 });
+    let geo_fields = envi_georef_fields(g, c.geoloc(), w);
+    let mut common = vec![
+        ("acquisition time".to_string(), time.clone()),
+        ("sun azimuth".into(), format!("{:.6}", r.sun_azimuth_deg)),
+        ("sun elevation".into(), format!("{sun_el:.6}")),
+        ("sensor type".into(), format!("irsig {}", r.band)),
+        ("data ignore value".into(), format!("{ENVI_IGNORE}")),
+        ("irsig version".into(), crate::version::LONG_VERSION.into()),
+    ];
+    common.extend(geo_fields);
+    // Radiance cube: the radiances at the sensor's band, each band
+    // labelled with the response-weighted centre and the FWHM.
+    let rad: Vec<_> = radiance_cube_planes().filter_map(|n| p.get(n)).collect();
+    let names: Vec<String> = rad
+        .iter()
+        .map(|pl| format!("{} [{}]", pl.name, pl.unit))
+        .collect();
+    let rad_data: Vec<Vec<f32>> = rad.iter().map(|pl| envi_f32(&pl.data)).collect();
+    let bands: Vec<(&str, &[f32])> = names
+        .iter()
+        .zip(&rad_data)
+        .map(|(n, d)| (n.as_str(), d.as_slice()))
+        .collect();
+    let mut fields = vec![
+        ("wavelength units".to_string(), "Micrometers".to_string()),
+        (
+            "wavelength".into(),
+            list(rad.iter().map(|_| format!("{centre:.6}"))),
+        ),
+        (
+            "fwhm".into(),
+            list(rad.iter().map(|_| format!("{fwhm:.6}"))),
+        ),
+        ("data units".into(), "W m-2 sr-1 um-1".into()),
+        (
+            "default stretch".into(),
+            format!("{:.6} {:.6} linear", s.lo, s.hi),
+        ),
+    ];
+    fields.extend(common.iter().cloned());
+    write_cube(
+        set,
+        &path.with_extension("img"),
+        (w, h),
+        &bands,
+        "ENVI Standard",
+        &format!("irsig radiance cube, {}, {time}", r.band),
+        &fields,
+    )?;
+    // Truth cube, float64: exact indices and full-precision positions.
+    let to64 = |name: &str| -> Vec<f64> {
+        plane(name).map_or_else(
+            || vec![ENVI_IGNORE; (w * h) as usize],
+            |d| {
+                d.iter()
+                    .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v as f64 })
+                    .collect()
+            },
+        )
+    };
+    let abs = |d: &[f32], o: f64| -> Vec<f64> {
+        d.iter()
+            .map(|&v| {
+                if v.is_nan() {
+                    ENVI_IGNORE
+                } else {
+                    v as f64 + o
+                }
+            })
+            .collect()
+    };
+    let fill = |d: &[f64]| -> Vec<f64> {
+        d.iter()
+            .map(|&v| if v.is_nan() { ENVI_IGNORE } else { v })
+            .collect()
+    };
+    let o = g.ground_origin_m;
+    let mut truth: Vec<(String, String, Vec<f64>)> = [
+        "material",
+        "facet",
+        "case",
+        "sun_now",
+        "hours_sunlit",
+        "range",
+        "view_angle",
+        "surface_temperature",
+        "apparent_temperature",
+    ]
+    .iter()
+    .filter_map(|n| p.get(n).map(|pl| (n.to_string(), pl.unit.clone(), to64(n))))
+    .collect();
+    let scene_m = "m scene frame".to_string();
+    truth.push(("ground_x".into(), scene_m.clone(), abs(gx, o[0])));
+    truth.push(("ground_y".into(), scene_m.clone(), abs(gy, o[1])));
+    truth.push(("ground_z".into(), scene_m, abs(gz, o[2])));
+    truth.push(("lat".into(), "deg".into(), fill(&c.geoloc().lat_deg)));
+    truth.push(("lon".into(), "deg".into(), fill(&c.geoloc().lon_deg)));
+    let map_m = format!("m {}", g.crs.name);
+    truth.push(("map_x".into(), map_m.clone(), fill(&c.geoloc().map_x_m)));
+    truth.push(("map_y".into(), map_m, fill(&c.geoloc().map_y_m)));
+    let truth_names: Vec<String> = truth.iter().map(|(n, u, _)| format!("{n} [{u}]")).collect();
+    let bands: Vec<(&str, &[f64])> = truth_names
+        .iter()
+        .zip(&truth)
+        .map(|(n, t)| (n.as_str(), t.2.as_slice()))
+        .collect();
+    let mut fields = vec![(
+        "band units".to_string(),
+        list(truth.iter().map(|t| t.1.replace([',', '{', '}'], ";"))),
+    )];
+    fields.extend(common.iter().cloned());
+    write_cube(
+        set,
+        &sibling(path, "_truth", "img"),
+        (w, h),
+        &bands,
+        "ENVI Standard",
+        &format!("irsig truth cube, {time}"),
+        &fields,
+    )?;
+    // DN, alone: uint16 counts where every value is one, else float32.
+    if let Some(dn) = p.get("dn") {
+        let common_int: Vec<(String, String)> = common
+            .iter()
+            .filter(|(k, _)| k != "data ignore value")
+            .cloned()
+            .collect();
+        let mut fields = vec![
+            ("data units".to_string(), "counts".to_string()),
+            ("wavelength units".into(), "Micrometers".into()),
+            ("wavelength".into(), list([format!("{centre:.6}")])),
+            ("fwhm".into(), list([format!("{fwhm:.6}")])),
+        ];
+        let dn_path = sibling(path, "_dn", "img");
+        let desc = format!("irsig sensor counts, {}, {time}", r.band);
+        let counts = dn
+            .data
+            .iter()
+            .all(|&v| v.fract() == 0.0 && (0.0..=65535.0).contains(&v));
+        if counts {
+            fields.extend(common_int);
+            let d: Vec<u16> = dn.data.iter().map(|&v| v as u16).collect();
+            write_cube(
+                set,
+                &dn_path,
+                (w, h),
+                &[("dn [counts]", d.as_slice())],
+                "ENVI Standard",
+                &desc,
+                &fields,
+            )?;
+        } else {
+            fields.extend(common.iter().cloned());
+            let d = envi_f32(&dn.data);
+            write_cube(
+                set,
+                &dn_path,
+                (w, h),
+                &[("dn [counts]", d.as_slice())],
+                "ENVI Standard",
+                &desc,
+                &fields,
+            )?;
+        }
+    }
+    // Material classification: class = material index + 1, 0 = none.
+    let class: Vec<u16> = plane("material")
+        .unwrap_or(nan)
+        .iter()
+        .map(|&m| if m >= 0.0 { m as u16 + 1 } else { 0 })
+        .collect();
+    let mut names = vec!["no surface".to_string()];
+    names.extend(r.materials.iter().map(|n| n.replace([',', '{', '}'], ";")));
+    let lookup: Vec<u8> = (0..names.len() as u32).flat_map(class_colour).collect();
+    let mut fields = vec![
+        ("classes".to_string(), names.len().to_string()),
+        ("class names".into(), list(&names)),
+        ("class lookup".into(), list(&lookup)),
+    ];
+    // Class 0 is "no surface"; there are no missing values.
+    fields.extend(
+        common
+            .iter()
+            .filter(|(k, _)| k != "data ignore value")
+            .cloned(),
+    );
+    write_cube(
+        set,
+        &sibling(path, "_class", "img"),
+        (w, h),
+        &[("material", class.as_slice())],
+        "ENVI Classification",
+        &format!("irsig material classification, {time}"),
+        &fields,
+    )?;
+    Ok(())
 }

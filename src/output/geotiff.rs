@@ -42,8 +42,11 @@ pub enum Placement {
 
 /// One band: name, unit, samples (row-major).
 pub struct Band<'a, T> {
+    /// Band name (the plane's).
     pub name: &'a str,
+    /// Unit.
     pub unit: &'a str,
+    /// Samples, row-major.
     pub data: &'a [T],
 }
 
@@ -243,6 +246,7 @@ where
 
 /// A sample type of a GeoTIFF band (f32 or f64).
 pub trait GeoTiffSample: Copy {
+    /// The `tiff` crate's colour type of one band of this sample.
     type Color: ColorType<Inner = Self>;
 }
 

@@ -3,8 +3,9 @@
 //! The quicklook's label font (DejaVu Sans Mono at 10 px, thresholded;
 //! Bitstream Vera licence) and matplotlib's `inferno` colour map (CC0).
 
-/// Glyph cell width and height, pixels.
+/// Glyph cell width, pixels.
 pub const GLYPH_W: usize = 6;
+/// Glyph cell height, pixels.
 pub const GLYPH_H: usize = 12;
 
 /// ASCII 32..=126, one row per byte (bit 5 the left column).

@@ -29,13 +29,27 @@ pub enum OutputError {
     /// The OS refused a write (full disk, permissions, file size limit).
     #[error("cannot write {}: {reason}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The OS's reason.
         reason: std::io::Error,
     },
+    /// The encoder refused the data.
     #[error("cannot encode {}: {msg}", path.display())]
-    Encode { path: PathBuf, msg: String },
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// The encoder's message.
+        msg: String,
+    },
+    /// The destination cannot take the output (not a folder, not writable).
     #[error("{}: {msg}", path.display())]
-    Unusable { path: PathBuf, msg: String },
+    Unusable {
+        /// The destination.
+        path: PathBuf,
+        /// Why, and what was expected.
+        msg: String,
+    },
 }
 
 /// Checks, before any work is done, that files can be written in `dir`:

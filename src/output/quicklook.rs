@@ -9,7 +9,9 @@ use super::{OutputError, OutputSet};
 /// The stretch applied: values at `lo` map to 0, at `hi` to 255.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stretch {
+    /// Value drawn as 0.
     pub lo: f32,
+    /// Value drawn as 255.
     pub hi: f32,
 }
 
@@ -201,6 +203,7 @@ fn draw_text(px: &mut [u8], width: usize, x: usize, y: usize, text: &str) {
 /// How a quicklook is drawn.
 #[derive(Clone, Debug)]
 pub struct QuicklookStyle {
+    /// The colour map.
     pub colormap: Colormap,
     /// The stretch's smallest span, in the plane's units (see
     /// [`with_min_span`]).

@@ -23,17 +23,24 @@ use super::quicklook::{Colormap, Stretch, percentile_stretch};
 pub struct ReportOptions {
     /// The planes shown (empty: all of the set's), in this order.
     pub planes: Vec<String>,
+    /// The colour map of the planes' images.
     pub colormap: Colormap,
 }
 
 /// What a written report holds.
 #[derive(Clone, Debug, Serialize)]
 pub struct ReportInfo {
+    /// The page written.
     pub html: PathBuf,
+    /// The output set's JSON it was made from.
     pub source: PathBuf,
+    /// Image width, pixels.
     pub width: u32,
+    /// Image height, pixels.
     pub height: u32,
+    /// The planes shown.
     pub planes: Vec<String>,
+    /// Size of the page, bytes.
     pub bytes: usize,
 }
 

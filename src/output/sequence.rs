@@ -27,21 +27,31 @@ pub const GAP_PX: u32 = 4;
 /// One frame of the index.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FrameEntry {
+    /// Frame number (0-based, in order).
     pub index: usize,
     /// The swept value as given (sweep) or the local time (sequence).
     pub value: String,
     /// The value as a number when it is one.
     pub value_number: Option<f64>,
+    /// Local image time as the scene states it.
     pub local_time: String,
+    /// Image time, RFC 3339 UTC.
     pub image_time_utc: String,
+    /// The frame's EXR file (beside the index).
     pub exr: String,
+    /// The frame's PNG quicklook.
     pub png: String,
+    /// The frame's JSON summary.
     pub json: String,
+    /// Sun zenith angle, degrees.
     pub sun_zenith_deg: f64,
+    /// Sun azimuth, degrees clockwise from north.
     pub sun_azimuth_deg: f64,
     /// The frame's band.
     pub band: String,
+    /// Statistics of the band radiance, W m⁻² sr⁻¹ µm⁻¹.
     pub band_radiance_w_m2_sr_um: PlaneStats,
+    /// Statistics of the apparent temperature, K.
     pub apparent_temperature_k: PlaneStats,
     /// What this frame shared with the frame before.
     pub reused: Reused,
@@ -78,45 +88,70 @@ impl FrameEntry {
 /// The contact sheet's layout and stretch.
 #[derive(Clone, Debug, Serialize)]
 pub struct SheetInfo {
+    /// The contact sheet's PNG.
     pub file: String,
+    /// The plane shown.
     pub plane: String,
+    /// Its unit.
     pub unit: String,
+    /// How the stretch was chosen.
     pub stretch: String,
+    /// Value drawn black.
     pub stretch_lo: f32,
+    /// Value drawn white.
     pub stretch_hi: f32,
+    /// Cells across.
     pub columns: u32,
+    /// Cells down.
     pub rows: u32,
+    /// Cell width, pixels.
     pub cell_width_px: u32,
+    /// Cell height, pixels.
     pub cell_height_px: u32,
+    /// Gap between cells, pixels.
     pub gap_px: u32,
+    /// The order of the frames in the grid.
     pub order: String,
 }
 
 /// `index.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Index {
+    /// The command that wrote it (`sequence`, `sweep`).
     pub command: String,
+    /// The scene file.
     pub scene: String,
     /// The swept key (sweep only).
     pub key: Option<String>,
+    /// The band.
     pub band: String,
+    /// The contact sheet.
     pub contact_sheet: SheetInfo,
+    /// Every frame, in order.
     pub frames: Vec<FrameEntry>,
 }
 
 /// Frames tiled row-major, and the one stretch they are shown under.
 #[derive(Clone, Debug)]
 pub struct ContactSheet {
+    /// Sheet width, pixels.
     pub width: u32,
+    /// Sheet height, pixels.
     pub height: u32,
     /// Row-major values (gaps and unused cell area are NaN: no data,
     /// drawn black).
     pub data: Vec<f32>,
+    /// The one stretch every cell is shown under.
     pub stretch: Stretch,
+    /// Cells across.
     pub columns: u32,
+    /// Cells down.
     pub rows: u32,
+    /// Cell width, pixels.
     pub cell_width: u32,
+    /// Cell height, pixels.
     pub cell_height: u32,
+    /// Gap between cells, pixels.
     pub gap: u32,
 }
 

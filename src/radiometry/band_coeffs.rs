@@ -85,6 +85,8 @@ pub struct PlanckTable {
 }
 
 impl PlanckTable {
+    /// A table over the wavelengths `wavelength_um` (its segments are
+    /// filled on first use).
     pub fn new(wavelength_um: &[f64]) -> Self {
         PlanckTable {
             wavelength_um: wavelength_um.to_vec(),
@@ -92,10 +94,12 @@ impl PlanckTable {
         }
     }
 
+    /// Number of wavelengths.
     pub fn len(&self) -> usize {
         self.wavelength_um.len()
     }
 
+    /// Whether there are no wavelengths.
     pub fn is_empty(&self) -> bool {
         self.wavelength_um.is_empty()
     }
@@ -139,6 +143,8 @@ pub struct BandTable {
 }
 
 impl BandTable {
+    /// A table of the band integral with the per-bin coefficients
+    /// `coeffs` (its segments are filled on first use).
     pub fn new(coeffs: Vec<f64>) -> Self {
         BandTable {
             coeffs: coeffs.into_boxed_slice(),
@@ -177,12 +183,15 @@ pub struct DiffuseSpectra<'a> {
     pub e_sun_exo_w_m2_um: &'a [f64],
     /// τ₁ of the sun→surface path.
     pub tau1: &'a [f64],
-    /// Sky-dome L_DE and L_DS, W m⁻² sr⁻¹ µm⁻¹.
+    /// Sky-dome L_DE, W m⁻² sr⁻¹ µm⁻¹.
     pub sky_dome_l_de: &'a [f64],
+    /// Sky-dome L_DS, W m⁻² sr⁻¹ µm⁻¹.
     pub sky_dome_l_ds: &'a [f64],
-    /// The target→sensor path τ₂, L_UE, L_US.
+    /// The target→sensor path τ₂.
     pub tau2: &'a [f64],
+    /// The target→sensor path thermal radiance L_UE, W m⁻² sr⁻¹ µm⁻¹.
     pub l_ue_w_m2_sr_um: &'a [f64],
+    /// The target→sensor path solar-scattered radiance L_US, W m⁻² sr⁻¹ µm⁻¹.
     pub l_us_w_m2_sr_um: &'a [f64],
     /// L(λᵢ, T_gnd) of the ground the facet sees, W m⁻² sr⁻¹ µm⁻¹.
     pub ground_blackbody: &'a [f64],
@@ -304,6 +313,7 @@ impl<K: Hash + Eq, V> Memo<K, V> {
             .sum()
     }
 
+    /// Whether nothing is stored.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }

@@ -81,7 +81,12 @@ pub enum Emissivity {
     /// Tabulated ε(θ, λ), bilinear.
     Table(EmissivityTable),
     /// Smooth dielectric/metal: ε(θ) = 1 − R_Fresnel(n, k, θ), grey in λ.
-    Fresnel { n: f64, k: f64 },
+    Fresnel {
+        /// Refractive index (real part).
+        n: f64,
+        /// Extinction coefficient (imaginary part of the index).
+        k: f64,
+    },
 }
 
 impl Emissivity {
@@ -126,13 +131,18 @@ impl Emissivity {
 /// ([`Self::from_csv_str`]) and the radiometry uses it as read.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct EmissivityTable {
+    /// Angles from the normal, degrees, ascending.
     pub angles_deg: Vec<f64>,
+    /// Wavelengths, µm, ascending.
     pub wavelengths_um: Vec<f64>,
     /// Row-major: values[a * wavelengths.len() + w].
     pub values: Vec<f64>,
 }
 
 impl EmissivityTable {
+    /// A table of `values` (row-major, angle by wavelength); errors for
+    /// axes not finite and ascending, sizes that do not match or values
+    /// outside [0, 1].
     pub fn new(
         angles_deg: Vec<f64>,
         wavelengths_um: Vec<f64>,
@@ -277,6 +287,8 @@ impl EmissivityTable {
         Self::new(angles, wl, values).map_err(|e| data_err(0, e.to_string()))
     }
 
+    /// ε at `angle_deg` from the normal and `wavelength_um` (bilinear,
+    /// clamped to the grid's edges).
     pub fn at(&self, angle_deg: f64, wavelength_um: f64) -> f64 {
         let (ia, ta) = bracket(&self.angles_deg, angle_deg);
         self.at_bracket(ia, ta, wavelength_um)

@@ -42,6 +42,7 @@ impl SunIllumination {
 /// The target→sensor path: τ₂(θ_E), L_UE(θ_E), L_US(θ_E).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathRadiance {
+    /// Path transmittance τ₂.
     pub tau2: f64,
     /// Path thermal (self-emitted) radiance L_UE, W m⁻² sr⁻¹ µm⁻¹.
     pub l_ue_w_m2_sr_um: f64,
@@ -63,7 +64,9 @@ impl PathRadiance {
 /// direction θ_SK.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyRadiance {
+    /// Sky thermal radiance L_DE, W m⁻² sr⁻¹ µm⁻¹.
     pub l_de_w_m2_sr_um: f64,
+    /// Sky solar-scattered radiance L_DS, W m⁻² sr⁻¹ µm⁻¹.
     pub l_ds_w_m2_sr_um: f64,
 }
 

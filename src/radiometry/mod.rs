@@ -26,19 +26,28 @@ pub use spectral::{Band, SpectralGrid, SpectralResponse};
 /// Errors from radiometry inputs (response files, grids, emissivity tables).
 #[derive(Debug, thiserror::Error)]
 pub enum RadiometryError {
+    /// A file could not be read.
     #[error("cannot read {path}: {source}")]
     Io {
+        /// The file.
         path: String,
+        /// Why.
         source: std::io::Error,
     },
+    /// A CSV file (response, emissivity table) is malformed at a line.
     #[error("{file}: line {line}: {msg}")]
     Csv {
+        /// The file.
         file: String,
+        /// The 1-based line (0: the file as a whole).
         line: usize,
+        /// What is wrong and what was expected.
         msg: String,
     },
+    /// A spectral grid that cannot be built (empty, not ascending).
     #[error("spectral grid: {0}")]
     Grid(String),
+    /// An emissivity table or value that is not valid.
     #[error("emissivity: {0}")]
     Emissivity(String),
 }

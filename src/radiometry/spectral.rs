@@ -14,6 +14,7 @@ use super::planck::{brightness_temp_k, planck_dt_w_m2_sr_um_k, planck_radiance_w
 /// Ascending wavenumber samples, cm⁻¹.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpectralGrid {
+    /// The samples, cm⁻¹, ascending.
     pub wavenumber_cm1: Vec<f64>,
 }
 
@@ -316,6 +317,7 @@ pub struct Band {
     pub weights: Vec<f64>,
     /// ∫ R(λ) dλ over the grid's bins, µm (the normalisation).
     pub response_integral_um: f64,
+    /// The band's name as the outputs print it (`lwir 8-14 um`).
     pub label: String,
 }
 
@@ -361,6 +363,7 @@ impl Band {
         self.indices.len()
     }
 
+    /// Whether no bin is used.
     pub fn is_empty(&self) -> bool {
         self.indices.is_empty()
     }

@@ -24,10 +24,13 @@ pub struct Camera {
     pub right: [f64; 3],
     /// Unit vector towards decreasing row (image up); right = forward × up.
     pub up: [f64; 3],
-    /// Full horizontal and vertical fields of view, degrees.
+    /// Full horizontal field of view, degrees.
     pub fov_h_deg: f64,
+    /// Full vertical field of view, degrees.
     pub fov_v_deg: f64,
+    /// Image width, pixels.
     pub width_px: u32,
+    /// Image height, pixels.
     pub height_px: u32,
     /// tan(fov_h / 2), tan(fov_v / 2) (what the projection uses).
     #[serde(skip)]

@@ -7,8 +7,11 @@ use std::path::{Path, PathBuf};
 /// A place in an input file: 1-based line and column; 0 means unknown.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Location {
+    /// The file.
     pub file: PathBuf,
+    /// 1-based line (0: unknown).
     pub line: usize,
+    /// 1-based column (0: unknown).
     pub col: usize,
     /// What put the item there when it is not the file's own text: the
     /// command-line override (`--set key=value`) that set it (then `line`
@@ -79,6 +82,7 @@ pub enum SceneError {
     /// A file could not be read.
     #[error("{}: cannot read file: {error}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
         /// The I/O error (kept out of `source()` so that error chains do
         /// not print it twice).
@@ -87,14 +91,29 @@ pub enum SceneError {
     /// TOML syntax, a wrong type, a missing or unknown key (scene or
     /// material file).
     #[error("{loc}: {msg}")]
-    Toml { loc: Location, msg: String },
+    Toml {
+        /// Where.
+        loc: Location,
+        /// What is wrong and what was expected.
+        msg: String,
+    },
     /// A value outside its physical or allowed range.
     #[error("{loc}: {msg}")]
-    Invalid { loc: Location, msg: String },
+    Invalid {
+        /// Where.
+        loc: Location,
+        /// The value, and what was expected.
+        msg: String,
+    },
     /// A malformed OBJ line (bad number, NaN/inf vertex, face index out of
     /// range, ...).
     #[error("{loc}: {msg}")]
-    Obj { loc: Location, msg: String },
+    Obj {
+        /// Where (file and line, or the glTF part).
+        loc: Location,
+        /// What is wrong and what was expected.
+        msg: String,
+    },
     /// An OBJ `usemtl` (or an object's default `material`) names a material
     /// no library defines.
     #[error(
@@ -103,15 +122,24 @@ pub enum SceneError {
         suggestion.as_ref().map(|s| format!("; did you mean `{s}`?")).unwrap_or_default()
     )]
     UndefinedMaterial {
+        /// Where the name is used.
         loc: Location,
+        /// The name.
         name: String,
+        /// The libraries searched.
         libraries: Box<[PathBuf]>,
+        /// The closest name they define, if one is close.
         suggestion: Option<String>,
     },
     /// A data file referenced by a scene or material (response curve,
     /// emissivity table, PSF kernel) is malformed.
     #[error("{loc}: {msg}")]
-    Data { loc: Location, msg: String },
+    Data {
+        /// Where (file and line).
+        loc: Location,
+        /// What is wrong and what was expected.
+        msg: String,
+    },
 }
 
 fn libraries_list(libs: &[PathBuf]) -> String {

@@ -57,8 +57,9 @@ pub struct LocalFrame {
     /// The largest rounding error of a vertex coordinate at that extent, m
     /// ([`f32_error_m`]).
     pub error_m: f64,
-    /// [`PRECISE_EXTENT_M`] and [`MAX_EXTENT_M`], for the report.
+    /// [`PRECISE_EXTENT_M`], for the report.
     pub precise_extent_m: f64,
+    /// [`MAX_EXTENT_M`], for the report.
     pub max_extent_m: f64,
 }
 

@@ -107,6 +107,7 @@ pub struct Geo {
     lon0: f64,
     /// The site's geocentric position, m.
     origin_ecef: DVec3,
+    /// The outputs' map CRS.
     pub crs: CrsInfo,
     longlat: Proj,
     geocent: Proj,
@@ -215,7 +216,9 @@ pub struct Corner {
     pub pixel: [f64; 2],
     /// Scene frame, metres.
     pub scene_m: [f64; 3],
+    /// Latitude (WGS 84), degrees.
     pub lat_deg: f64,
+    /// Longitude (WGS 84), degrees.
     pub lon_deg: f64,
     /// Output CRS, metres.
     pub map_m: [f64; 2],
@@ -224,11 +227,13 @@ pub struct Corner {
 /// A frame's georeferencing, as recorded in every output.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Georef {
+    /// The outputs' map CRS.
     pub crs: CrsInfo,
-    /// The site: the scene frame's origin (lat, lon degrees; m above the
-    /// WGS 84 ellipsoid).
+    /// The site, the scene frame's origin: its latitude, degrees.
     pub site_lat_deg: f64,
+    /// The site's longitude, degrees.
     pub site_lon_deg: f64,
+    /// The site's height above the WGS 84 ellipsoid, m.
     pub site_height_m: f64,
     /// The `ground_x/y/z` planes are scene (world) metres minus this
     /// origin: the tracer's local frame origin (the camera target rounded
@@ -314,9 +319,13 @@ pub fn georeference(
 /// Per-pixel geolocation in full precision: latitude, longitude (deg),
 /// map x, y (m) of each pixel's hit point (NaN where the ray hit nothing).
 pub struct Geolocation {
+    /// Latitude of each pixel's hit point, degrees.
     pub lat_deg: Vec<f64>,
+    /// Longitude, degrees.
     pub lon_deg: Vec<f64>,
+    /// Map x in the outputs' CRS, m.
     pub map_x_m: Vec<f64>,
+    /// Map y, m.
     pub map_y_m: Vec<f64>,
 }
 

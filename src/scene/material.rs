@@ -39,8 +39,11 @@ pub mod keys {
     pub use crate::therm::slab::keys::*;
     pub use crate::therm::surface::keys::*;
 
+    /// `specularity`: the specular fraction of the reflectance.
     pub const SPECULARITY: Bound = Bound::new("specularity", 0.0, 1.0, "");
+    /// `emissivity = { fresnel = { n } }`: the refractive index.
     pub const FRESNEL_N: Bound = Bound::new("n", 1e-6, 1e4, "");
+    /// `emissivity = { fresnel = { k } }`: the extinction coefficient.
     pub const FRESNEL_K: Bound = Bound::new("k", 0.0, 1e4, "");
 
     /// The description and optics keys, in the order the docs list them.
@@ -297,9 +300,17 @@ pub enum EmissivitySpec {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Emissivity {
+    /// Grey and Lambertian: the construction's `thermal_emissivity`.
     Constant,
+    /// A table ε(θ, λ) read from its file.
     Table(EmissivityTable),
-    Fresnel { n: f64, k: f64 },
+    /// From the Fresnel equations of a complex index n + ik.
+    Fresnel {
+        /// Refractive index.
+        n: f64,
+        /// Extinction coefficient.
+        k: f64,
+    },
 }
 
 /// A material ready for the model: the one model description of a material,
@@ -309,7 +320,9 @@ pub enum Emissivity {
 /// internal power and surface kind) and the optics the radiometry uses.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Material {
+    /// The material's name (its `[material.NAME]`).
     pub name: String,
+    /// Its `description`, if given.
     pub description: Option<String>,
     /// The thermal construction (today one homogeneous slab): what
     /// `therm` solves, exactly as the scene gave it (a deep-ground back face
@@ -376,6 +389,64 @@ impl Check<'_> {
         Err(self
             .src
             .invalid(path, format!("`{name}` = {v}: expected a finite number")))
+    }
+}
+
+/// The materials of a scene: every library's, later libraries overriding
+/// earlier ones of the same name (index = material id).
+pub(crate) struct SceneMaterials {
+    pub materials: Vec<Material>,
+    /// The library files, in the scene's order.
+    pub files: Vec<PathBuf>,
+    pub by_name: std::collections::HashMap<String, u32>,
+}
+
+impl SceneMaterials {
+    /// Reads the libraries `libs` named at the scene key `materials`
+    /// (each checked against the path policy `allow`).
+    pub fn load(
+        src: &TomlSource,
+        libs: &[PathBuf],
+        allow: &[PathBuf],
+    ) -> Result<SceneMaterials, SceneError> {
+        let mut materials: Vec<Material> = Vec::new();
+        let mut files = Vec::new();
+        for (i, lib) in libs.iter().enumerate() {
+            let at = [Seg::Key("materials".into()), Seg::Index(i)];
+            let file = super::paths::referenced_file(src, allow, lib, &at, "material library")?;
+            for m in load_library(&file)? {
+                match materials.iter().position(|x| x.name == m.name) {
+                    Some(j) => materials[j] = m,
+                    None => materials.push(m),
+                }
+            }
+            files.push(file);
+        }
+        let by_name = (materials.iter().enumerate())
+            .map(|(i, m)| (m.name.clone(), i as u32))
+            .collect();
+        Ok(SceneMaterials {
+            materials,
+            files,
+            by_name,
+        })
+    }
+
+    /// The id of the material `name` named at key `at` of `src`, or the
+    /// error naming it there, the libraries and the closest name.
+    pub fn id(&self, src: &TomlSource, at: &[Seg], name: &str) -> Result<u32, SceneError> {
+        self.by_name
+            .get(name)
+            .copied()
+            .ok_or_else(|| SceneError::UndefinedMaterial {
+                loc: src.loc_of(at),
+                name: name.to_string(),
+                libraries: self.files.clone().into(),
+                suggestion: super::error::closest(
+                    name,
+                    self.materials.iter().map(|m| m.name.as_str()),
+                ),
+            })
     }
 }
 

@@ -52,3 +52,8 @@ pub(crate) fn referenced_file(
         ))
     }
 }
+
+/// A path named in the scene file `scene_file`, resolved from its folder.
+pub(crate) fn resolve(scene_file: &Path, p: &Path) -> PathBuf {
+    scene_file.parent().unwrap_or(Path::new("")).join(p)
+}

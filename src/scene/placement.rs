@@ -34,14 +34,13 @@ use glam::{DAffine3, DQuat, DVec3};
 use crate::scene::error::SceneError;
 use crate::scene::mesh::Mesh;
 use crate::scene::spec::{Align, Anchor, ObjectSpec};
-use crate::scene::terrain::TerrainMesh;
 use crate::scene::tomlsrc::{Seg, TomlSource};
 
 /// The terrain triangles of a scene, binned on an x-y grid for vertical
 /// look-ups, in the tracer's local frame (double precision). It borrows
 /// the terrain meshes and keeps 4 bytes per triangle and bin it meets.
 pub struct Ground<'a> {
-    meshes: &'a [TerrainMesh],
+    meshes: &'a [Mesh],
     /// Triangle k of all meshes together lies in the mesh m with
     /// `first[m] <= k < first[m + 1]`.
     first: Vec<usize>,
@@ -59,6 +58,7 @@ pub struct Ground<'a> {
 /// The terrain under a footprint: its lowest point and mean normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Under {
+    /// The lowest terrain point under the footprint, local frame, m.
     pub min_z_m: f64,
     /// Area-weighted mean of the unit normals (upward), normalised.
     pub normal: DVec3,
@@ -67,7 +67,7 @@ pub struct Under {
 impl<'a> Ground<'a> {
     /// The ground of the terrain meshes (world coordinates) in the frame
     /// whose origin is `origin_m`.
-    pub fn new(meshes: &'a [TerrainMesh], origin_m: [f64; 3]) -> Ground<'a> {
+    pub fn new(meshes: &'a [Mesh], origin_m: [f64; 3]) -> Ground<'a> {
         let mut first = vec![0];
         for m in meshes {
             first.push(first.last().unwrap() + m.triangles.len());
@@ -154,7 +154,7 @@ impl<'a> Ground<'a> {
         let m = self.first.partition_point(|&f| f <= k) - 1;
         let mesh = &self.meshes[m];
         mesh.triangles[k - self.first[m]]
-            .map(|i| DVec3::from(mesh.positions_m[i as usize]) - self.origin)
+            .map(|i| DVec3::from(mesh.positions[i as usize]) - self.origin)
     }
 
     /// The inclusive bin range covering the box `lo`..`hi`.
@@ -333,7 +333,9 @@ fn polygon_area(p: &[DVec3]) -> f64 {
 /// How one instance stands: from its own keys, else its object's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stand {
+    /// The point that stands on the ground.
     pub anchor: Anchor,
+    /// Upright, or tilted to the slope.
     pub align: Align,
     /// Height of the anchor above the terrain, m (the z of `translate_m`,
     /// object's plus instance's).
@@ -422,7 +424,9 @@ pub fn stands(
 /// terrain under it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NoGround {
+    /// The point with no terrain under it (x, y), local frame, m.
     pub at_m: [f64; 2],
+    /// What the point is, for the message (e.g. "its footprint").
     pub what: &'static str,
 }
 

@@ -333,6 +333,7 @@ pub struct ObjectSpec {
     /// when `material` is not set).
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub materials: std::collections::BTreeMap<String, String>,
+    /// Repeated placements (`[[object.instance]]`), each applied before the object's own transform.
     #[serde(default, skip_serializing_if = "Vec::is_empty", rename = "instance")]
     pub instances: Vec<Transform>,
 }
@@ -478,7 +479,9 @@ impl UpAxis {
 /// Scale: uniform (one number) or per axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Scale {
+    /// One factor for all three axes.
     Uniform(f64),
+    /// A factor per axis (x, y, z).
     PerAxis([f64; 3]),
 }
 
@@ -489,6 +492,7 @@ impl Default for Scale {
 }
 
 impl Scale {
+    /// The factor on each axis.
     pub fn xyz(&self) -> [f64; 3] {
         match *self {
             Scale::Uniform(s) => [s; 3],
@@ -618,11 +622,17 @@ pub enum AtmosphereModel {
     /// before the scene's time and the site's latitude (`atmos::standard`).
     #[default]
     Auto,
+    /// LOWTRAN-7 tropical.
     Tropical,
+    /// LOWTRAN-7 mid-latitude summer.
     MidLatitudeSummer,
+    /// LOWTRAN-7 mid-latitude winter.
     MidLatitudeWinter,
+    /// LOWTRAN-7 subarctic summer.
     SubarcticSummer,
+    /// LOWTRAN-7 subarctic winter.
     SubarcticWinter,
+    /// LOWTRAN-7 US Standard 1976.
     UsStandard1976,
     /// A table file (relative to the scene file).
     #[serde(rename = "table_file")]
@@ -691,6 +701,7 @@ impl SensorSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum SensorPose {
+    /// `[sensor.pose.look_at]`: a position and a target.
     LookAt {
         /// Sensor position, metres (local ENU).
         position_m: [f64; 3],
@@ -701,6 +712,8 @@ pub enum SensorPose {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         up: Option<[f64; 3]>,
     },
+    /// `[sensor.pose.altitude]`: a height above the ground, a view zenith
+    /// and azimuth at the target.
     Altitude {
         /// Sensor height above z = 0, metres (> target z).
         altitude_m: f64,
@@ -713,6 +726,8 @@ pub enum SensorPose {
         #[serde(default)]
         target_m: [f64; 3],
     },
+    /// `[sensor.pose.slant_range]`: a distance from the target, a view
+    /// zenith and azimuth at it.
     SlantRange {
         /// Distance sensor→target, metres (> 0).
         slant_range_m: f64,
@@ -765,9 +780,13 @@ impl SensorPose {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Band {
+    /// Ideal 8-14 µm.
     Lwir,
+    /// Ideal 3-5 µm.
     Mwir,
+    /// Ideal over [lo, hi] µm.
     RangeUm([f64; 2]),
+    /// A relative spectral response read from a CSV file.
     ResponseFile(PathBuf),
 }
 
@@ -776,8 +795,10 @@ pub enum Band {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Psf {
+    /// No blur.
     #[default]
     None,
+    /// A Gaussian blur.
     Gaussian {
         /// Standard deviation, output pixels (> 0).
         sigma_px: f64,
@@ -832,8 +853,10 @@ pub struct PeriodicNoise {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum NoiseDirection {
+    /// The pattern varies from row to row (horizontal bands).
     #[default]
     Rows,
+    /// The pattern varies from column to column (vertical stripes).
     Columns,
 }
 
@@ -876,7 +899,7 @@ pub struct RenderOptions {
     /// Spectral integration step, cm⁻¹ (0.1-100).
     #[serde(default = "d_spectral_step")]
     pub spectral_step_cm1: f64,
-    /// Thermal model time step, minutes (0 < step <= 60).
+    /// Thermal model time step, minutes (1/60 to 60: 1 s to 1 h).
     #[serde(default = "d_thermal_step")]
     pub thermal_step_min: f64,
     /// Local error tolerance of the adaptive thermal steps, K (1e-6 to 1).
@@ -985,7 +1008,9 @@ fn d_refine_threshold() -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Sampling {
+    /// `supersample`² samples in every pixel.
     Uniform,
+    /// One sample per pixel first, refined where neighbours differ.
     #[default]
     Adaptive,
 }
@@ -1026,8 +1051,10 @@ impl Default for RenderOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum TracerKind {
+    /// Intel Embree (packets of 16 rays).
     #[default]
     Embree,
+    /// obvhs, pure Rust.
     Bvh,
 }
 

@@ -10,10 +10,15 @@ use super::{LoadedScene, WeatherSpec};
 /// Facet counts of one material.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct MaterialUse {
+    /// The material's name.
     pub name: String,
+    /// Triangles of it in the scene.
     pub triangles: usize,
+    /// Its specular fraction (0: diffuse).
     pub specularity: f64,
+    /// Its internal heat source, W/m².
     pub internal_power_w_m2: f64,
+    /// The library it was read from.
     pub library: PathBuf,
 }
 
@@ -30,6 +35,7 @@ pub struct Needs {
     pub sun_elevation_deg: f64,
     /// Specular-bounce rays: some facet has a material with specularity > 0.
     pub specular_rays: bool,
+    /// The materials with specularity > 0.
     pub specular_materials: Vec<String>,
     /// Materials with an internal heat source.
     pub heated_materials: Vec<String>,
@@ -37,6 +43,7 @@ pub struct Needs {
     pub spectral_samples: usize,
     /// Thermal steps of the history and shadow-history samples per pixel.
     pub thermal_steps: usize,
+    /// Shadow-history samples per pixel sample.
     pub shadow_samples: usize,
 }
 
@@ -51,11 +58,15 @@ pub struct ObjectSummary {
     /// instance number within it: `object[i].instance[k - 1]` for
     /// `--set` overrides.
     pub spec_index: usize,
+    /// Instance number within the entry (0-based).
     pub instance: usize,
+    /// Triangles (zero-area ones left out).
     pub triangles: u32,
+    /// Faces (polygons; a terrain's cells).
     pub faces: u32,
-    /// Axis-aligned bounds, scene frame (local ENU of the site), m.
+    /// Axis-aligned bounds' minimum, scene frame (local ENU of the site), m.
     pub bounds_min_m: [f64; 3],
+    /// Axis-aligned bounds' maximum, scene frame, m.
     pub bounds_max_m: [f64; 3],
     /// Footprint (east-west, north-south extent) and height, m.
     pub size_m: [f64; 3],
@@ -73,22 +84,33 @@ pub struct ObjectSummary {
 /// rendering it will need.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SceneSummary {
+    /// The scene file.
     pub scene: PathBuf,
+    /// The site (latitude, longitude, elevation).
     pub site: super::Site,
+    /// Image time, local (as the scene states it).
     pub time_local: String,
+    /// Image time, UTC.
     pub time_utc: String,
+    /// Number of objects (instances and terrains).
     pub objects: usize,
     /// Each object's bounds, footprint, base and triangle count.
     pub object_list: Vec<ObjectSummary>,
     /// The map CRS of [`ObjectSummary::base_centre_map_m`] (the outputs').
     pub map_crs: String,
+    /// Faces of every object.
     pub faces: usize,
+    /// Triangles traced.
     pub triangles: usize,
+    /// Vertices.
     pub vertices: usize,
+    /// Zero-area triangles left out.
     pub degenerate_skipped: usize,
+    /// The materials in use.
     pub materials: Vec<MaterialUse>,
-    /// Bounds in world coordinates.
+    /// Bounds' minimum, world coordinates, m.
     pub bounds_min_m: [f64; 3],
+    /// Bounds' maximum, world coordinates, m.
     pub bounds_max_m: [f64; 3],
     /// The tracer's local frame: origin, extent and f32 precision.
     pub local_frame: super::LocalFrame,
@@ -96,15 +118,20 @@ pub struct SceneSummary {
     pub warning: Option<String>,
     /// Notes on the inputs ([`super::LoadedScene::warnings`]).
     pub warnings: Vec<String>,
+    /// The camera (world coordinates).
     pub camera: super::Camera,
     /// Image corners on the plane z = target z (TL, TR, BR, BL); `null`
     /// where a corner ray misses the ground (above the horizon).
     pub footprint_m: [Option<[f64; 3]>; 4],
     /// Ground sample distance at the image centre (across, along), m.
     pub centre_gsd_m: Option<[f64; 2]>,
+    /// The band's spectral support, µm.
     pub band_um: (f64, f64),
+    /// The weather source, as text.
     pub weather: String,
+    /// The atmosphere choice, as text.
     pub atmosphere: String,
+    /// What the render will need.
     pub needs: Needs,
 }
 

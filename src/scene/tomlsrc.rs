@@ -11,13 +11,17 @@ use super::error::{Location, SceneError, closest};
 /// One step of a key path: a table key or an array index.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Seg {
+    /// A table key.
     Key(String),
+    /// An array index (0-based).
     Index(usize),
 }
 
 /// A TOML file's path and text.
 pub struct TomlSource {
+    /// The file.
     pub path: PathBuf,
+    /// The text parsed (after any edits).
     pub text: String,
     /// Set when `text` is the file's text edited on the command line
     /// (`--set`, `--unset`): errors are then reported where the item is in
@@ -27,6 +31,7 @@ pub struct TomlSource {
 
 /// The file's own text and the overrides applied to it.
 pub struct Edits {
+    /// The file's own text.
     pub original: String,
     /// (dotted key, value) as given on the command line.
     pub overrides: Vec<(String, String)>,
@@ -47,6 +52,7 @@ impl TomlSource {
         Ok(Self::from_text(path, text))
     }
 
+    /// A source of `text`, reported as the file `path`.
     pub fn from_text(path: &Path, text: String) -> Self {
         Self {
             path: path.to_path_buf(),

@@ -16,18 +16,24 @@ pub enum Direction {
     Columns,
     /// Varies with y (horizontal bands).
     Rows,
+    /// Varies with x + y (diagonal stripes).
     Diagonal,
 }
 
 /// Noise settings.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NoiseSpec {
+    /// σ of the random (white Gaussian) noise, image units; 0: none.
     pub random_sigma: f64,
+    /// Amplitude of the periodic pattern, image units; 0: none.
     pub periodic_amplitude: f64,
+    /// Period of the periodic pattern, pixels.
     pub periodic_period_px: f64,
+    /// Direction along which the periodic pattern varies.
     pub periodic_direction: Direction,
     /// Phase of the periodic pattern at pixel 0, degrees.
     pub periodic_phase_deg: f64,
+    /// Seed of the random field (same seed, same noise).
     pub seed: u64,
 }
 

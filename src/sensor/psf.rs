@@ -15,20 +15,32 @@ use rustfft::{Fft, FftPlanner};
 /// A normalised 2-D kernel, odd width and height, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Kernel {
+    /// Columns (odd).
     pub width: usize,
+    /// Rows (odd).
     pub height: usize,
+    /// Row-major weights, summing to 1.
     pub weights: Vec<f64>,
 }
 
 /// Errors in a user kernel.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum KernelError {
+    /// Width or height (given) even or zero.
     #[error("kernel is {0}x{1}: width and height must be odd and at least 1")]
     Shape(usize, usize),
+    /// Not width × height weights.
     #[error("kernel has {got} weights, expected {expected}")]
-    Count { got: usize, expected: usize },
+    Count {
+        /// Weights given.
+        got: usize,
+        /// Width × height.
+        expected: usize,
+    },
+    /// Weights not finite, or their sum (given) not positive.
     #[error("kernel weights must be finite and sum to a positive number (sum = {0})")]
     Sum(f64),
+    /// A Gaussian's σ (given, pixels) not finite and positive.
     #[error("Gaussian sigma must be finite and > 0 pixels, got {0}")]
     Sigma(f64),
 }

@@ -7,8 +7,11 @@ use serde::{Deserialize, Serialize};
 /// W m⁻² sr⁻¹ µm⁻¹), `offset` in input units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Quantiser {
+    /// Bits per DN (the largest DN is 2^bits − 1).
     pub bits: u32,
+    /// DN per unit of the input.
     pub gain: f64,
+    /// Input value subtracted before the gain, input units.
     pub offset: f64,
 }
 

@@ -171,6 +171,19 @@ pub enum GeometryError {
     Embree(String),
 }
 
+/// Whether a triangle has area as the tracer sees it: its cross product
+/// (v1−v0)×(v2−v0) is finite and non-zero in single precision, and
+/// non-zero in double precision from the same vertices (exactly collinear
+/// or repeated vertices). The one test of zero area: the scene loader
+/// leaves out (and counts) the triangles that fail it, and
+/// [`Geometry::new`] skips them in any other input.
+pub fn has_area(v: [Vec3; 3]) -> bool {
+    let len = (v[1] - v[0]).cross(v[2] - v[0]).length();
+    let q = v.map(|p| p.as_dvec3());
+    let area2 = (q[1] - q[0]).cross(q[2] - q[0]).length();
+    len > 0.0 && len.is_finite() && area2 > 0.0
+}
+
 /// A validated world-space triangle soup, the tracer's input.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
@@ -219,11 +232,9 @@ impl Geometry {
             }
             let [a, b, c] = t.map(|k| positions[k as usize]);
             let cross = (b - a).cross(c - a);
-            let len = cross.length();
-            // Zero area in f32 (also catches exactly collinear vertices).
-            if len > 0.0 && len.is_finite() {
+            if has_area([a, b, c]) {
                 traced.push(i as u32);
-                normals.push(cross / len);
+                normals.push(cross / cross.length());
             } else {
                 normals.push(Vec3::ZERO);
             }

@@ -2,8 +2,8 @@
 //! ([`gltf`]: `.gltf`, `.glb`) read into one polygon soup ([`Mesh`]) in the
 //! file's own coordinates, with every face triangulated ([`triangulate`]). The scene loader places a mesh with
 //! the object's transform and maps its material names to the libraries'.
-//! Other geometry sources (terrain) can build a [`Mesh`] directly and
-//! call [`Mesh::triangulate`].
+//! The terrain mesher ([`crate::scene::terrain`]) builds the same [`Mesh`]
+//! directly: one mesh type for every geometry source.
 
 pub mod gltf;
 pub mod obj;

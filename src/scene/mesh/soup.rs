@@ -1,6 +1,8 @@
-//! The polygon soup every mesh reader produces ([`Mesh`], [`Face`]), and its
-//! triangulation. The readers ([`super::obj`], [`super::gltf`]) import it from
-//! here, below them, so imports run one way.
+//! The one mesh type ([`Mesh`], [`Face`]): what the mesh readers
+//! ([`super::obj`], [`super::gltf`]) and the terrain mesher
+//! ([`crate::scene::terrain`]) produce, and the scene loader places, and its
+//! triangulation. The readers import it from here, below them, so imports
+//! run one way.
 
 use std::path::PathBuf;
 
@@ -11,19 +13,26 @@ use crate::scene::spec::UpAxis;
 /// One polygon face.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Face {
-    /// Vertex indices into [`Mesh::positions`] (>= 3, in file order).
+    /// Vertex indices into [`Mesh::positions`] (>= 3, in file order);
+    /// empty for a terrain cell, whose two triangles are made directly.
     pub verts: Vec<u32>,
     /// Index into [`Mesh::material_names`], or `None` when the face has
     /// no material of its own (before any OBJ `usemtl`).
     pub material: Option<u32>,
     /// Where the face is written ([`Mesh::place`]): its 1-based OBJ line,
-    /// or for glTF an index into [`Mesh::parts`].
+    /// or for glTF an index into [`Mesh::parts`]; for a terrain its grid
+    /// cell (row-major), as is its index.
     pub src: usize,
 }
 
-/// A mesh file's faces in its own (model) coordinates.
+/// A mesh's faces in its own coordinates: a mesh file's (model
+/// coordinates), or a terrain's (scene coordinates, m; one face per grid
+/// cell, a hole a face with no material and no triangles). The loader
+/// places every mesh the same way: the triangles with their face's
+/// material and the face's index as facet id, zero-area ones left out.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Mesh {
+    /// The file it was read from (a terrain: its DEM).
     pub path: PathBuf,
     /// Vertex positions as written (in double precision, so that
     /// projected coordinates such as UTM keep their millimetres).
@@ -37,7 +46,8 @@ pub struct Mesh {
     /// OBJ, whose `src` are lines.
     pub parts: Vec<String>,
     /// Triangles (indices into `positions`, the face's winding) of every
-    /// face, in face order; filled by [`Mesh::triangulate`].
+    /// face, in face order; filled by [`Mesh::triangulate`] (a terrain:
+    /// by the mesher, counter-clockwise seen from above).
     pub triangles: Vec<[u32; 3]>,
     /// The face of each triangle.
     pub tri_face: Vec<u32>,

@@ -22,12 +22,27 @@ const MAX_CROSSING_TEST: usize = 4096;
 #[derive(Clone, Debug, PartialEq)]
 pub enum PolygonError {
     /// Two edges (each given by its two vertices) cross.
-    Crossing { a: [usize; 2], b: [usize; 2] },
+    Crossing {
+        /// The first edge's vertices.
+        a: [usize; 2],
+        /// The second edge's vertices.
+        b: [usize; 2],
+    },
     /// Two edges run along the same stretch in the same direction.
-    Overlap { a: [usize; 2], b: [usize; 2] },
+    Overlap {
+        /// The first edge's vertices.
+        a: [usize; 2],
+        /// The second edge's vertices.
+        b: [usize; 2],
+    },
     /// The triangles do not cover the polygon's area (it winds around or
     /// touches itself in a way ear clipping cannot resolve).
-    Area { polygon: f64, triangles: f64 },
+    Area {
+        /// The polygon's area.
+        polygon: f64,
+        /// The triangles' total area.
+        triangles: f64,
+    },
 }
 
 impl std::fmt::Display for PolygonError {

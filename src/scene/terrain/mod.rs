@@ -2,8 +2,8 @@
 //! GeoTIFF DEM ([`raster`]), an extent of the scene frame and a mesh
 //! spacing; the loader meshes the DEM there into a triangle mesh with one
 //! material per cell (one library material, or a land-cover raster of
-//! class ids and a class → material table), which the scene takes like an
-//! OBJ object.
+//! class ids and a class → material table): a [`Mesh`] like an OBJ
+//! file's, which the scene places like an object.
 //!
 //! Placement. The scene frame is the site's east-north-up frame
 //! ([`crate::scene::georef`]: EPSG 9836 topocentric coordinates about the
@@ -44,22 +44,7 @@ use crate::sun::Site;
 use raster::{Raster, RasterCrs, Sample};
 pub use spec::{Extent, LandCover, NoData, TerrainSpec};
 
-/// A meshed terrain in scene (world) coordinates.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct TerrainMesh {
-    /// Vertices, scene frame, metres.
-    pub positions_m: Vec<[f64; 3]>,
-    /// Triangles (indices into `positions_m`), counter-clockwise from above.
-    pub triangles: Vec<[u32; 3]>,
-    /// Material id of each triangle.
-    pub tri_material: Vec<u32>,
-    /// Cell (facet) id of each triangle: row-major over the grid.
-    pub tri_facet: Vec<u32>,
-    /// Grid cells, nx × ny (holes included).
-    pub cells: u32,
-    /// Cells left out for missing DEM data (`nodata = "hole"`).
-    pub holes: u32,
-}
+use crate::scene::mesh::{Face, Mesh};
 
 /// Maps geodetic coordinates into a raster's CRS.
 struct CrsMap {
@@ -268,7 +253,7 @@ pub(crate) fn load(
     site: &Site,
     allow: &[PathBuf],
     material: &MaterialId,
-) -> Result<TerrainMesh, SceneError> {
+) -> Result<Mesh, SceneError> {
     let at = |k: &[&str]| {
         let mut p = vec![Seg::Key("terrain".into()), Seg::Index(i)];
         p.extend(k.iter().map(|s| Seg::Key(s.to_string())));
@@ -365,7 +350,13 @@ pub(crate) fn load(
         }
     }
 
-    // Cell materials.
+    // Cell materials (library ids), and the name of each id used.
+    let names = std::cell::RefCell::new(BTreeMap::<u32, String>::new());
+    let material = |name: &str, at: &[Seg]| {
+        let id = material(name, at)?;
+        names.borrow_mut().insert(id, name.to_string());
+        Ok::<u32, SceneError>(id)
+    };
     let cell_material: Vec<u32> = match (&t.material, &t.land_cover) {
         (Some(m), _) => vec![material(m, &at(&["material"]))?; nx * ny],
         (None, Some(lc)) => {
@@ -454,25 +445,39 @@ pub(crate) fn load(
         (None, None) => unreachable!("validate requires material or land_cover"),
     };
 
-    // Cells: two triangles each, counter-clockwise seen from above.
-    let mut m = TerrainMesh {
-        positions_m,
-        cells: (nx * ny) as u32,
-        ..TerrainMesh::default()
+    // Cells: one face each (holes too, with no triangles, so that a face's
+    // index is its cell), two triangles each, counter-clockwise seen from
+    // above; the faces name their materials as a mesh file's do.
+    let names = names.into_inner();
+    let local: BTreeMap<u32, u32> = names
+        .keys()
+        .enumerate()
+        .map(|(k, &id)| (id, k as u32))
+        .collect();
+    let mut m = Mesh {
+        path: dem_file,
+        positions: positions_m,
+        material_names: names.into_values().map(|n| (n, 0)).collect(),
+        ..Mesh::default()
     };
+    m.faces.reserve(nx * ny);
     let v = |i: usize, j: usize| index[j * (nx + 1) + i];
     for j in 0..ny {
         for i in 0..nx {
+            let cell = (j * nx + i) as u32;
             let q = [v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)];
-            if q.contains(&u32::MAX) {
-                m.holes += 1;
+            let hole = q.contains(&u32::MAX);
+            m.faces.push(Face {
+                verts: Vec::new(),
+                material: (!hole).then(|| local[&cell_material[cell as usize]]),
+                src: cell as usize,
+            });
+            if hole {
                 continue;
             }
-            let cell = (j * nx + i) as u32;
             for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
                 m.triangles.push(t);
-                m.tri_material.push(cell_material[cell as usize]);
-                m.tri_facet.push(cell);
+                m.tri_face.push(cell);
             }
         }
     }

@@ -34,7 +34,12 @@ pub enum RasterCrs {
     Geographic,
     /// WGS 84 / UTM zone `zone` (1-60), north or south (EPSG 326zz/327zz):
     /// x easting, y northing, metres.
-    Utm { zone: u32, north: bool },
+    Utm {
+        /// UTM zone, 1-60.
+        zone: u32,
+        /// Northern hemisphere (EPSG 326zz), else southern (327zz).
+        north: bool,
+    },
 }
 
 impl RasterCrs {
@@ -51,8 +56,11 @@ impl RasterCrs {
 /// A single-band raster with its georeferencing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Raster {
+    /// Columns.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Its coordinate reference system.
     pub crs: RasterCrs,
     /// Pixel → CRS affine transform in GDAL's order (x = g0 + col·g1 +
     /// row·g2, y = g3 + col·g4 + row·g5), (col, row) at pixel corners: the
@@ -69,6 +77,7 @@ pub struct Raster {
 /// A bilinear sample of a raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Sample {
+    /// The interpolated value.
     Value(f64),
     /// A pixel the interpolation needs holds no data: (col, row).
     NoData([u32; 2]),
