@@ -63,13 +63,15 @@ mod interp;
 mod march;
 mod material;
 mod settings;
+mod store;
 
 pub use grid::Mesh;
 pub use history::{SunHistory, mean_sun_fraction, sun_fraction};
 pub use interp::{forcing_at, validate_forcing};
 pub use march::{
     MarchState, SPIN_UP_MEAN_WINDOW_S, SlabModel, StepRecord, ThermSolution, solve_surface,
-    update_store_mm,
 };
 pub use material::{BackBoundary, SlabMaterial, keys};
 pub use settings::{SpinUpStart, ThermError, ThermSettings};
+pub use store::update_store_mm;
+pub(crate) use store::wet_drive;
