@@ -461,13 +461,10 @@ fn typical_year_leap_day() {
     assert!((s.air_temp_k - ZERO_C_K - 10.1).abs() < 1e-12);
 }
 
-/// A clear-sky-shaped record (GHI = 1000·sin(elevation)) of a station at
-/// 80° W applied to a site at the same longitude: no warning; at 35° W (3 h
-/// of solar time east): the station's afternoon sunlight falls after the
-/// site's sunset, and the warning names those hours; at 125° W: the
-/// site's sun is up while the record is dark.
-#[test]
-fn stand_in_sunlight_in_another_solar_time_is_named() {
+/// 72 hourly records from 2024-06-20T00Z of a clear sky measured at
+/// 40° N 80° W (GHI = 1000 W/m² · sin(sun elevation) there), as a station
+/// file `station.csv` would give them; returns the first time and the record.
+fn clear_record_at_80w() -> (DateTime<Utc>, WeatherHistory) {
     let t0 = utc("2024-06-20T00:00:00Z");
     let times: Vec<_> = (0..72).map(|h| t0 + Duration::hours(h)).collect();
     let samples = times
@@ -493,6 +490,17 @@ fn stand_in_sunlight_in_another_solar_time_is_named() {
         samples,
         source: "station.csv".into(),
     };
+    (t0, h)
+}
+
+/// A clear-sky-shaped record (GHI = 1000·sin(elevation)) of a station at
+/// 80° W applied to a site at the same longitude: no warning; at 35° W (3 h
+/// of solar time east): the station's afternoon sunlight falls after the
+/// site's sunset, and the warning names those hours; at 125° W: the
+/// site's sun is up while the record is dark.
+#[test]
+fn stand_in_sunlight_in_another_solar_time_is_named() {
+    let (t0, h) = clear_record_at_80w();
     let (from, to) = (t0, t0 + Duration::hours(71));
     assert_eq!(sunlight_mismatch(&h, 40.0, -80.0, from, to), None);
     let east = sunlight_mismatch(&h, 40.0, -35.0, from, to).expect("east: warned");
@@ -516,31 +524,7 @@ fn stand_in_sunlight_in_another_solar_time_is_named() {
 /// without a station cannot be moved and the message says why.
 #[test]
 fn stand_in_record_is_moved_to_the_site_solar_time() {
-    let t0 = utc("2024-06-20T00:00:00Z");
-    let times: Vec<_> = (0..72).map(|h| t0 + Duration::hours(h)).collect();
-    let samples = times
-        .iter()
-        .map(|t| {
-            let e = crate::sun::solar_position(*t, 40.0, -80.0, 0.0).true_elevation_deg;
-            WeatherSample {
-                air_temp_k: 295.0,
-                dew_point_k: 285.0,
-                wind_speed_m_s: 2.0,
-                pressure_pa: 101_325.0,
-                cloud_fraction: None,
-                ghi_w_m2: Some((1000.0 * e.to_radians().sin()).max(0.0)),
-                dni_w_m2: None,
-                dhi_w_m2: None,
-                sky_temp_k: None,
-                precip_mm_h: 0.0,
-            }
-        })
-        .collect();
-    let h = WeatherHistory {
-        times,
-        samples,
-        source: "station.csv".into(),
-    };
+    let (t0, h) = clear_record_at_80w();
     let station = WeatherStation {
         name: "station".into(),
         lat_deg: 40.0,
