@@ -242,22 +242,47 @@ pub fn write_exr_planes(
     );
     let image = Image::from_layer(layer);
     out.stage(path, |w| {
-        let mut bytes = encode(&image, compression).map_err(|e| e.to_string())?;
-        sort_header_attributes(&mut bytes)?;
-        std::io::Write::write_all(w, &bytes).map_err(|e| e.to_string())
+        encode(&mut *w, &image, compression).map_err(|e| e.to_string())?;
+        sort_header_in_file(w).map_err(|e| e.to_string())
     })
 }
 
-/// The file's bytes: the exr crate's header and block layout, the blocks
+/// The most bytes of a written EXR read back to sort its header (the
+/// header, a few kB of attributes, lies well within it).
+const HEADER_READ_LIMIT: u64 = 1 << 22;
+
+/// Sorts the attributes of the EXR header just written to `w` (from the
+/// file's start; [`sort_header_attributes`]), in place in the file: the
+/// image is encoded straight into the file, not held in memory (issue 29:
+/// at 2048² the compressed image, ~90 MB, and its buffer's growth were the
+/// render's peak).
+fn sort_header_in_file(w: &mut super::set::Sink) -> Result<(), String> {
+    use std::io::{Read, Seek, SeekFrom, Write};
+    let e = |e: std::io::Error| e.to_string();
+    w.flush().map_err(e)?;
+    let tap = w.get_mut();
+    let end = tap.seek(SeekFrom::End(0)).map_err(e)?;
+    let mut head = vec![0u8; end.min(HEADER_READ_LIMIT) as usize];
+    tap.seek(SeekFrom::Start(0)).map_err(e)?;
+    tap.read_exact(&mut head).map_err(e)?;
+    sort_header_attributes(&mut head)?;
+    tap.seek(SeekFrom::Start(0)).map_err(e)?;
+    tap.write_all(&head).map_err(e)?;
+    tap.seek(SeekFrom::End(0)).map_err(e)?;
+    Ok(())
+}
+
+/// Writes the file to `out`: the exr crate's header and block layout, the blocks
 /// compressed in parallel on the current rayon pool (so `--threads` holds)
 /// a batch at a time and written in increasing line order — the bytes do
 /// not depend on the thread count. ZIP and ZIPS blocks are compressed by
 /// [`super::exr_zip`] (zlib-rs at a level chosen by measurement), the
 /// others by the exr crate.
-fn encode(
+fn encode<W: std::io::Write + std::io::Seek>(
+    out: W,
     image: &Image<Layer<AnyChannels<PlaneSamples<'_>>>>,
     compression: ExrCompression,
-) -> exr::error::Result<Vec<u8>> {
+) -> exr::error::Result<()> {
     use exr::block::UncompressedBlock;
     use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
     use exr::block::writer::ChunksWriter;
@@ -265,8 +290,7 @@ fn encode(
     use rayon::prelude::*;
     let headers = image.layer_data.infer_headers(&image.attributes);
     let layers = image.layer_data.create_writer(&headers);
-    let mut cursor = std::io::Cursor::new(Vec::new());
-    exr::block::write(&mut cursor, headers, true, |meta, chunks| {
+    exr::block::write(out, headers, true, |meta, chunks| {
         let order: Vec<_> = meta.enumerate_ordered_header_block_indices().collect();
         // Bounded memory: a batch of blocks in flight, not the image.
         let batch = 16 * rayon::current_num_threads();
@@ -301,8 +325,7 @@ fn encode(
             }
         }
         Ok(())
-    })?;
-    Ok(cursor.into_inner())
+    })
 }
 
 /// Sorts the attributes of a single-part EXR's header by name, in place.

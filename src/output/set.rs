@@ -32,7 +32,7 @@
 //! (`renamed-1@x.json`).
 
 use std::fs::File;
-use std::io::Write;
+use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
@@ -73,6 +73,31 @@ impl Write for Tap<'_> {
 
     fn flush(&mut self) -> std::io::Result<()> {
         let r = self.file.flush();
+        if let Err(e) = &r {
+            self.record(e);
+        }
+        r
+    }
+}
+
+/// Seeking (an encoder that writes a table of offsets after the data it
+/// points to, e.g. EXR's, seeks back to it; the [`Sink`]'s buffer is
+/// flushed first): errors are recorded as a write's are.
+impl Seek for Tap<'_> {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        let r = self.file.seek(pos);
+        if let Err(e) = &r {
+            self.record(e);
+        }
+        r
+    }
+}
+
+/// Reading back what was written (to patch a header in place after the
+/// data: [`super::exr`]); errors are recorded as a write's are.
+impl Read for Tap<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let r = self.file.read(buf);
         if let Err(e) = &r {
             self.record(e);
         }

@@ -3,7 +3,7 @@
 //! against (`render.max_memory_mib`, default the machine's memory).
 //!
 //! The render streams its samples band by band (`render::band_samples`,
-//! about 2^18 samples), so at its peak it holds, per sample of one band:
+//! about 2^17 samples), so at its peak it holds, per sample of one band:
 //! the [`Sample`] (its sun/shadow history inline up to
 //! [`super::sunflags::INLINE_SWITCHES`] transitions, on the heap beyond) and the output
 //! pixel's plane values; per output pixel the output planes; per triangle
