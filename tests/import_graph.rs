@@ -54,15 +54,6 @@ const KNOWN_UP_IMPORTS: &[(&str, &str)] = &[];
 /// `table::…`) while the child uses an item of the `mod.rs` by `super::`
 /// (found when the bare paths were added to the check, issue 31 item 5).
 const KNOWN_FILE_CYCLES: &[&[&str]] = &[
-    &[
-        "render/adaptive.rs",
-        "render/assemble.rs",
-        "render/memory.rs",
-        "render/mod.rs",
-        "render/pixel.rs",
-        "render/prepare.rs",
-    ],
-    &["trace/bvh.rs", "trace/embree/mod.rs", "trace/mod.rs"],
     &["weather/mod.rs", "weather/tmy2.rs"],
 ];
 

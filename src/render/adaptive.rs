@@ -66,12 +66,14 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::assemble::{FramePlanes, PixelValues};
+use super::blocks::{BLOCK, band_target, block_pixels};
+use super::cancel;
+use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, Stats, add};
 use super::pixel::{self, EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
-use super::{
-    BLOCK, Counters, Frame, ProgressFn, Sample, Stage, StageProgress, Stats, Surface, band_target,
-    block_pixels, cancel, sample_camera, solve_temperatures, trace_block, trace_geometry,
-};
+use super::sample::{Sample, Surface};
+use super::thermal::solve_temperatures;
+use super::tracing::{sample_camera, trace_block, trace_geometry, trace_sample_histories};
 use crate::sensor::camera::Camera;
 use crate::trace::Ray;
 use crate::trace::offset::offset_origin;
@@ -266,7 +268,7 @@ fn level_one(
         .collect();
     let given = shared_histories(&out, &coarse);
     let own = check_recent(st, cond, &mut out, &given, recent, c);
-    super::trace_sample_histories(st, cond, &mut out, |i| own[i], c);
+    trace_sample_histories(st, cond, &mut out, |i| own[i], c);
     out
 }
 
@@ -342,7 +344,7 @@ fn check_recent(
         .zip(&own)
         .map(|(g, &o)| g.filter(|_| !o).map(|d| d.history.clone()))
         .collect();
-    super::add(&c.donated, histories.iter().flatten().count());
+    add(&c.donated, histories.iter().flatten().count());
     for (smp, h) in fine.iter_mut().zip(histories) {
         if let (Some(surf), Some(h)) = (smp.surface.as_mut(), h) {
             surf.history = h;
@@ -428,7 +430,7 @@ fn sun_flags_at(
     }
     let mut blocked = vec![false; rays.len()];
     st.tracer.occluded(&rays, &mut blocked);
-    super::add(&c.solar, rays.len());
+    add(&c.solar, rays.len());
     for (&i, &b) in of.iter().zip(&blocked) {
         flags[i] = !b;
     }
@@ -515,7 +517,7 @@ fn level_two(
         })
         .collect();
     let own = check_recent(st, cond, &mut fine, &given, recent, c);
-    super::trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
+    trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
     (fine, slots)
 }
 /// Renders one frame with adaptive sampling (module docs); `n` =
@@ -649,8 +651,8 @@ pub fn render_adaptive(
                     let mine = &l1[k * per1..(k + 1) * per1];
                     let cells = refined_cells(mine, &cur[i], &nb, n, cell_threshold_k);
                     let refined_here = cells.iter().filter(|&&r| r).count();
-                    super::add(&counters.cells_refined, refined_here);
-                    super::add(&counters.cells_coarse, cells.len() - refined_here);
+                    add(&counters.cells_refined, refined_here);
+                    add(&counters.cells_coarse, cells.len() - refined_here);
                     level_two(
                         st,
                         cond,

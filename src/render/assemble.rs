@@ -16,10 +16,10 @@
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-use super::Sample;
 use super::pixel::{self, ApparentTempLut, RadiometryContext, SampleResult};
 use super::planes::{FIRST_TERM, PIXEL_PLANES, PLANES, Planes};
 use super::prepare::{Conditions, Static};
+use super::sample::Sample;
 use crate::radiometry::RadianceTerms;
 
 /// The planes filled pixel by pixel ([`PLANES`] up to `dn`).

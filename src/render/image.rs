@@ -4,9 +4,9 @@
 
 use chrono::{DateTime, Utc};
 
-use super::{
-    Conditions, Frame, ProgressFn, Static, prepare_conditions, prepare_static, render_with,
-};
+use super::frame::{Frame, ProgressFn};
+use super::prepare::{Conditions, Static, prepare_conditions, prepare_static};
+use super::run::render_with;
 use crate::scene::LoadedScene;
 use crate::trace::Backend;
 

@@ -16,7 +16,7 @@
 
 use serde::Serialize;
 
-use super::Sample;
+use super::sample::Sample;
 use crate::scene::LoadedScene;
 
 const MIB: f64 = 1024.0 * 1024.0;
@@ -87,7 +87,7 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let sc = &scene.scene;
     let n = sc.render.supersample().max(1) as f64;
     let (w, h) = (sc.sensor.width_px as f64, sc.sensor.height_px as f64);
-    let band = super::band_samples(sc.sensor.width_px * n as u32, n as u32) as f64;
+    let band = super::blocks::band_samples(sc.sensor.width_px * n as u32, n as u32) as f64;
     let adaptive = sc.render.sampling == crate::scene::spec::Sampling::Adaptive && n > 1.0;
     let (samples, held) = if adaptive {
         // Adaptive sampling ([`super::adaptive`]) holds two bands of coarse
@@ -95,7 +95,7 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
         // band of samples, plus their 16 first-level samples each); which
         // pixels are refined is not known before the render, so `samples`
         // counts the coarse ones.
-        let bt = super::band_target() as f64;
+        let bt = super::blocks::band_target() as f64;
         let coarse_band = ((bt / w).floor() / 16.0).floor().max(1.0) * 16.0 * w;
         let refined = (bt * (1.0 + 16.0 / (n * n))).min(w * h * (n * n + 16.0));
         (w * h, (w * h).min(2.0 * coarse_band) + refined)

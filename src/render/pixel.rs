@@ -44,7 +44,7 @@ use serde::Serialize;
 use super::atmosphere::path_at;
 use super::planes::Planes;
 use super::prepare::{Conditions, Static};
-use super::{LastKey, Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
+use super::sample::{LastKey, Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
 use crate::atmos::PathSpectra;
 use crate::radiometry::band_coeffs::{DiffuseCoeffs, DiffuseSpectra, Memo, PlanckTable};
 use crate::radiometry::planck::planck_radiance_w_m2_sr_um;

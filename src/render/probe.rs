@@ -16,11 +16,12 @@ use chrono::{DateTime, Duration, FixedOffset, Utc};
 use glam::Vec3;
 use serde::Serialize;
 
+use super::frame::Stats;
 use super::pixel::{ApparentTempLut, RadiometryContext, SampleResult, representatives};
-use super::{
-    Conditions, Sample, Static, Stats, Surface, angle_deg, azimuth_deg, output_pixel_samples,
-    prepare_conditions, prepare_static, thermal_solution, trace_samples, zenith_deg,
-};
+use super::prepare::{Conditions, Static, prepare_conditions, prepare_static};
+use super::run::{output_pixel_samples, trace_samples};
+use super::sample::{Sample, Surface, angle_deg, azimuth_deg, zenith_deg};
+use super::thermal::thermal_solution;
 use crate::radiometry::RadianceTerms;
 use crate::scene::LoadedScene;
 use crate::scene::spec::Sampling;

@@ -21,7 +21,9 @@ use std::path::Path;
 use anyhow::{Context, bail};
 use chrono::{NaiveDate, NaiveDateTime, NaiveTime};
 
-use super::{ProgressFn, Rendered, Reused, Static, derive_static, render_at};
+use super::frame::ProgressFn;
+use super::image::{Rendered, render_at};
+use super::prepare::{Reused, Static, derive_static};
 use crate::scene::LoadedScene;
 use crate::scene::spec::TimeSpec;
 use crate::trace::Backend;

@@ -13,7 +13,9 @@ use obvhs::{
     triangle::Triangle,
 };
 
-use super::{Backend, Geometry, Hit, Ray, Tracer};
+use super::geometry::Geometry;
+use super::ray::{Hit, Ray};
+use super::tracer::{Backend, Tracer};
 
 /// obvhs-based tracer.
 pub struct BvhTracer {

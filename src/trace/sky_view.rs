@@ -38,7 +38,8 @@
 use glam::Vec3;
 
 use super::offset::offset_origin;
-use super::{Ray, Tracer};
+use super::ray::Ray;
+use super::tracer::Tracer;
 
 /// Rays per facet (16×16 strata).
 pub const SKY_RAYS: usize = 256;

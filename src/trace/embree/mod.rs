@@ -10,7 +10,9 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::{Backend, Geometry, GeometryError, Hit, QueryMode, Ray, Tracer, in_ray_range};
+use super::geometry::{Geometry, GeometryError};
+use super::ray::{Hit, Ray, in_ray_range};
+use super::tracer::{Backend, QueryMode, Tracer};
 
 const INVALID_ID: u32 = u32::MAX; // RTC_INVALID_GEOMETRY_ID
 

@@ -1,0 +1,425 @@
+//! Steps 1-3 of the render: primary rays, specular bounces and the
+//! sun/shadow histories of the surface points, block by block.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::blocks::{BLOCK, block_pixels};
+use super::cancel;
+use super::frame::{Counters, StageProgress, Stats, add};
+use super::prepare::{Conditions, Static};
+use super::sample::{Sample, Surface};
+use super::sunflags::SunFlags;
+use crate::sensor::camera::Camera;
+use crate::trace::offset::offset_origin;
+use crate::trace::{Hit, Ray};
+
+/// The supersampled camera in the tracer's local frame: n×n rays per
+/// output pixel.
+pub fn sample_camera(st: &Static) -> Camera {
+    let n = st.scene.scene.render.supersample().max(1);
+    st.scene.local_camera.supersampled(n)
+}
+
+/// Surface record of a hit.
+fn surface_of(st: &Static, ray: &Ray, h: &Hit) -> Surface {
+    let g = &st.geometry;
+    let n = g.normals[h.prim as usize];
+    let normal = if n.dot(ray.dir) > 0.0 { -n } else { n };
+    Surface {
+        prim: h.prim,
+        material: st.scene.tri_material[h.prim as usize],
+        point: g.point(h.prim, h.u, h.v),
+        normal,
+        range_m: h.t * ray.dir.length(),
+        history: SunFlags::default(),
+        temp_k: f64::NAN,
+    }
+}
+
+/// Steps 1-3 for one block of (supersampled) pixels, in 4x4 tile order.
+pub(super) fn trace_block(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    pixels: &[(u32, u32)],
+    c: &Counters,
+) -> Vec<Sample> {
+    let mut samples = trace_geometry(st, cam, pixels, c);
+    // Solar histories: of every surface point, or (adaptive) of the
+    // corner samples of each pixel first, then of the other samples only
+    // in pixels whose corners differ.
+    let n = st.scene.scene.render.supersample().max(1);
+    let uniform = st.scene.scene.render.sampling == crate::scene::spec::Sampling::Uniform;
+    if st.scene.scene.render.adaptive_histories && uniform && n >= 3 && BLOCK.is_multiple_of(n) {
+        adaptive_histories(st, cond, pixels, n, &mut samples, c);
+    } else {
+        trace_sample_histories(st, cond, &mut samples, |_| true, c);
+    }
+    samples
+}
+
+/// Traces the sun/shadow histories of the surface points of the samples
+/// `pick` selects (by index) and of every specular-bounce background point
+/// (each needs its own), in sample order.
+pub(super) fn trace_sample_histories(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    pick: impl Fn(usize) -> bool,
+    c: &Counters,
+) {
+    let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+    for (i, s) in samples.iter_mut().enumerate() {
+        if pick(i)
+            && let Some(surf) = s.surface.as_mut()
+        {
+            targets.push(surf);
+        }
+        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+            targets.push(bg);
+        }
+    }
+    trace_histories(st, cond, &mut targets, c);
+}
+
+/// Steps 1-2 for a list of (supersampled) pixels: primary rays and
+/// specular bounces, no histories yet.
+pub(super) fn trace_geometry(
+    st: &Static,
+    cam: &Camera,
+    pixels: &[(u32, u32)],
+    c: &Counters,
+) -> Vec<Sample> {
+    let tracer = st.tracer.as_ref();
+    let rays: Vec<Ray> = pixels
+        .iter()
+        .map(|&(x, y)| cam.ray(x as f64 + 0.5, y as f64 + 0.5))
+        .collect();
+    let mut hits = vec![None; rays.len()];
+    tracer.intersect(&rays, &mut hits);
+    add(&c.primary, rays.len());
+    let mut samples: Vec<Sample> = rays
+        .iter()
+        .zip(&hits)
+        .map(|(r, h)| Sample {
+            dir: r.dir.normalize(),
+            surface: h.as_ref().map(|h| surface_of(st, r, h)),
+            bounce: None,
+        })
+        .collect();
+    add(
+        &c.hits,
+        samples.iter().filter(|s| s.surface.is_some()).count(),
+    );
+
+    // Specular bounces (only for specular materials).
+    let mut bounce_rays = Vec::new();
+    let mut bounce_of = Vec::new();
+    let mut skipped = 0;
+    for (i, s) in samples.iter().enumerate() {
+        if let Some(surf) = &s.surface {
+            if st.specularity[surf.material as usize] > 0.0 {
+                let d = s.dir - 2.0 * s.dir.dot(surf.normal) * surf.normal;
+                bounce_rays.push(Ray::new(
+                    offset_origin(surf.point, surf.normal),
+                    d.normalize(),
+                ));
+                bounce_of.push(i);
+            } else {
+                skipped += 1;
+            }
+        }
+    }
+    add(&c.spec_skipped, skipped);
+    let mut bhits = vec![None; bounce_rays.len()];
+    tracer.intersect(&bounce_rays, &mut bhits);
+    add(&c.specular, bounce_rays.len());
+    for ((r, h), &i) in bounce_rays.iter().zip(&bhits).zip(&bounce_of) {
+        samples[i].bounce = Some((r.dir, h.as_ref().map(|h| surface_of(st, r, h))));
+    }
+    samples
+}
+
+/// Adaptive solar histories for one block of `n`×`n`-sampled pixels
+/// (`BLOCK` a multiple of `n`, so a block holds whole pixels): the four
+/// corner samples of each pixel (and every specular background) are traced
+/// first; a pixel whose samples all see one facet, none specular, and whose
+/// corners have one history gives that history to its other samples
+/// (an edge of a shadow that crossed the facet at any time of the history
+/// would, unless narrower than the corners' spacing, have changed some
+/// corner's history); every other pixel traces all its samples.
+fn adaptive_histories(
+    st: &Static,
+    cond: &Conditions,
+    pixels: &[(u32, u32)],
+    n: u32,
+    samples: &mut [Sample],
+    c: &Counters,
+) {
+    let bx = pixels.iter().map(|p| p.0).min().unwrap_or(0);
+    let by = pixels.iter().map(|p| p.1).min().unwrap_or(0);
+    let per_row = (BLOCK / n) as usize;
+    let pix_of = |i: usize| {
+        let (x, y) = pixels[i];
+        ((y - by) / n) as usize * per_row + ((x - bx) / n) as usize
+    };
+    let corner = |i: usize| {
+        let (x, y) = pixels[i];
+        (x % n == 0 || x % n == n - 1) && (y % n == 0 || y % n == n - 1)
+    };
+    trace_sample_histories(st, cond, samples, corner, c);
+    let npix = per_row * per_row;
+    // Each pixel's first corner sample with a surface.
+    let mut first: Vec<Option<usize>> = vec![None; npix];
+    for i in (0..samples.len()).filter(|&i| corner(i)) {
+        let p = pix_of(i);
+        if first[p].is_none() && samples[i].surface.is_some() {
+            first[p] = Some(i);
+        }
+    }
+    let mut uniform: Vec<bool> = first.iter().map(Option::is_some).collect();
+    let mut count = vec![0usize; npix];
+    for (i, s) in samples.iter().enumerate() {
+        let p = pix_of(i);
+        count[p] += 1;
+        let Some(f) = first[p] else { continue };
+        let r = samples[f]
+            .surface
+            .as_ref()
+            .expect("a first corner has a surface");
+        uniform[p] &= s.bounce.is_none()
+            && s.surface.as_ref().is_some_and(|surf| {
+                surf.prim == r.prim && (!corner(i) || surf.history == r.history)
+            });
+    }
+    let (mut refined, mut coarse) = (0, 0);
+    for (u, &k) in uniform.iter_mut().zip(&count) {
+        // A pixel cut by the block's edge (none when BLOCK % n == 0) is
+        // refined.
+        *u &= k == (n * n) as usize;
+        if *u {
+            coarse += 1;
+        } else if k > 0 {
+            refined += 1;
+        }
+    }
+    let shared: Vec<Option<SunFlags>> = (uniform.iter().zip(&first))
+        .map(|(&u, f)| {
+            f.filter(|_| u)
+                .and_then(|f| samples[f].surface.as_ref())
+                .map(|s| s.history.clone())
+        })
+        .collect();
+    let mut targets: Vec<&mut Surface> = Vec::new();
+    for (i, s) in samples.iter_mut().enumerate() {
+        if corner(i) {
+            continue;
+        }
+        let p = pix_of(i);
+        if let Some(surf) = s.surface.as_mut() {
+            match &shared[p] {
+                Some(h) => surf.history = h.clone(),
+                None => targets.push(surf),
+            }
+        }
+    }
+    trace_histories(st, cond, &mut targets, c);
+    add(&c.pixels_corners, coarse);
+    add(&c.pixels_refined, refined);
+}
+
+/// Step 3 for a set of surface points: their sun/shadow histories.
+fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface], c: &Counters) {
+    // Solar-history rays from every surface point (primary and
+    // background): groups of 16 points, one packet per group whose origins
+    // are written once and traced toward each sun in turn (the points that
+    // face it); each open answer sets a bit of the point's history (in a
+    // flat word array, copied into each history at the end).
+    let nsun = cond.suns.len();
+    let tracer = st.tracer.as_ref();
+    let origins: Vec<Vec3> = targets
+        .iter()
+        .map(|t| offset_origin(t.point, t.normal))
+        .collect();
+    let normals: Vec<Vec3> = targets.iter().map(|t| t.normal).collect();
+    // The traced samples (every `coarse_every`-th) whose sun is up, and
+    // its directions.
+    let every = cond.coarse_every.max(1);
+    let (up, dirs): (Vec<usize>, Vec<Vec3>) = (cond.suns.iter().enumerate())
+        .filter(|(k, sun)| sun.up && k % every == 0)
+        .map(|(k, sun)| (k, sun.dir))
+        .unzip();
+    let nw = nsun.div_ceil(64);
+    let mut words = vec![0u64; targets.len() * nw];
+    let (mut away, mut solar) = (0, 0);
+    let down = targets.len() * (nsun.div_ceil(every) - up.len());
+    let mut active = vec![0u16; up.len()];
+    let mut blocked = vec![0u16; up.len()];
+    for start in (0..targets.len()).step_by(16) {
+        let chunk = start..(start + 16).min(targets.len());
+        // The points of the group that face each sun (lane bits).
+        for (act, &dir) in active.iter_mut().zip(&dirs) {
+            *act = (normals[chunk.clone()].iter().enumerate())
+                .filter(|(_, n)| n.dot(dir) > 0.0)
+                .fold(0, |m, (lane, _)| m | 1 << lane);
+            let facing = act.count_ones() as usize;
+            solar += facing;
+            away += chunk.len() - facing;
+        }
+        tracer.occluded_fan(&origins[chunk.clone()], &dirs, &active, &mut blocked);
+        for ((&k, &act), &b) in up.iter().zip(&active).zip(&blocked) {
+            let (word, bit) = (k / 64, 1u64 << (k % 64));
+            let mut open = act & !b;
+            while open != 0 {
+                let lane = open.trailing_zeros() as usize;
+                words[(start + lane) * nw + word] |= bit;
+                open &= open - 1;
+            }
+        }
+    }
+    if every == 1 {
+        for (p, t) in targets.iter_mut().enumerate() {
+            t.history = SunFlags::from_words(&words[p * nw..(p + 1) * nw], nsun);
+        }
+    } else {
+        let bit = |p: usize, k: usize| words[p * nw + k / 64] >> (k % 64) & 1 == 1;
+        // Between two traced samples whose flags differ, the transition is
+        // found by bisection on the fine grid: all pending intervals of the
+        // block are halved together, one batch of shadow rays per round.
+        // (lo, hi, flag at lo, target): flag(lo) != flag(hi), the switch is
+        // at some index in (lo, hi].
+        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
+        let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
+        for p in 0..targets.len() {
+            let mut k = 0;
+            while k + every < nsun {
+                let (a, b) = (bit(p, k), bit(p, k + every));
+                if a != b {
+                    pending.push((k, k + every, a, p));
+                }
+                k += every;
+            }
+        }
+        let mut rays = Vec::new();
+        let mut ray_of = Vec::new();
+        let mut blocked = Vec::new();
+        while pending.iter().any(|&(lo, hi, _, _)| hi - lo > 1) {
+            rays.clear();
+            ray_of.clear();
+            for (j, &(lo, hi, _, p)) in pending.iter().enumerate() {
+                if hi - lo <= 1 {
+                    continue;
+                }
+                let sun = &cond.suns[(lo + hi) / 2];
+                if sun.up && normals[p].dot(sun.dir) > 0.0 {
+                    rays.push(Ray::new(origins[p], sun.dir));
+                    ray_of.push(j);
+                } else if sun.up {
+                    away += 1;
+                }
+            }
+            blocked.clear();
+            blocked.resize(rays.len(), false);
+            tracer.occluded(&rays, &mut blocked);
+            solar += rays.len();
+            let mut lit = vec![false; pending.len()];
+            for (&j, &b) in ray_of.iter().zip(&blocked) {
+                lit[j] = !b;
+            }
+            for (j, e) in pending.iter_mut().enumerate() {
+                let (lo, hi, a, _) = *e;
+                if hi - lo > 1 {
+                    let mid = (lo + hi) / 2;
+                    if lit[j] == a {
+                        e.0 = mid;
+                    } else {
+                        e.1 = mid;
+                    }
+                }
+            }
+        }
+        // Pending intervals were pushed in sample order per target.
+        for &(_, hi, _, p) in &pending {
+            switches[p].push(hi as u32);
+        }
+        for (p, t) in targets.iter_mut().enumerate() {
+            t.history = SunFlags::from_switches(bit(p, 0), &switches[p], nsun);
+        }
+    }
+    add(&c.sun_down, down);
+    add(&c.away, away);
+    add(&c.solar, solar);
+}
+
+/// Steps 1-3 over blocks of sample pixels (rayon over blocks), each
+/// block's samples in its tile order; fills the ray counters of `stats`
+/// (added to what is there).
+pub(super) fn trace_blocks(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    blocks: &[Vec<(u32, u32)>],
+    stats: &mut Stats,
+) -> Vec<Vec<Sample>> {
+    let counters = Counters::default();
+    let traced = blocks
+        .par_iter()
+        .map(|px| {
+            if cancel::cancelled() {
+                return Vec::new();
+            }
+            trace_block(st, cond, cam, px, &counters)
+        })
+        .collect();
+    counters.flush(stats);
+    traced
+}
+
+/// Steps 1-3 for sample rows `y0..y1` (`y0` a multiple of [`BLOCK`]) into
+/// `out`, in row-major order: rows of blocks in parallel, the blocks of a row in
+/// parallel, each block's task moving its samples straight to their places
+/// (no whole-frame reorder).
+pub(super) fn trace_band(
+    st: &Static,
+    cond: &Conditions,
+    cam: &Camera,
+    (y0, y1): (u32, u32),
+    c: &Counters,
+    progress: &StageProgress,
+    out: &mut Vec<Sample>,
+) {
+    let (w, h) = (cam.width_px, cam.height_px);
+    // The buffer of the band before is reused: every slot is overwritten,
+    // so only a longer band allocates (and fills) new samples.
+    out.resize(((y1 - y0) * w) as usize, Sample::default());
+    out.par_chunks_mut((BLOCK * w) as usize)
+        .enumerate()
+        .for_each(|(r, rows)| {
+            let by = y0 + r as u32 * BLOCK;
+            // Each block's BLOCK-wide segment of each of these rows: the
+            // block's task moves its samples there while they are hot.
+            let mut segments: Vec<_> = rows
+                .chunks_mut(w as usize)
+                .map(|row| row.chunks_mut(BLOCK as usize))
+                .collect();
+            let blocks: Vec<(u32, Vec<&mut [Sample]>)> = (0..w)
+                .step_by(BLOCK as usize)
+                .map(|bx| {
+                    let dest = segments.iter_mut().filter_map(Iterator::next).collect();
+                    (bx, dest)
+                })
+                .collect();
+            blocks.into_par_iter().for_each(|(bx, mut dest)| {
+                if cancel::cancelled() {
+                    return;
+                }
+                let px = block_pixels(bx, by, w, h);
+                let traced = trace_block(st, cond, cam, &px, c);
+                progress.add(1);
+                for (&(x, y), s) in px.iter().zip(traced) {
+                    dest[(y - by) as usize][(x - bx) as usize] = s;
+                }
+            });
+        });
+}
