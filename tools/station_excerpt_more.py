@@ -17,6 +17,12 @@ it, measured, is the 24-h spin-up):
                 clear); a calm clear night after a sunny day (Jul 25); the
                 crop at full cover and peak transpiration (Aug 1, latent
                 heat flux up to 525 W/m2).
+  bnd-19980224  More Bondville 1998 days, chosen by the rule of
+  bnd-19980310  select_bondville_days() (the clearest day of a season by the
+  bnd-19980712  measured against the clear-sky shortwave, before any model run):
+  bnd-19981215  winter snow-free residue (Feb 24), snow cover (Mar 10), crop
+                (Jul 12), after harvest (Dec 15); raw lines in
+                noah98_bondville_excerpt2.dat.
   cdp-20020110  Col de Porte (1325 m, French Alps), snow-covered meadow,
                 clear and calm (Morin et al. 2012 forcing via GEOtop's test
                 data: hourly, UTC, stamps at the END of each hour; the snow
@@ -46,6 +52,7 @@ UTC = se.UTC
 # (station_excerpt.check_raw warns when an input differs).
 RAW_SHA256 = {
     "noah98_bondville_excerpt.dat": "42f4bebcd20a94cfca4fe4fb39ac55e47d88e21e09e8796749e307d55d575bcd",
+    "noah98_bondville_excerpt2.dat": "76682ed795cb281dacdde6fa9ca47723b8494562aa74e85bbfa2e3b98d0d3b59",
     "cdp_meteo0001_2002-01.txt": "5f3ea8e641ad1583b1f723a49cec235e9d52e51260f6146da078e6ad7b3ab171",
     "cdp_surface_temp_2002-01.csv": "76b03c0ba288135fbcd308580b8d3b43c42100264f83519d3cbfad5e40ef2360",
     "de-tha_bigleaf_DE_Tha_Jun_2014_doy157-158.csv": "d0f4e774187ac5571e3991d690245d0e96f890092419560071f234d6ba1f17bc",
@@ -155,6 +162,71 @@ def read_bigleaf(path):
     return recs
 
 
+def haurwitz_ghi_w_m2(doy, lst_h, lat=40.01, lon=-88.37, utc_offset_h=-6):
+    """Clear-sky global irradiance of Haurwitz (1945), `1098 cos z exp(-0.057/cos z)`
+    W/m2, at local standard time `lst_h` (h) of day `doy`; the sun from
+    Spencer's (1971) declination and equation of time."""
+    import math
+
+    g = 2 * math.pi * (doy - 1) / 365
+    eot = 229.18 * (0.000075 + 0.001868 * math.cos(g) - 0.032077 * math.sin(g)
+                    - 0.014615 * math.cos(2 * g) - 0.040849 * math.sin(2 * g))
+    dec = (0.006918 - 0.399912 * math.cos(g) + 0.070257 * math.sin(g) - 0.006758 * math.cos(2 * g)
+           + 0.000907 * math.sin(2 * g) - 0.002697 * math.cos(3 * g) + 0.00148 * math.sin(3 * g))
+    solar_h = lst_h + (4 * (lon - 15 * utc_offset_h) + eot) / 60
+    ha = math.radians(15 * (solar_h - 12))
+    cz = (math.sin(math.radians(lat)) * math.sin(dec)
+          + math.cos(math.radians(lat)) * math.cos(dec) * math.cos(ha))
+    return 1098 * cz * math.exp(-0.057 / cz) if cz > 0 else 0.0
+
+
+# Seasons of the Bondville 1998 selection (day of year, inclusive) and the
+# rule: in each, the local day with the largest ratio of measured daily GHI
+# to Haurwitz's clear-sky GHI, whose 48 IRT values are all present and whose
+# day before is in the file. Fixed before any model run on these days.
+SEASONS = (
+    ("winter, snow-free", 1, 74, lambda alb: alb < 0.4),
+    ("snow cover (midday PAR albedo > 0.4)", 1, 365, lambda alb: alb > 0.4),
+    ("crop (Jun 15 - Aug 31; not Jul 25 or Aug 1, already in the set)", 166, 243, lambda alb: alb < 0.4),
+    ("after harvest (Oct 15 - Dec 31)", 288, 365, lambda alb: alb < 0.4),
+)
+ALREADY = {206, 213}
+
+
+def select_bondville_days(path):
+    """Applies the SEASONS rule to the whole Noah LSM 1998 file (not
+    committed: 4.2 MB) and prints the day chosen in each season with its
+    clearness, midday PAR albedo (median of PAR_out/PAR_in where PAR_in >
+    500 umol/m2/s) and 5-cm soil water."""
+    days = {}
+    for ln in pathlib.Path(path).read_text().splitlines():
+        f = ln.split()
+        if len(f) != len(NOAH_COLS):
+            continue
+        v = dict(zip(NOAH_COLS, (float(x) for x in f)))
+        hhmm = int(v["time"])
+        centre = (int(v["jday"]) - 1) * 1440 + hhmm // 100 * 60 + hhmm % 100 - 15
+        days.setdefault(centre // 1440 + 1, []).append((centre % 1440, v))
+    stats = {}
+    for d, rs in days.items():
+        if len(rs) != 48 or len(days.get(d - 1, [])) != 48 or any(v["irt"] <= -6000 for _, v in rs):
+            continue
+        ghi = sum(max(v["rg"], 0.0) for _, v in rs)
+        cs = sum(haurwitz_ghi_w_m2(d, m / 60) for m, _ in rs)
+        alb = sorted(v["par_out"] / v["par_in"] for _, v in rs if v["par_in"] > 500 and v["par_out"] > -6000)
+        if alb:
+            stats[d] = (ghi / cs, alb[len(alb) // 2], rs[0][1]["sm5"])
+    chosen = []
+    for name, lo, hi, surface in SEASONS:
+        cands = [d for d, (_, alb, _) in stats.items() if lo <= d <= hi and d not in ALREADY and surface(alb)]
+        d = max(cands, key=lambda d: stats[d][0])
+        date = dt.date(1998, 1, 1) + dt.timedelta(days=d - 1)
+        print(f"{name}: day {d} ({date}), clearness {stats[d][0]:.3f}, PAR albedo {stats[d][1]:.3f}, "
+              f"theta(5 cm) {stats[d][2]:.2f}")
+        chosen.append(d)
+    return chosen
+
+
 def rows_of(recs, t0, t1):
     """One row per record whose interval centre lies in [t0, t1)."""
     out = []
@@ -253,9 +325,13 @@ def cdp_surface_temp_from_nc(nc_path, out_path, t0, t1):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--select-noah98", type=pathlib.Path,
+                    help="forcing98_with_validation.dat: print the Bondville days the selection rule picks")
     ap.add_argument("--cdp-nc", type=pathlib.Path,
                     help="CDP_hourly_19930801_20170731.nc: re-extract the surface temperature excerpt")
     a = ap.parse_args()
+    if a.select_noah98:
+        select_bondville_days(a.select_noah98)
     if a.cdp_nc:
         cdp_surface_temp_from_nc(a.cdp_nc, RAW / "cdp_surface_temp_2002-01.csv",
                                  dt.datetime(2002, 1, 9, 0), dt.datetime(2002, 1, 11, 1))
@@ -293,6 +369,38 @@ def main():
                                   "(irsig splits GHI)",
                                   "site 40.01 N, 88.37 W as the Noah LSM guide states; elevation 219 m (AmeriFlux "
                                   "US-Bo1; only the measured pressure depends on it)"],
+                         (6.0, 3.0))
+
+    # --- More Bondville 1998 days (select_bondville_days' rule) ---
+    recs = read_noah98(RAW / "noah98_bondville_excerpt2.dat")
+    more = [
+        ("bnd-19980224", lst(1998, 2, 24),
+         ["winter, snow-free: bare soil with crop residue, dormant (PAR albedo 0.10); the clearest snow-free",
+          "day of Jan 1 - Mar 15 1998 (daily GHI / clear-sky GHI 1.01); theta(5 cm) 0.38"]),
+        ("bnd-19980310", lst(1998, 3, 10),
+         ["snow cover (midday PAR albedo 0.65) after the snowfall of Mar 9; the clearest day of 1998 with PAR",
+          "albedo > 0.4 (daily GHI / clear-sky GHI 1.00); snow depth not measured"]),
+        ("bnd-19980712", lst(1998, 7, 12),
+         ["crop at full cover (PAR albedo 0.056); the clearest day of Jun 15 - Aug 31 1998 other than the two",
+          "already in the set (daily GHI / clear-sky GHI 0.90); theta(5 cm) 0.35"]),
+        ("bnd-19981215", lst(1998, 12, 15),
+         ["after harvest: bare soil with residue (PAR albedo 0.10); the clearest day of Oct 15 - Dec 31 1998",
+          "(daily GHI / clear-sky GHI 1.01); theta(5 cm) 0.33"]),
+    ]
+    for name, t0, notes in more:
+        spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
+        day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
+        n_sub = sum(1 for r in spin + day if r.get("wind_sub"))
+        sub_note = ([f"{n_sub} half-hours without the 6-m u_bar: 10-m propeller wind x the excerpt's median "
+                     "u_bar/w_speed ratio (the Noah driver's substitution)"] if n_sub else [])
+        write_ir_station(name, spin, day, bnd, irt_note, src,
+                         notes + sub_note + ["chosen by tools/station_excerpt_more.py select_bondville_days "
+                                             "(clearest day of its season; rule fixed before any model run)",
+                                             "LST = UTC-6; the compared window is the local day (06:15-05:45 UTC)",
+                                             "heights: air temperature and RH 3 m, wind (u_bar) 6 m; DNI/DHI not "
+                                             "measured (irsig splits GHI)",
+                                             "site 40.01 N, 88.37 W as the Noah LSM guide states; elevation 219 m "
+                                             "(AmeriFlux US-Bo1; only the measured pressure depends on it)"],
                          (6.0, 3.0))
 
     # --- DE-Tha (Tharandt, spruce forest), 2014-06-07 ---

@@ -145,6 +145,31 @@ pub const MIN_RICHARDSON: f64 = -1.0;
 /// classical similarity has no turbulence left.
 pub const MAX_RICHARDSON: f64 = 0.2;
 
+/// Windless exchange coefficient `C_sk`, W m⁻² K⁻¹: the convective
+/// exchange that remains when the forced turbulence stops, as SNTHERM
+/// carries it (Jordan 1991, CRREL Special Report 91-16; its QTURB of
+/// 2001/2002 floors a stable layer's coefficient, `qsen = max(qsen0,
+/// max(Csk, 0.1))`, with `C_sk` a site input that its public ports set to 2).
+/// Applied to snow surfaces only (the `snow` kind, as SNTHERM is a snow
+/// model; on soils and canopies the station nights disagree on its sign:
+/// docs/validation-stations.md), where it joins the cube blend of forced
+/// and free convection, `h³ = h_f³ + C³·|ΔT| + C_sk³`
+/// ([`Exchange::coefficient_and_slope`]), so `h` stays
+/// smooth in `T_s` (a hard `max` made the surface Newton iteration cycle at
+/// the kink) and is ≥ `C_sk` everywhere; where `h_f` ≥ 5 W m⁻² K⁻¹ (any
+/// breeze by day) it adds under 0.3 %. Why: at 0.1-0.6 m/s over snow (z₀
+/// 1 mm) the neutral coefficient itself is under 1.5 W m⁻² K⁻¹ and the
+/// [`MAX_RICHARDSON`] cap leaves 0.19 of it, 0.1-0.3 W m⁻² K⁻¹: a calm clear
+/// night then decoupled the snow from the air, 3.5 K colder than measured
+/// (Col de Porte, docs/validation-stations.md). The value 1.0 is the
+/// laminar free convection over a cooled, upward-facing surface: Incropera
+/// et al. (2007) eq. 9.32, `Nu = 0.27·Ra^(1/4)`, gives `h =
+/// 0.27·k·(gβΔT/(να))^(1/4)·L^(−1/4)` = 1.0-1.2 W m⁻² K⁻¹ for ΔT = 4-8 K in
+/// air at 265 K over L = 1 m (0.6-0.7 at L = 10 m); held constant here (the
+/// scene gives no length). SNTHERM's ported 2 W m⁻² K⁻¹ runs that snow day 2
+/// K too warm; the day is within tolerance for 0.75-1.4.
+pub const WINDLESS_EXCHANGE_W_M2K: f64 = 1.0;
+
 /// Stability factor `F(Ri) = h/h_neutral` of the bulk transfer coefficient
 /// for heat. Unstable `Ri < 0`: `(1 − 16·Ri)^0.75` (Monteith & Unsworth
 /// 2013, §16.2, after Businger-Dyer), Ri capped at [`MIN_RICHARDSON`].
@@ -327,6 +352,11 @@ pub struct Exchange {
     pub free_cold: f64,
     /// ρ_a·c_p, J m⁻³ K⁻¹.
     pub rho_cp_j_m3k: f64,
+    /// Windless exchange `C_sk` in the blend, W m⁻² K⁻¹: 0 from
+    /// [`Exchange::new`]; [`WINDLESS_EXCHANGE_W_M2K`] on snow (set by the
+    /// slab model for the `snow` kind).
+    #[serde(default)]
+    pub windless_w_m2k: f64,
 }
 
 impl Exchange {
@@ -371,11 +401,14 @@ impl Exchange {
             free_warm: free_convection_coeff(slope_deg, true),
             free_cold: free_convection_coeff(slope_deg, false),
             rho_cp_j_m3k: rho_cp,
+            windless_w_m2k: 0.0,
         }
     }
 
     /// Convective coefficient `h` at surface temperature `surf_temp_k`,
-    /// `(h_n·F(Ri))³ + (C·|ΔT|^(1/3))³` blended (W m⁻² K⁻¹), and its
+    /// `(h_n·F(Ri))³ + (C·|ΔT|^(1/3))³ + C_sk³` blended (W m⁻² K⁻¹; `C_sk` =
+    /// [`Exchange::windless_w_m2k`], a constant, so it leaves the slope's
+    /// form unchanged), and its
     /// analytic derivative `dh/dT_s`, W m⁻² K⁻². With `ΔT = T_a − T_s`, `h_f =
     /// h_n·F(Ri)`, `Ri = Ri_K·ΔT` and `h³ = h_f³ + C³·|ΔT|` (the free term
     /// cubed analytically, so one cube root, not two):
@@ -392,7 +425,8 @@ impl Exchange {
             self.free_cold
         };
         let c3 = c * c * c;
-        let h = (forced * forced * forced + c3 * dt.abs()).cbrt();
+        let w = self.windless_w_m2k;
+        let h = (forced * forced * forced + c3 * dt.abs() + w * w * w).cbrt();
         if h <= 0.0 {
             return (h, 0.0);
         }
@@ -672,6 +706,45 @@ mod tests {
         }
     }
 
+    /// The windless exchange (on snow): a calm clear night over snow (0.3 m/s at 2
+    /// m, z₀ 1 mm, surface 8 K under the air) has a surface-layer
+    /// coefficient under 0.3 W m⁻² K⁻¹ and gets `C_sk` (cube-blended: within
+    /// 1 %); in a 5 m/s wind the same inversion keeps its own coefficient
+    /// (within 0.5 %); and h is continuous across ΔT = 0.
+    #[test]
+    fn windless_exchange_keeps_calm_layers_coupled() {
+        let layer = SurfaceLayer {
+            wind_height_m: 2.0,
+            air_height_m: 2.0,
+            site_roughness_m: 0.001,
+        };
+        let rough = Roughness::bare(0.001);
+        let snow = |u: f64| Exchange {
+            windless_w_m2k: WINDLESS_EXCHANGE_W_M2K,
+            ..Exchange::new(&layer, &rough, 0.0, 0.0, u, 270.0, 86_000.0)
+        };
+        let calm = snow(0.3);
+        let bare = Exchange::new(&layer, &rough, 0.0, 0.0, 0.3, 270.0, 86_000.0);
+        assert!(
+            bare.coefficient_and_slope(270.0, 262.0).0 < 0.3,
+            "no C_sk off snow"
+        );
+        let raw = calm.h_neutral_w_m2k * stability_factor(calm.richardson_per_k * 8.0);
+        assert!(raw < 0.3, "surface-layer h {raw}");
+        let (h, _) = calm.coefficient_and_slope(270.0, 262.0);
+        assert!(
+            (h - WINDLESS_EXCHANGE_W_M2K).abs() < 0.01 * WINDLESS_EXCHANGE_W_M2K,
+            "{h}"
+        );
+        let windy = snow(5.0);
+        let (h, _) = windy.coefficient_and_slope(270.0, 262.0);
+        let own = windy.h_neutral_w_m2k * stability_factor(windy.richardson_per_k * 8.0);
+        assert!(own > 5.0 && (h - own).abs() < 0.005 * own, "{h} vs {own}");
+        let below = calm.coefficient_and_slope(270.0, 270.0 + 1e-9).0;
+        let above = calm.coefficient_and_slope(270.0, 270.0 - 1e-9).0;
+        assert!((below - above).abs() < 1e-6 && below >= WINDLESS_EXCHANGE_W_M2K);
+    }
+
     /// Stability: neutral 1; Businger-Dyer at Ri = −0.1: 2.6^0.75; Louis
     /// (1979) eq. 21 (b = d = 5) stable at Ri = 0.1 and at the cap 0.2:
     /// 1/(1 + 1.5·√1.5) = 0.3524, 1/(1 + 3·√2) = 0.1907; beyond the cap
@@ -763,6 +836,7 @@ mod tests {
             ("MIN_WIND_M_S", MIN_WIND_M_S),
             ("MIN_RICHARDSON", MIN_RICHARDSON),
             ("MAX_RICHARDSON", MAX_RICHARDSON),
+            ("WINDLESS_EXCHANGE_W_M2K", WINDLESS_EXCHANGE_W_M2K),
             ("FREE_CONVECTION_AIR_300K", FREE_CONVECTION_AIR_300K),
             ("HEAT_ROUGHNESS_RATIO", HEAT_ROUGHNESS_RATIO),
             (

@@ -301,6 +301,10 @@ impl SlabModel {
                 )
             };
             d.exchange = ex(slope, &self.roughness);
+            // Snow keeps SNTHERM's windless exchange (aero::WINDLESS_EXCHANGE_W_M2K).
+            if matches!(self.material.surface, SurfaceKind::Snow { .. }) {
+                d.exchange.windless_w_m2k = aero::WINDLESS_EXCHANGE_W_M2K;
+            }
             // The back of a plate: a smooth face looking the other way
             // (only a back exposed to air exchanges with it).
             if matches!(self.material.back, BackBoundary::ExposedToAir { .. }) {
