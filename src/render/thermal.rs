@@ -142,67 +142,17 @@ fn therm_error(st: &Static, m: usize, e: ThermError) -> anyhow::Error {
     )
 }
 
-/// A worker's memo for step 4: the thermal cache's last-key memo, the
-/// key parts' ([`KeyMemo`]) and the last surface's inputs ([`LastInputs`]).
+/// A worker's memo for step 4: the thermal cache's last-key memo and the
+/// key parts' ([`KeyMemo`]).
 #[derive(Default)]
 struct TempMemo {
     therm: ThermMemo,
     keys: KeyMemo,
-    last: Option<LastInputs>,
-}
-
-/// What the thermal key of a surface is a function of — its material, facet
-/// side (orientation), quantised blocked sky and height, and raw history —
-/// and the temperature they gave. A surface with the same inputs has the
-/// same key (`key_history` and the key parts are pure functions of them),
-/// so it takes the temperature without building the key: neighbouring
-/// samples of one facet and one (often shared) history mostly repeat them.
-struct LastInputs {
-    material: u32,
-    side: (u32, [u32; 3]),
-    blocked_q: i32,
-    height_q: i32,
-    history: SunFlags,
-    temp_k: f64,
 }
 
 /// Step 4: the temperature of a surface at the image time, K (through
 /// the worker's memo).
 fn temperature(
-    st: &Static,
-    cond: &Conditions,
-    s: &Surface,
-    memo: &mut TempMemo,
-) -> anyhow::Result<f64> {
-    let side = s.side();
-    let blocked_q = ThermCache::quantise_blocked(st.blocked_sky(s.prim, s.normal, s.point));
-    let height_q = memo.keys.height.get_or(s.point.z.to_bits(), || {
-        ThermCache::quantise_height(s.point.z as f64 - cond.ground_z_m).0
-    });
-    if let Some(l) = &memo.last
-        && l.material == s.material
-        && l.side == side
-        && l.blocked_q == blocked_q
-        && l.height_q == height_q
-        && l.history == s.history
-    {
-        memo.therm.hits += 1;
-        return Ok(l.temp_k);
-    }
-    let t = temperature_keyed(st, cond, s, memo)?;
-    memo.last = Some(LastInputs {
-        material: s.material,
-        side,
-        blocked_q,
-        height_q,
-        history: s.history.clone(),
-        temp_k: t,
-    });
-    Ok(t)
-}
-
-/// [`temperature`] through the surface's thermal key.
-fn temperature_keyed(
     st: &Static,
     cond: &Conditions,
     s: &Surface,

@@ -570,7 +570,7 @@ impl ThermCache {
     }
 
     /// The key part of a blocked sky fraction (see [`SKY_QUANTUM`]).
-    pub fn quantise_blocked(blocked_sky: f64) -> i32 {
+    fn quantise_blocked(blocked_sky: f64) -> i32 {
         if blocked_sky.is_finite() {
             (blocked_sky.clamp(0.0, 1.0) / SKY_QUANTUM).round() as i32
         } else {
