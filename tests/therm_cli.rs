@@ -309,7 +309,7 @@ fn therm_and_render_share_the_deep_ground_rule() {
     // docs/weather-format.md), and so does `irsig therm --stand-in`.
     let scene = irsig::scene::load(&scene_path).unwrap();
     let image = irsig::sun::report::parse_time("2001-08-08T16:00:00Z").unwrap();
-    let render_k = irsig::render::prepare::frame_weather(&scene, image)
+    let render_k = irsig::render::weather::frame_weather(&scene, image)
         .unwrap()
         .deep_ground_k;
     let dir = tempfile::tempdir().unwrap();

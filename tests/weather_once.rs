@@ -8,8 +8,9 @@
 
 use std::path::Path;
 
-use irsig::render::prepare::{prepare_static, weather_warnings};
+use irsig::render::prepare::prepare_static;
 use irsig::render::render_at;
+use irsig::render::weather::weather_warnings;
 
 #[test]
 fn a_render_opens_its_weather_file_once() {

@@ -233,8 +233,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     // The weather must read and cover the render's history, as a render
     // would need it (a scene whose weather cannot be read fails here).
     let image_time = s.scene.time.utc(&s.scene.site);
-    crate::render::prepare::frame_weather(&s, image_time)?;
-    super::log::warn_or_refuse(&crate::render::prepare::weather_warnings(&s)?, a.strict)?;
+    crate::render::weather::frame_weather(&s, image_time)?;
+    super::log::warn_or_refuse(&crate::render::weather::weather_warnings(&s)?, a.strict)?;
     let r = check_report(&s);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

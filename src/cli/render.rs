@@ -125,7 +125,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     note("loading scene");
     let scene = crate::scene::load_with_edits(&a.scene, &a.unset, &overrides)?;
     super::log::warn_about_frame(&scene);
-    super::log::warn_or_refuse(&crate::render::prepare::weather_warnings(&scene)?, a.strict)?;
+    super::log::warn_or_refuse(&crate::render::weather::weather_warnings(&scene)?, a.strict)?;
     let memory = crate::render::memory::estimate(&scene);
     let image = pool.install(|| -> anyhow::Result<_> {
         let st = prepare_static(scene, a.tracer)?;

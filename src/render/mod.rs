@@ -34,6 +34,7 @@ pub mod sequence;
 pub mod sunflags;
 pub mod thermal;
 pub mod tracing;
+pub mod weather;
 
 pub use blocks::band_samples;
 pub use frame::{Frame, Progress, ProgressFn, Stage, StageTimes, Stats};

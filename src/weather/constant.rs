@@ -1,6 +1,7 @@
 //! A constant-weather source: fixed wind, dew point, cloud and pressure,
 //! a smooth diurnal air-temperature cycle.
 
+use super::parse::*;
 use super::*;
 
 /// Constant weather: the same diurnal cycle every day (air temperature a

@@ -1,6 +1,7 @@
 //! The plain CSV weather format (docs/weather-format.md): one record per
 //! line, every value instantaneous at its time stamp.
 
+use super::parse::*;
 use super::*;
 
 /// Parses a plain-CSV time: RFC 3339 with an offset, or an ISO local time

@@ -1,5 +1,6 @@
 //! EnergyPlus EPW weather files.
 
+use super::parse::*;
 use super::*;
 
 /// Reads an EnergyPlus EPW file from text (EnergyPlus Auxiliary Programs,

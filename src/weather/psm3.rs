@@ -1,5 +1,6 @@
 //! NSRDB PSM3 / PSM4 CSV files (NREL's "SAM CSV" layout).
 
+use super::parse::*;
 use super::*;
 
 /// Reads an NSRDB PSM3 (or PSM4) CSV from text (the SAM CSV layout of

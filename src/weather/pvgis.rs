@@ -1,5 +1,6 @@
 //! PVGIS typical-meteorological-year CSV files (EU JRC).
 
+use super::parse::*;
 use super::*;
 use chrono::Timelike;
 

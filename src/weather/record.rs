@@ -1,15 +1,24 @@
 //! A weather file read once and parsed on demand: [`WeatherText`] (the
 //! file's text) and [`WeatherRecord`] (what a loaded scene carries: the
 //! text and its parsed records, shared by the load, the warnings, the
-//! atmosphere's choice and every frame of a render).
+//! atmosphere's choice and every frame of a render); the one entry to the
+//! readers ([`read_weather`]).
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
+use chrono::FixedOffset;
+
+use super::csv::parse_plain_csv;
+use super::detect::detect_format;
+use super::epw::parse_epw;
+use super::psm3::parse_psm3;
+use super::pvgis::parse_pvgis_csv;
+use super::tmy2::parse_tmy2;
+use super::tmy3::parse_tmy3;
 use super::{
-    ReadOptions, SUPPORTED_FORMATS, WeatherError, WeatherFile, WeatherFormat, WeatherStation,
-    detect_format, parse_epw, parse_plain_csv, parse_psm3, parse_pvgis_csv, parse_tmy2, parse_tmy3,
-    station_options,
+    ReadOptions, SUPPORTED_FORMATS, WeatherError, WeatherFile, WeatherFormat, WeatherHistory,
+    WeatherStation, YearSpan,
 };
 
 /// A weather file's text as read (the file opened once): parsed with
@@ -71,6 +80,64 @@ impl WeatherText {
     /// The station metadata, read as [`read_station`] does.
     pub fn station(&self, typical_year: bool) -> Result<Option<WeatherStation>, WeatherError> {
         Ok(self.parse(&station_options(typical_year))?.station)
+    }
+}
+
+/// Reads a weather file with default [`ReadOptions`] (max gap 3 h) and the
+/// given UTC offset for plain-CSV times written without one. The format is
+/// detected from the file (see [`read_weather`]).
+pub fn read_weather_file(
+    path: &Path,
+    utc_offset: Option<FixedOffset>,
+) -> Result<WeatherHistory, WeatherError> {
+    read_weather_file_with(
+        path,
+        &ReadOptions {
+            utc_offset,
+            ..ReadOptions::default()
+        },
+    )
+    .map(|f| f.history)
+}
+
+/// Reads a weather file (see [`read_weather`]) with explicit options,
+/// returning the station metadata too (the same as [`read_weather`]).
+pub fn read_weather_file_with(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<WeatherFile, WeatherError> {
+    read_weather(path, opts)
+}
+
+/// The one entry to the weather readers: reads a weather file with
+/// explicit options, detecting its format from its first lines
+/// ([`detect_format`]), and returns the history with the station metadata.
+/// A UTF-8 byte-order mark is dropped; bytes that are not UTF-8 (Latin-1
+/// station names) are replaced.
+pub fn read_weather(path: &Path, opts: &ReadOptions) -> Result<WeatherFile, WeatherError> {
+    WeatherText::read(path)?.parse(opts)
+}
+
+/// The station of a weather file (`None` for a plain CSV), read with the
+/// file's own years (a typical year laid on one year) and no gap limit:
+/// only the header matters here.
+pub fn read_station(
+    path: &Path,
+    typical_year: bool,
+) -> Result<Option<WeatherStation>, WeatherError> {
+    WeatherText::read(path)?.station(typical_year)
+}
+
+/// The options [`read_station`] reads a file with: no gap limit, a typical
+/// year laid on 2001.
+pub fn station_options(typical_year: bool) -> ReadOptions {
+    ReadOptions {
+        typical_year: typical_year.then_some(YearSpan {
+            first: 2001,
+            last: 2001,
+        }),
+        max_gap_s: f64::INFINITY,
+        ..ReadOptions::default()
     }
 }
 

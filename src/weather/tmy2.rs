@@ -1,5 +1,6 @@
 //! NREL TMY2 weather files (fixed-width text, 1961-1990 typical years).
 
+use super::parse::*;
 use super::*;
 
 /// Columns read from a TMY2 data line: name, first byte (0-based), end byte,

@@ -1,5 +1,6 @@
 //! NREL TMY3 weather files.
 
+use super::parse::*;
 use super::*;
 
 /// A TMY3 column name as written, trimmed, with SolarAnywhere's doubled
