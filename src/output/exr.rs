@@ -265,9 +265,9 @@ fn sort_header_in_file(w: &mut super::set::Sink) -> Result<(), String> {
     let mut head = vec![0u8; end.min(HEADER_READ_LIMIT) as usize];
     tap.seek(SeekFrom::Start(0)).map_err(e)?;
     tap.read_exact(&mut head).map_err(e)?;
-    sort_header_attributes(&mut head)?;
+    let header_end = sort_header_attributes(&mut head)?;
     tap.seek(SeekFrom::Start(0)).map_err(e)?;
-    tap.write_all(&head).map_err(e)?;
+    tap.write_all(&head[..header_end]).map_err(e)?;
     tap.seek(SeekFrom::End(0)).map_err(e)?;
     Ok(())
 }
@@ -336,8 +336,9 @@ fn encode<W: std::io::Write + std::io::Seek>(
 /// A header is the magic number and version (8 bytes), then attributes —
 /// name\0, type\0, a little-endian i32 size, the value — ended by a null
 /// byte (OpenEXR File Layout, "Header"). Reordering them keeps the header's
-/// length, so the offset table after it stays valid.
-fn sort_header_attributes(bytes: &mut [u8]) -> Result<(), String> {
+/// length, so the offset table after it stays valid. Returns the header
+/// attributes' end (the offset of their null terminator).
+fn sort_header_attributes(bytes: &mut [u8]) -> Result<usize, String> {
     let bad = || "EXR header: unexpected layout".to_string();
     let mut attrs: Vec<(&[u8], &[u8])> = Vec::new();
     let nul = |from: usize| {
@@ -371,7 +372,7 @@ fn sort_header_attributes(bytes: &mut [u8]) -> Result<(), String> {
     attrs.sort_by(|a, b| a.0.cmp(b.0));
     let sorted: Vec<u8> = attrs.iter().flat_map(|(_, a)| a.iter().copied()).collect();
     bytes[8..8 + sorted.len()].copy_from_slice(&sorted);
-    Ok(())
+    Ok(pos)
 }
 
 /// Named float channels read back from an EXR.

@@ -52,6 +52,14 @@ pub struct Tap<'a> {
 }
 
 impl Tap<'_> {
+    /// `r`, its error recorded first.
+    fn checked<T>(&mut self, r: std::io::Result<T>) -> std::io::Result<T> {
+        if let Err(e) = &r {
+            self.record(e);
+        }
+        r
+    }
+
     fn record(&mut self, e: &std::io::Error) {
         if self.error.is_none() {
             self.error = Some(match e.raw_os_error() {
@@ -65,18 +73,12 @@ impl Tap<'_> {
 impl Write for Tap<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         let r = self.file.write(buf);
-        if let Err(e) = &r {
-            self.record(e);
-        }
-        r
+        self.checked(r)
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
         let r = self.file.flush();
-        if let Err(e) = &r {
-            self.record(e);
-        }
-        r
+        self.checked(r)
     }
 }
 
@@ -86,10 +88,7 @@ impl Write for Tap<'_> {
 impl Seek for Tap<'_> {
     fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
         let r = self.file.seek(pos);
-        if let Err(e) = &r {
-            self.record(e);
-        }
-        r
+        self.checked(r)
     }
 }
 
@@ -98,10 +97,7 @@ impl Seek for Tap<'_> {
 impl Read for Tap<'_> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let r = self.file.read(buf);
-        if let Err(e) = &r {
-            self.record(e);
-        }
-        r
+        self.checked(r)
     }
 }
 
