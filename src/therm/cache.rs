@@ -45,7 +45,8 @@ fn shard_of(hash: u64) -> usize {
     ((hash >> 32) as usize) % SHARDS
 }
 
-/// The memoisation key. Built by [`ThermCache::key`].
+/// The owned memoisation key (what an entry stores; a lookup borrows
+/// its parts as a [`ThermQuery`]).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ThermKey {
     pub material_id: u32,
@@ -233,6 +234,41 @@ pub struct ThermQuery<'a> {
     weather_id: u64,
     height_q: i32,
     blocked_q: i32,
+}
+
+/// What a caller knows of a facet side, in its own units, before the
+/// cache quantises it into a [`ThermQuery`] ([`ThermCache::query`]).
+/// [`FacetKey::new`] gives a sunlit facet at ground level under an open
+/// sky; set the other fields with struct update syntax.
+#[derive(Clone, Copy, Debug)]
+pub struct FacetKey<'a> {
+    /// The caller's id of the material (the cache trusts it: one id, one
+    /// material).
+    pub material_id: u32,
+    pub orientation: Orientation,
+    /// Sun/shadow history; `None`: always sunlit.
+    pub shadow: Option<HistoryRef<'a>>,
+    /// The caller's id of the forcing series (weather + site + window).
+    pub weather_id: u64,
+    /// Height of the facet above the ground, m (the wind at the facet).
+    pub height_m: f64,
+    /// Fraction of the hemisphere's sky hidden by the scene, 0-1 (see
+    /// `trace::sky_view`).
+    pub blocked_sky: f64,
+}
+
+impl FacetKey<'_> {
+    /// A sunlit facet at ground level under an open sky.
+    pub fn new(material_id: u32, orientation: Orientation, weather_id: u64) -> Self {
+        FacetKey {
+            material_id,
+            orientation,
+            shadow: None,
+            weather_id,
+            height_m: 0.0,
+            blocked_sky: 0.0,
+        }
+    }
 }
 
 /// The flags packed 64 to a word (bit i of word i/64 = sample i), one word
@@ -578,26 +614,16 @@ impl ThermCache {
         }
     }
 
-    /// The borrowed key of a (material, orientation, history, weather)
-    /// combination for a facet `height_m` above the ground whose sky is
-    /// partly hidden by the scene (`blocked_sky`, see `trace::sky_view`).
-    /// Allocates nothing.
-    #[allow(clippy::too_many_arguments)]
-    pub fn query<'a>(
-        &self,
-        material_id: u32,
-        o: Orientation,
-        shadow: Option<HistoryRef<'a>>,
-        weather_id: u64,
-        height_m: f64,
-        blocked_sky: f64,
-    ) -> ThermQuery<'a> {
+    /// The borrowed key of facet `k` (its quantised orientation, height
+    /// and blocked sky, and its history: an all-sunlit history is the same
+    /// as none). Allocates nothing.
+    pub fn query<'a>(&self, k: &FacetKey<'a>) -> ThermQuery<'a> {
         self.query_parts(
-            material_id,
-            self.facet_parts(o, blocked_sky),
-            shadow,
-            weather_id,
-            Self::quantise_height(height_m).0,
+            k.material_id,
+            self.facet_parts(k.orientation, k.blocked_sky),
+            k.shadow,
+            k.weather_id,
+            Self::quantise_height(k.height_m).0,
         )
     }
 
@@ -635,114 +661,10 @@ impl ThermCache {
         }
     }
 
-    /// The key of a (material, orientation, history, weather) combination
-    /// for a facet at ground level.
-    pub fn key(
-        &self,
-        material_id: u32,
-        o: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-    ) -> ThermKey {
-        self.key_at(material_id, o, shadow, weather_id, 0.0)
-    }
-
-    /// [`ThermCache::key`] for a facet `height_m` above the ground.
-    pub fn key_at(
-        &self,
-        material_id: u32,
-        o: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-        height_m: f64,
-    ) -> ThermKey {
-        self.query(
-            material_id,
-            o,
-            shadow.map(HistoryRef::from),
-            weather_id,
-            height_m,
-            0.0,
-        )
-        .to_key()
-    }
-
-    /// The solution for this key, solving it (once) on a miss. `material`
-    /// must be the material that `material_id` names and `forcing` the
-    /// series that `weather_id` names: the cache trusts the ids.
-    pub fn solve(
-        &self,
-        material_id: u32,
-        material: &SlabMaterial,
-        orientation: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-        forcing: &[Forcing],
-    ) -> Result<Arc<ThermSolution>, ThermError> {
-        self.solve_at(
-            material_id,
-            material,
-            orientation,
-            shadow,
-            weather_id,
-            forcing,
-            0.0,
-        )
-    }
-
-    /// [`ThermCache::solve`] for a facet `height_m` above the ground (the
-    /// wind at the facet; the solve uses the quantised height).
-    #[allow(clippy::too_many_arguments)]
-    pub fn solve_at(
-        &self,
-        material_id: u32,
-        material: &SlabMaterial,
-        orientation: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-        forcing: &[Forcing],
-        height_m: f64,
-    ) -> Result<Arc<ThermSolution>, ThermError> {
-        self.solve_in_scene(
-            material_id,
-            material,
-            orientation,
-            shadow,
-            weather_id,
-            forcing,
-            height_m,
-            0.0,
-        )
-    }
-
-    /// [`ThermCache::solve_at`] for a facet whose sky is partly hidden by
-    /// the scene (`blocked_sky`, see `trace::sky_view`; the solve uses the
-    /// fraction quantised to [`SKY_QUANTUM`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn solve_in_scene(
-        &self,
-        material_id: u32,
-        material: &SlabMaterial,
-        orientation: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-        forcing: &[Forcing],
-        height_m: f64,
-        blocked_sky: f64,
-    ) -> Result<Arc<ThermSolution>, ThermError> {
-        let q = self.query(
-            material_id,
-            orientation,
-            shadow.map(HistoryRef::from),
-            weather_id,
-            height_m,
-            blocked_sky,
-        );
-        self.solve_query(&q, material, forcing)
-    }
-
-    /// The solution of key `q` (see [`ThermCache::solve`] for what
-    /// `material` and `forcing` must be).
+    /// The solution of key `q`, solving it (once) on a miss. `material`
+    /// must be the material that the key's `material_id` names and
+    /// `forcing` the series that its `weather_id` names: the cache trusts
+    /// the ids.
     pub fn solve_query(
         &self,
         q: &ThermQuery,
@@ -753,7 +675,7 @@ impl ThermCache {
     }
 
     /// The surface temperature at the image time of key `q`, K, through the
-    /// worker's `memo` (see [`ThermCache::solve`] for what `material` and
+    /// worker's `memo` (see [`ThermCache::solve_query`] for what `material` and
     /// `forcing` must be). A memo hit counts as a cache hit.
     pub fn surface_temp_k_memo(
         &self,
@@ -1002,27 +924,6 @@ impl ThermCache {
             bucket.push((k, Arc::new(state.clone())));
             self.prefix_entries.fetch_add(1, Ordering::Relaxed);
         }
-    }
-
-    /// Surface temperature at the last forcing time (the image time), K.
-    pub fn surface_temp_k(
-        &self,
-        material_id: u32,
-        material: &SlabMaterial,
-        orientation: Orientation,
-        shadow: Option<&SunHistory>,
-        weather_id: u64,
-        forcing: &[Forcing],
-    ) -> Result<f64, ThermError> {
-        self.solve(
-            material_id,
-            material,
-            orientation,
-            shadow,
-            weather_id,
-            forcing,
-        )
-        .map(|s| s.surface_temp_k)
     }
 
     pub fn stats(&self) -> CacheStats {

@@ -4,6 +4,29 @@ use super::*;
 use crate::therm::slab::{BackBoundary, solve_surface};
 use rayon::prelude::*;
 
+/// A facet's key with `shadow` as its history.
+fn shaded_key<'a>(k: FacetKey<'a>, shadow: &'a SunHistory) -> FacetKey<'a> {
+    FacetKey {
+        shadow: Some(shadow.into()),
+        ..k
+    }
+}
+
+/// The solution of facet `k` through `cache`.
+fn solve(
+    cache: &ThermCache,
+    k: FacetKey,
+    m: &SlabMaterial,
+    f: &[Forcing],
+) -> Result<Arc<ThermSolution>, ThermError> {
+    cache.solve_query(&cache.query(&k), m, f)
+}
+
+/// The owned key of facet `k`.
+fn key(cache: &ThermCache, k: FacetKey) -> ThermKey {
+    cache.query(&k).to_key()
+}
+
 fn forcing() -> Vec<Forcing> {
     (0..=96)
         .map(|i| {
@@ -77,13 +100,14 @@ fn a_march_resumed_from_a_checkpoint_is_the_march_that_did_not_stop() {
     // Histories alike until the last hours (a shadow arriving at 42 h
     // or 44 h), and one that differs on the first day.
     let (a, b, c) = (shaded(84..97), shaded(88..97), shaded(30..36));
+    let k = FacetKey::new(0, flat, 1);
     let cache = ThermCache::new(ThermSettings::default(), 0.5, false);
-    let sa = cache.solve(0, &m, flat, Some(&a), 1, &f).unwrap();
+    let sa = solve(&cache, shaded_key(k, &a), &m, &f).unwrap();
     let after_a = cache.stats();
     assert!(after_a.checkpoints >= 3, "{after_a:?}");
     assert_eq!(after_a.resumed, 0);
-    let sb = cache.solve(0, &m, flat, Some(&b), 1, &f).unwrap();
-    let sc = cache.solve(0, &m, flat, Some(&c), 1, &f).unwrap();
+    let sb = solve(&cache, shaded_key(k, &b), &m, &f).unwrap();
+    let sc = solve(&cache, shaded_key(k, &c), &m, &f).unwrap();
     let st = cache.stats();
     assert_eq!(
         st.resumed, 1,
@@ -98,9 +122,13 @@ fn a_march_resumed_from_a_checkpoint_is_the_march_that_did_not_stop() {
     // Bit for bit what a cache that solves b alone, and the plain
     // march, give.
     for (h, s) in [(&b, &sb), (&a, &sa), (&c, &sc)] {
-        let alone = ThermCache::new(ThermSettings::default(), 0.5, false)
-            .solve(0, &m, flat, Some(h), 1, &f)
-            .unwrap();
+        let alone = solve(
+            &ThermCache::new(ThermSettings::default(), 0.5, false),
+            shaded_key(k, h),
+            &m,
+            &f,
+        )
+        .unwrap();
         let plain = solve_surface(&m, flat, Some(h), &f, &ThermSettings::default(), false).unwrap();
         assert_eq!(s.profile_k, alone.profile_k);
         assert_eq!(s.profile_k, plain.profile_k);
@@ -123,8 +151,12 @@ fn quantised_orientations_share_an_entry_and_solve_the_quantised_facet() {
         slope_deg: 29.9,
         aspect_deg: 180.2,
     };
-    let ta = cache.surface_temp_k(0, &m, a, None, 7, &f).unwrap();
-    let tb = cache.surface_temp_k(0, &m, b, None, 7, &f).unwrap();
+    let temp_k = |o| {
+        solve(&cache, FacetKey::new(0, o, 7), &m, &f)
+            .unwrap()
+            .surface_temp_k
+    };
+    let (ta, tb) = (temp_k(a), temp_k(b));
     assert_eq!(ta.to_bits(), tb.to_bits());
     let st = cache.stats();
     assert_eq!((st.hits, st.misses, st.entries), (1, 1, 1));
@@ -151,17 +183,16 @@ fn quantised_orientations_share_an_entry_and_solve_the_quantised_facet() {
         slope_deg: 0.0,
         aspect_deg: 270.0,
     };
+    let (sunlit, shade) = (history(48), history(40));
     assert_eq!(
-        cache.key(0, h0, None, 7),
-        cache.key(0, h1, Some(&history(48)), 7)
+        key(&cache, FacetKey::new(0, h0, 7)),
+        key(&cache, shaded_key(FacetKey::new(0, h1, 7), &sunlit))
     );
     // Different history, material or weather: different keys.
-    assert_ne!(
-        cache.key(0, a, None, 7),
-        cache.key(0, a, Some(&history(40)), 7)
-    );
-    assert_ne!(cache.key(0, a, None, 7), cache.key(1, a, None, 7));
-    assert_ne!(cache.key(0, a, None, 7), cache.key(0, a, None, 8));
+    let ka = key(&cache, FacetKey::new(0, a, 7));
+    assert_ne!(ka, key(&cache, shaded_key(FacetKey::new(0, a, 7), &shade)));
+    assert_ne!(ka, key(&cache, FacetKey::new(1, a, 7)));
+    assert_ne!(ka, key(&cache, FacetKey::new(0, a, 8)));
 }
 
 #[test]
@@ -192,9 +223,11 @@ fn concurrent_use_is_deterministic_and_solves_each_key_once() {
         let temps: Vec<u64> = pool.install(|| {
             reqs.par_iter()
                 .map(|&(m, o, s)| {
-                    cache
-                        .surface_temp_k(m, &mats[m as usize], o, Some(&history(s)), 1, &f)
+                    let h = history(s);
+                    let k = shaded_key(FacetKey::new(m, o, 1), &h);
+                    solve(&cache, k, &mats[m as usize], &f)
                         .unwrap()
+                        .surface_temp_k
                         .to_bits()
                 })
                 .collect()
@@ -239,16 +272,17 @@ fn blocked_sky_is_keyed_and_warms_at_night() {
     let m = mats()[0];
     let cache = ThermCache::new(ThermSettings::default(), 5.0, false);
     let o = Orientation::HORIZONTAL;
-    let open = cache
-        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.0)
-        .unwrap();
-    let tiny = cache
-        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.004)
-        .unwrap();
+    let blocked = |blocked_sky| {
+        let k = FacetKey {
+            blocked_sky,
+            ..FacetKey::new(0, o, 0)
+        };
+        solve(&cache, k, &m, &f).unwrap()
+    };
+    let open = blocked(0.0);
+    let tiny = blocked(0.004);
     assert!(Arc::ptr_eq(&open, &tiny));
-    let walled = cache
-        .solve_in_scene(0, &m, o, None, 0, &f, 0.0, 0.301)
-        .unwrap();
+    let walled = blocked(0.301);
     assert!(
         walled.surface_temp_k > open.surface_temp_k + 0.5,
         "{} vs {}",
