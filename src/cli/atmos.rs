@@ -9,12 +9,15 @@ use crate::atmos::list_builtin;
 use crate::atmos::view::{AtmosGeometry, atmos_view};
 
 #[derive(ClapArgs, Debug)]
+/// `irsig atmos`: the atmosphere tables.
 pub struct Args {
     #[command(subcommand)]
+    /// Which of the table commands.
     pub cmd: AtmosCmd,
 }
 
 #[derive(Subcommand, Debug)]
+/// The `irsig atmos` subcommands.
 pub enum AtmosCmd {
     /// List the shipped atmosphere tables.
     List,
@@ -23,6 +26,7 @@ pub enum AtmosCmd {
 }
 
 #[derive(ClapArgs, Debug)]
+/// `irsig atmos show`: what a geometry's path reads from a table.
 pub struct ShowArgs {
     /// Atmosphere name (see `irsig atmos list`) or path to a table file.
     pub name: String,
@@ -49,6 +53,7 @@ pub struct ShowArgs {
     pub csv: bool,
 }
 
+/// Runs `irsig atmos`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     match a.cmd {
         AtmosCmd::List => {

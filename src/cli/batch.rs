@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use crate::batch::{self, RunEvent, RunOptions, SlurmOptions};
 
 #[derive(clap::Subcommand, Debug)]
+/// The `irsig batch` subcommands.
 pub enum BatchCommand {
     /// Expand a batch spec (TOML) into a manifest of frames and shards.
     Plan(PlanArgs),
@@ -23,6 +24,7 @@ pub enum BatchCommand {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig batch plan`.
 pub struct PlanArgs {
     /// The batch spec (see docs/batch.md).
     pub spec: PathBuf,
@@ -35,6 +37,7 @@ pub struct PlanArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig batch run`.
 pub struct RunArgs {
     /// The batch folder.
     pub dir: PathBuf,
@@ -47,6 +50,7 @@ pub struct RunArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig batch slurm`.
 pub struct SlurmArgs {
     /// The batch folder.
     pub dir: PathBuf,
@@ -54,16 +58,19 @@ pub struct SlurmArgs {
     #[arg(long)]
     pub shards: Option<usize>,
     #[arg(long)]
+    /// Slurm partition (`sbatch --partition`; default: the cluster's).
     pub partition: Option<String>,
     /// Time limit per task (Slurm syntax, e.g. 01:00:00).
     #[arg(long)]
     pub time: Option<String>,
     #[arg(long, default_value_t = 1)]
+    /// CPUs per array task (`sbatch --cpus-per-task`).
     pub cpus_per_task: u32,
     /// Memory per task (Slurm syntax, e.g. 4G).
     #[arg(long)]
     pub mem: Option<String>,
     #[arg(long)]
+    /// Slurm account to charge (`sbatch --account`).
     pub account: Option<String>,
     /// Most tasks running at once.
     #[arg(long)]
@@ -74,6 +81,7 @@ pub struct SlurmArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig batch merge`.
 pub struct MergeArgs {
     /// The batch folder.
     pub dir: PathBuf,
@@ -83,6 +91,7 @@ pub struct MergeArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig batch status`.
 pub struct StatusArgs {
     /// The batch folder.
     pub dir: PathBuf,
@@ -91,6 +100,7 @@ pub struct StatusArgs {
     pub json: bool,
 }
 
+/// Runs `irsig batch`; returns the process exit code.
 pub fn run(cmd: BatchCommand) -> anyhow::Result<i32> {
     match cmd {
         BatchCommand::Plan(a) => {

@@ -8,6 +8,7 @@ use super::render::parse_overrides;
 use crate::bench::{self, AccuracyOptions, RaysOptions, SpeedOptions};
 
 #[derive(clap::Subcommand, Debug)]
+/// The `irsig bench` subcommands.
 pub enum BenchCommand {
     /// Mrays/s for primary and shadow rays, per backend and query mode.
     Rays(RaysArgs),
@@ -20,6 +21,7 @@ pub enum BenchCommand {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig bench speed`.
 pub struct SpeedArgs {
     /// The scene file.
     pub scene: std::path::PathBuf,
@@ -44,6 +46,7 @@ pub struct SpeedArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig bench rays`.
 pub struct RaysArgs {
     /// Image width and height, pixels.
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
@@ -60,6 +63,7 @@ pub struct RaysArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig bench accuracy`.
 pub struct AccuracyArgs {
     /// The scene file.
     pub scene: PathBuf,
@@ -107,6 +111,7 @@ pub struct AccuracyArgs {
     pub reference: Vec<String>,
 }
 
+/// Runs `irsig bench`; returns the process exit code.
 pub fn run(cmd: BenchCommand) -> anyhow::Result<i32> {
     match cmd {
         BenchCommand::Rays(a) => rays(a),

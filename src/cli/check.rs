@@ -12,6 +12,7 @@ use crate::scene;
 use crate::scene::summary::SceneSummary;
 
 #[derive(clap::Args, Debug)]
+/// `irsig check`: load and validate a scene.
 pub struct Args {
     /// Scene file (TOML).
     pub scene: PathBuf,
@@ -227,6 +228,7 @@ pub fn memory_text(m: &MemoryEstimate) -> String {
     )
 }
 
+/// Runs `irsig check`; returns the process exit code (0: the scene loads).
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let overrides = super::render::parse_overrides(&a.set)?;
     let s = scene::load_with_edits(&a.scene, &a.unset, &overrides)?;

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use crate::bench::crosscheck_file::{MeshView, crosscheck_file};
 
 #[derive(clap::Args, Debug)]
+/// `irsig crosscheck`: both ray-tracing backends on the same rays.
 pub struct Args {
     /// A scene file (.toml: its sensor camera and the sun directions of its
     /// shadow history are used) or an OBJ mesh (a camera is generated
@@ -26,6 +27,7 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Runs `irsig crosscheck`; returns the process exit code (non-zero when the backends disagree).
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let mesh = MeshView {
         width: a.width,

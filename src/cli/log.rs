@@ -89,6 +89,7 @@ fn stage_index(s: Stage) -> usize {
 }
 
 impl ProgressLines {
+    /// Progress reporting on stderr; `verbose` adds a line per stage.
     pub fn new(verbose: bool) -> ProgressLines {
         ProgressLines {
             verbose,
@@ -165,6 +166,7 @@ impl ProgressReporter {
         })
     }
 
+    /// Reports one progress event (a bar on a terminal, lines otherwise).
     pub fn report(&self, p: Progress) {
         match &self.bar {
             Some(b) => {
@@ -190,6 +192,7 @@ impl ProgressReporter {
         }
     }
 
+    /// Ends the progress bar, if one is shown.
     pub fn finish(&self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();

@@ -29,11 +29,13 @@ pub struct Cli {
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     pub verbose: u8,
     #[command(subcommand)]
+    /// The subcommand to run.
     pub command: Command,
 }
 
 #[derive(Subcommand, Debug)]
 #[allow(clippy::large_enum_variant)]
+/// The `irsig` subcommands.
 pub enum Command {
     /// Trace primary, specular-bounce and solar-history rays with both
     /// backends (Embree and obvhs) and compare their hits.

@@ -18,6 +18,7 @@ use crate::trace::Backend;
 use crate::units::ZERO_C_K;
 
 #[derive(clap::Args, Debug)]
+/// `irsig probe`: everything about one output pixel.
 pub struct Args {
     /// The scene file (TOML).
     pub scene: PathBuf,
@@ -340,6 +341,7 @@ pub fn to_text(r: &PixelProbe) -> String {
     o
 }
 
+/// Runs `irsig probe`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let px = parse_pixel(&a.pixel)?;
     let overrides = super::render::parse_overrides(&a.set)?;

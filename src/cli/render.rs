@@ -13,6 +13,7 @@ use crate::render::{Progress, prepare_conditions, prepare_static, render_conditi
 use crate::trace::Backend;
 
 #[derive(clap::Args, Debug)]
+/// `irsig render`: one frame of a scene.
 pub struct Args {
     /// The scene file (TOML).
     pub scene: PathBuf,
@@ -106,6 +107,7 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
 
 use crate::render::thread_pool;
 
+/// Runs `irsig render`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     // Check the output path before spending time on the render.
     let mut formats =

@@ -7,6 +7,7 @@ use crate::output::quicklook::Colormap;
 use crate::output::report::{ReportOptions, write_report};
 
 #[derive(clap::Args, Debug)]
+/// `irsig report`: an HTML page of a render.
 pub struct Args {
     /// The render's JSON summary (`x.json`, written beside its EXR or
     /// GeoTIFF by `irsig render`).
@@ -22,6 +23,7 @@ pub struct Args {
     pub colormap: Colormap,
 }
 
+/// Runs `irsig report`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     let out = a
         .output

@@ -65,8 +65,10 @@ pub struct Common {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig sequence`: one frame per local clock time.
 pub struct SequenceArgs {
     #[command(flatten)]
+    /// The scene, output and render options every frame shares.
     pub common: Common,
     /// First local clock time: `HH:MM[:SS]` on the scene's image date, or a
     /// local date-time `YYYY-MM-DDTHH:MM[:SS]` (the site's `utc_offset_h`
@@ -82,8 +84,10 @@ pub struct SequenceArgs {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig sweep`: one frame per value of a scene key.
 pub struct SweepArgs {
     #[command(flatten)]
+    /// The scene, output and render options every frame shares.
     pub common: Common,
     /// The dotted scene key to sweep, e.g. `weather.constant.wind_m_s` or
     /// `sensor.pose.slant_range.view_zenith_deg`.
@@ -101,6 +105,7 @@ fn edited_text(c: &Common) -> anyhow::Result<(String, Vec<(String, String)>)> {
     Ok((scene_text(&c.scene, &c.unset, &set)?, set))
 }
 
+/// Runs `irsig sequence`; returns the process exit code.
 pub fn run_sequence(a: SequenceArgs) -> anyhow::Result<i32> {
     let c = &a.common;
     quicklook_options(c)?;
@@ -126,6 +131,7 @@ fn quicklook_options(c: &Common) -> anyhow::Result<QuicklookOptions> {
     })
 }
 
+/// Runs `irsig sweep`; returns the process exit code.
 pub fn run_sweep(a: SweepArgs) -> anyhow::Result<i32> {
     let c = &a.common;
     quicklook_options(c)?;

@@ -9,6 +9,7 @@ use crate::sun::report::sun_report;
 use crate::sun::{SolarPosition, SpaOptions};
 
 #[derive(clap::Args, Debug)]
+/// `irsig sun`: the solar position at a site and instant.
 pub struct Args {
     /// Latitude, degrees north (−90..90).
     #[arg(long, allow_negative_numbers = true, value_parser = parse_lat)]
@@ -79,6 +80,7 @@ pub fn format_text(time: DateTime<Utc>, p: &SolarPosition) -> String {
     )
 }
 
+/// Runs `irsig sun`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     use crate::bounds::args;
     for (arg, v) in [

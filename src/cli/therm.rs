@@ -42,14 +42,21 @@ use crate::therm::series::{
 use crate::therm::slab::SpinUpStart;
 use crate::units::ZERO_C_K;
 
-/// `--convection`.
+/// `--convection`: `surface-layer` (the default) or `mcadams` (see
+/// [`Convection`]).
+// clap: a doc comment on a value becomes its help and turns the whole
+// `irsig therm --help` into the long form; the flag's help describes them.
+#[allow(missing_docs)]
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConvectionArg {
     SurfaceLayer,
     Mcadams,
 }
 
-/// `--spin-up-start` (see [`SpinUpStart`]).
+/// `--spin-up-start`: `mean-forcing` (the default) or `first-sample` (see
+/// [`SpinUpStart`]).
+// clap: as for [`ConvectionArg`], the flag's help describes the values.
+#[allow(missing_docs)]
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub enum SpinUpArg {
     MeanForcing,
@@ -57,6 +64,7 @@ pub enum SpinUpArg {
 }
 
 #[derive(clap::Args, Debug)]
+/// `irsig therm`: one material and facet over time.
 pub struct Args {
     /// Material library (TOML, `[material.NAME]` tables, as the scenes use;
     /// e.g. scenes/materials.toml).
@@ -148,6 +156,7 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Runs `irsig therm`; returns the process exit code.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     use crate::bounds::args;
     for (arg, v) in [

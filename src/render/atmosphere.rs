@@ -136,6 +136,7 @@ pub fn load_atmosphere(
 /// What one frame's atmosphere is and how it was made to fit the weather.
 #[derive(Clone, Debug, Serialize)]
 pub struct AtmosphereReport {
+    /// Which table, and why.
     pub source: AtmosphereSource,
     /// The table was adjusted to this frame's weather.
     pub follow_weather: bool,

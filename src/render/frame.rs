@@ -10,10 +10,13 @@ use super::sample::Sample;
 
 /// A rendered frame: the output planes (at output resolution) and stats.
 pub struct Frame {
+    /// The output planes, at output resolution.
     pub planes: Planes,
+    /// The render's counters and stage times.
     pub stats: Stats,
     /// Per supersampled sample (tile order is undone: row-major).
     pub samples: Vec<Sample>,
+    /// Width of the supersampled sample grid (`samples` is row-major).
     pub sample_width: u32,
 }
 
@@ -31,8 +34,11 @@ pub enum Stage {
 /// Progress of a render: `done` of `total` units of `stage` are finished.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Progress {
+    /// The stage in progress.
     pub stage: Stage,
+    /// Units of it finished.
     pub done: u64,
+    /// Units of it in all.
     pub total: u64,
 }
 
@@ -43,59 +49,84 @@ pub type ProgressFn<'a> = Option<&'a (dyn Fn(Progress) + Sync)>;
 /// Counters reported by `--stats`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Stats {
+    /// Samples traced (output pixels × supersampling).
     pub samples: u64,
+    /// Primary rays cast.
     pub primary_rays: u64,
+    /// Primary rays that hit the scene.
     pub primary_hits: u64,
+    /// Specular-bounce rays cast.
     pub specular_rays: u64,
+    /// Specular bounces not cast: the surface has no specular part.
     pub specular_skipped_diffuse: u64,
+    /// Sun rays cast (the sun/shadow histories).
     pub solar_rays: u64,
+    /// Sun rays not cast: the sun below the horizon.
     pub solar_skipped_sun_down: u64,
+    /// Sun rays not cast: the facet faces away from the sun.
     pub solar_skipped_facing_away: u64,
     /// Adaptive histories (`render.adaptive_histories`): output pixels
     /// whose history came from their 4 corner samples alone, and pixels
     /// refined to every one of their n×n samples.
     pub history_pixels_corners: u64,
+    /// Pixels whose history was refined to every sample.
     pub history_pixels_refined: u64,
     /// Adaptive sampling (`render.sampling = "adaptive"`): output pixels
     /// that kept their one coarse sample, pixels refined to every sample of
     /// their grid, and that grid's side (`render.supersample`; 0 for a
     /// uniform render).
     pub adaptive_pixels_coarse: u64,
+    /// Pixels refined to every sample of their grid.
     pub adaptive_pixels_refined: u64,
+    /// Side of the refined grid (samples per pixel edge).
     pub adaptive_refined_density: u32,
     /// Adaptive sampling: cells (4×4 per refined pixel) refined to every
     /// sample, cells that kept their one first-level sample, and samples
     /// that took a neighbouring sample's sun/shadow history after their own
     /// sun rays of the last hour agreed with it.
     pub adaptive_cells_refined: u64,
+    /// Cells that kept their one first-level sample.
     pub adaptive_cells_coarse: u64,
+    /// Samples that took a neighbour's sun/shadow history.
     pub adaptive_histories_shared: u64,
+    /// Distinct thermal solves (cache misses).
     pub thermal_solves: u64,
+    /// Thermal lookups answered from the cache or a worker's memo.
     pub thermal_cache_hits: u64,
     /// Over the distinct solves: accepted and rejected march steps, Newton
     /// iterations, and the core-seconds spent solving (summed over
     /// threads; the rest of `seconds.thermal` is keys and lookups).
     pub thermal_steps: u64,
+    /// Rejected march steps.
     pub thermal_steps_rejected: u64,
+    /// Newton iterations (surface-balance evaluations).
     pub thermal_newton_iterations: u64,
+    /// Core-seconds spent solving.
     pub thermal_solve_core_s: f64,
     /// March states kept at checkpoints, and solves resumed from one
     /// (`therm::cache`: histories that begin alike share their march).
     pub thermal_checkpoints: u64,
+    /// Solves resumed from a checkpoint.
     pub thermal_resumed: u64,
     /// Samples whose band integral was evaluated (uniform pixels evaluate
     /// one of their n×n samples).
     pub radiometry_samples: u64,
+    /// Spectral bins of the band integral.
     pub spectral_bins: usize,
+    /// Wall time per stage, s.
     pub seconds: StageTimes,
 }
 
 /// Wall time per stage, s.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct StageTimes {
+    /// Steps 1-3: the rays, s.
     pub trace: f64,
+    /// Step 4: the temperatures, s.
     pub thermal: f64,
+    /// Step 5: the radiometry, s.
     pub radiometry: f64,
+    /// The sensor chain, s.
     pub sensor: f64,
 }
 

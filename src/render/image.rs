@@ -14,8 +14,11 @@ use crate::trace::Backend;
 pub struct Rendered {
     /// The scene file.
     pub scene: String,
+    /// The image time (UTC).
     pub image_time_utc: DateTime<Utc>,
+    /// Solar zenith at the image time, degrees.
     pub sun_zenith_deg: f64,
+    /// Solar azimuth at the image time, degrees clockwise from north.
     pub sun_azimuth_deg: f64,
     /// Band label.
     pub band: String,
@@ -37,6 +40,7 @@ pub struct Rendered {
     pub overrides: Vec<(String, String)>,
     /// The sensor's pose as the scene states it, and its camera.
     pub pose: crate::scene::spec::SensorPose,
+    /// The camera built from the pose.
     pub camera: crate::scene::Camera,
     /// Where the image is on the Earth and in the output CRS.
     pub georef: crate::scene::georef::Georef,

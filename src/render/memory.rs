@@ -45,15 +45,21 @@ pub struct MemoryEstimate {
     pub samples_held: u64,
     /// Bytes per sample (structs, history, results).
     pub bytes_per_sample: f64,
+    /// The samples held, MiB.
     pub samples_mib: f64,
+    /// The output planes, MiB.
     pub planes_mib: f64,
+    /// The geometry and the tracer's BVH, MiB.
     pub geometry_mib: f64,
+    /// The atmosphere spectra of the cached directions ([`spectral_mib`]), MiB.
     pub spectral_mib: f64,
+    /// The process before any scene-sized allocation ([`BASE_MIB`]), MiB.
     pub base_mib: f64,
     /// The estimated peak, MiB.
     pub total_mib: f64,
     /// The limit it is checked against, MiB, and where it comes from.
     pub limit_mib: Option<f64>,
+    /// Where the limit comes from (`render.max_memory_mib` or the machine's memory).
     pub limit_from: String,
 }
 
@@ -168,7 +174,9 @@ pub fn check(scene: &LoadedScene) -> anyhow::Result<MemoryEstimate> {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CheckReport {
     #[serde(flatten)]
+    /// The scene's summary (objects, facets, materials, bounds, sensor).
     pub summary: crate::scene::summary::SceneSummary,
+    /// The render's memory estimate.
     pub memory: MemoryEstimate,
 }
 

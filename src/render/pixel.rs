@@ -60,7 +60,9 @@ pub struct SampleResult {
     /// Which of the paper's cases: 1 diffuse, 2 specular→sky, 3 specular→
     /// background, 4 sky; 0 a ray leaving the scene downwards.
     pub case: u8,
+    /// The radiance terms of the paper's equations for this sample.
     pub terms: RadianceTerms,
+    /// Band-integrated radiance at the sensor, W m⁻² sr⁻¹ µm⁻¹.
     pub radiance_w_m2_sr_um: f64,
     /// View angle from the surface normal, degrees (NaN for the sky).
     pub view_angle_deg: f64,
@@ -180,6 +182,7 @@ fn fold_deg(d: f64) -> f64 {
 }
 
 impl<'a> RadiometryContext<'a> {
+    /// The radiometric state of a frame: sun spectra, sky dome and memos.
     pub fn new(st: &'a Static, cond: &'a Conditions) -> anyhow::Result<Self> {
         let n = st.band.len();
         let sa = &cond.atmosphere;
@@ -611,6 +614,7 @@ pub struct ApparentTempLut {
 const LUT_BUCKETS: u64 = 1 << 13;
 
 impl ApparentTempLut {
+    /// The table of `band`: 100-1000 K every 0.25 K.
     pub fn new(band: &crate::radiometry::Band) -> Self {
         let (t0_k, dt_k, n) = (100.0, 0.25, 3601);
         let temps: Vec<f64> = (0..n).map(|i| t0_k + dt_k * i as f64).collect();
@@ -658,6 +662,7 @@ impl ApparentTempLut {
         lo + r[lo..hi].partition_point(|&x| x <= l)
     }
 
+    /// The temperature of a blackbody whose band radiance is `l`, K (`None` where the band's own solver finds none).
     pub fn apparent_temp_k(&self, band: &crate::radiometry::Band, l: f64) -> Option<f64> {
         let r = &self.radiance;
         if !(l > r[0] && l < r[r.len() - 1]) {

@@ -63,20 +63,27 @@ pub const TERM_PLANES: [&str; 6] = {
 /// One image plane (an "AOV"): name, unit, row-major f32 samples.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plane {
+    /// Plane name (`radiance`, `apparent_temp`, `material`, …).
     pub name: String,
+    /// Its unit (`K`, `W/m²/sr/µm`, … or empty).
     pub unit: String,
+    /// Row-major values, `width × height`.
     pub data: Vec<f32>,
 }
 
 /// A set of planes of the same size.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Planes {
+    /// Width, pixels.
     pub width: u32,
+    /// Height, pixels.
     pub height: u32,
+    /// The planes, in output order.
     pub planes: Vec<Plane>,
 }
 
 impl Planes {
+    /// No planes yet, of `width × height` pixels.
     pub fn new(width: u32, height: u32) -> Self {
         Planes {
             width,
@@ -99,6 +106,7 @@ impl Planes {
         });
     }
 
+    /// The plane named `name`, if any.
     pub fn get(&self, name: &str) -> Option<&Plane> {
         self.planes.iter().find(|p| p.name == name)
     }
@@ -116,10 +124,13 @@ impl Plane {
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize, PartialEq)]
 pub struct PlaneStats {
     #[serde(deserialize_with = "nan_if_null")]
+    /// Mean.
     pub mean: f64,
     #[serde(deserialize_with = "nan_if_null")]
+    /// Smallest value.
     pub min: f64,
     #[serde(deserialize_with = "nan_if_null")]
+    /// Largest value.
     pub max: f64,
     /// Population standard deviation.
     #[serde(deserialize_with = "nan_if_null")]

@@ -28,14 +28,20 @@ use crate::trace::{self, Backend, Geometry, Tracer};
 
 /// The parts of a render that do not depend on time or weather.
 pub struct Static {
+    /// The loaded scene.
     pub scene: LoadedScene,
+    /// The traced geometry (the scene's triangles in the tracer's local frame).
     pub geometry: Arc<Geometry>,
+    /// The ray tracer over `geometry`.
     pub tracer: Arc<dyn Tracer>,
     /// Per material (scene material index): the slab model, the emissivity
     /// model and the specularity.
     pub slabs: Vec<SlabMaterial>,
+    /// Spectral emissivity model of each material.
     pub emissivity: Vec<Emissivity>,
+    /// Specular fraction of each material's reflectance, 0-1.
     pub specularity: Vec<f64>,
+    /// The sensor band's spectral grid and response.
     pub band: Band,
     /// Wavelength of each band bin, µm.
     pub wavelength_um: Vec<f64>,
@@ -99,14 +105,18 @@ pub const THERMAL_TOL_AGE_S: f64 = 900.0;
 
 /// The conditions of one frame.
 pub struct Conditions {
+    /// The image time (UTC).
     pub image_time: DateTime<Utc>,
     /// Start of the history (image time − history hours).
     pub start: DateTime<Utc>,
+    /// The forcing of the thermal history.
     pub forcing: Vec<Forcing>,
+    /// Which weather estimators built it.
     pub estimators: EstimatorReport,
     /// Shadow-history samples on the fine grid (`interval_s` apart); the
     /// last one is at the image time.
     pub suns: Vec<SunSample>,
+    /// Interval of the fine shadow-history grid, s.
     pub interval_s: i64,
     /// Fine samples per traced sample (see [`FrameWeather::coarse_every`]).
     pub coarse_every: usize,
@@ -114,7 +124,9 @@ pub struct Conditions {
     /// full resolution (a power of two ≥ 2; 0: all of them), see
     /// `render::key_history`.
     pub key_recent: usize,
+    /// The sun at the image time.
     pub sun_now: SolarPosition,
+    /// The thermal cache of the frame (its settings: step and tolerance).
     pub cache: ThermCache,
     /// Air temperature at the image time, K.
     pub air_temp_k: f64,
@@ -133,6 +145,7 @@ pub struct Conditions {
     /// The frame's atmosphere: [`Static::atmosphere`] adjusted to the
     /// weather at the image time (`atmos::adjust`).
     pub atmosphere: SpectralAtmosphere,
+    /// How the atmosphere followed the weather, for the summary.
     pub atmosphere_report: AtmosphereReport,
 }
 

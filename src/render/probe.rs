@@ -33,13 +33,21 @@ use crate::trace::Backend;
 /// Everything about one output pixel.
 #[derive(Clone, Debug, Serialize)]
 pub struct PixelProbe {
+    /// The scene file.
     pub scene: String,
+    /// The output pixel, (column, row) from the top left.
     pub pixel: [u32; 2],
+    /// The image time, UTC (RFC 3339).
     pub image_time_utc: String,
+    /// The image time on the scene's local clock.
     pub image_time_local: String,
+    /// The sensor band's label.
     pub band: String,
+    /// Spectral bins of the band integral.
     pub spectral_bins: usize,
+    /// Samples per pixel edge (n of the n×n samples).
     pub supersample: u32,
+    /// The sun at the image time.
     pub sun: SunReport,
     /// The frame's atmosphere table, why, and how it follows the weather.
     pub atmosphere: super::atmosphere::AtmosphereReport,
@@ -52,13 +60,18 @@ pub struct PixelProbe {
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The sun at the image time.
 pub struct SunReport {
+    /// Solar zenith, degrees.
     pub zenith_deg: f64,
+    /// Solar azimuth, degrees clockwise from north.
     pub azimuth_deg: f64,
+    /// Unit vector towards the sun (ENU).
     pub dir_enu: [f64; 3],
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The pixel's value as `irsig render` writes it.
 pub struct PixelResult {
     /// Mean of the samples' band radiance, W m⁻² sr⁻¹ µm⁻¹ (f64).
     pub band_radiance_w_m2_sr_um: f64,
@@ -75,44 +88,59 @@ pub struct PixelResult {
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// One sample of the pixel: its ray, hit, angles, bounce and radiometry.
 pub struct SampleReport {
     /// Pixel of the supersampled image.
     pub sample_px: [u32; 2],
     /// Unit direction of the primary ray (ENU).
     pub ray_dir: [f32; 3],
+    /// What the primary ray hit (`None`: the sky or outside the scene).
     pub hit: Option<SurfaceReport>,
+    /// The viewing and sun angles at the hit.
     pub angles: Option<Angles>,
     /// Specular bounce (specular materials only).
     pub bounce: Option<BounceReport>,
+    /// The sample's radiometry.
     pub radiometry: RadiometryReport,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// A surface point a ray hit: where, what, its history and its temperature.
 pub struct SurfaceReport {
     /// Triangle index in the scene.
     pub triangle: u32,
     /// OBJ face index within its object.
     pub facet: u32,
+    /// The object's name.
     pub object: String,
+    /// The material's name.
     pub material: String,
+    /// The material's index (the `material` plane's value).
     pub material_index: u32,
+    /// Specular fraction of its reflectance, 0-1.
     pub specularity: f64,
     /// The hit point in world coordinates.
     pub point_m: [f64; 3],
     /// Unit geometric normal facing the incoming ray.
     pub normal: [f32; 3],
+    /// Slope of the facet, degrees from horizontal.
     pub slope_deg: f64,
+    /// Aspect of the facet, degrees clockwise from north.
     pub aspect_deg: f64,
     /// Distance along the incoming ray, m.
     pub range_m: f32,
+    /// The point's sun/shadow history.
     pub history: HistoryReport,
+    /// The point's thermal solve.
     pub thermal: ThermalReport,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// A surface point's sun/shadow history.
 pub struct HistoryReport {
     /// Local clock time of the first sample.
     pub start_local: String,
+    /// Interval between samples, minutes.
     pub interval_min: f64,
     /// One character per sample, oldest first (the last is the image time):
     /// 1 sunlit, 0 not.
@@ -122,23 +150,29 @@ pub struct HistoryReport {
     pub reason: String,
     /// Local clock time of each sample.
     pub times_local: Vec<String>,
+    /// Hours the point was sunlit over the history.
     pub hours_sunlit: f64,
+    /// Whether the point sees the sun at the image time.
     pub sun_now: bool,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// A surface point's thermal solve: its surface, the ground, the series.
 pub struct ThermalReport {
     /// Surface kind and its parameters (solid, vegetation, water, snow).
     pub surface: crate::therm::surface::SurfaceKind,
     /// The ground tilted facets see (material name) and its temperature at
     /// the image time, K.
     pub ground_material: Option<String>,
+    /// The ground's temperature at the image time, K.
     pub ground_temp_k: f64,
     /// Local clock time of the start of the series (`t_s` = 0).
     pub start_local: String,
     /// Surface temperature at the image time, K.
     pub surface_temp_k: f64,
+    /// Accepted march steps.
     pub steps_accepted: usize,
+    /// Rejected march steps.
     pub steps_rejected: usize,
     /// Sky view factor of this surface point (per point, not per
     /// triangle: the value the thermal balance used), at the image time.
@@ -148,6 +182,7 @@ pub struct ThermalReport {
     /// ([`crate::therm::balance::SurfaceFluxes::stability_factor`]; 1 =
     /// neutral).
     pub richardson: Option<f64>,
+    /// The stability function `F(Ri)` at the image time.
     pub stability_factor: Option<f64>,
     /// One record per thermal step, seconds since the history start, with
     /// every surface flux term (W m⁻²).
@@ -155,6 +190,7 @@ pub struct ThermalReport {
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The angles at a hit.
 pub struct Angles {
     /// Angle between the line of sight (towards the sensor) and the normal.
     pub view_angle_deg: f64,
@@ -168,31 +204,43 @@ pub struct Angles {
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The specular bounce of a sample.
 pub struct BounceReport {
     /// Unit reflected direction (ENU).
     pub dir: [f32; 3],
+    /// Zenith angle of the reflected direction, degrees.
     pub zenith_deg: f64,
+    /// Azimuth of the reflected direction, degrees clockwise from north.
     pub azimuth_deg: f64,
     /// `sky`, `ground plane` (leaves the scene downwards) or `surface`.
     pub target: &'static str,
+    /// What the bounce hit, for `surface`.
     pub background: Option<SurfaceReport>,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// A sample's radiometry: the case, its terms, and per bin with `--spectral`.
 pub struct RadiometryReport {
     /// 1 diffuse, 2 specular→sky, 3 specular→background, 4 sky, 0 outside.
     pub case: u8,
+    /// The case's name.
     pub case_name: &'static str,
     /// Band-integrated terms, W m⁻² sr⁻¹ µm⁻¹.
     pub terms: RadianceTerms,
+    /// Band-integrated radiance at the sensor, W m⁻² sr⁻¹ µm⁻¹.
     pub band_radiance_w_m2_sr_um: f64,
+    /// Band-averaged emissivity of the surface (0 for the sky).
     pub emissivity: f64,
+    /// The terms per spectral bin (`irsig probe --spectral`).
     pub spectral: Option<Vec<SpectralBin>>,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// One spectral bin of a sample's radiometry.
 pub struct SpectralBin {
+    /// The bin's wavenumber, cm⁻¹.
     pub wavenumber_cm1: f64,
+    /// The bin's wavelength, µm.
     pub wavelength_um: f64,
     /// Band weight of the bin (the weights sum to 1).
     pub weight: f64,

@@ -9,8 +9,11 @@ use super::sunflags::SunFlags;
 /// histories up to [`super::sunflags::INLINE_SWITCHES`] transitions).
 #[derive(Clone, Debug, Default)]
 pub struct Surface {
+    /// Index of the triangle hit.
     pub prim: u32,
+    /// Index of its material (the scene's material order).
     pub material: u32,
+    /// The hit point, m (the tracer's local frame).
     pub point: Vec3,
     /// Unit geometric normal, facing the incoming ray.
     pub normal: Vec3,
@@ -67,6 +70,7 @@ impl<K: PartialEq, V: Copy> LastKey<K, V> {
 pub struct Sample {
     /// Unit direction of the primary ray.
     pub dir: Vec3,
+    /// What the primary ray hit (`None`: the sky or outside the scene).
     pub surface: Option<Surface>,
     /// For specular materials: the reflected direction and the background
     /// facet it hits (`None`: the sky).

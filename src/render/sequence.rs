@@ -45,8 +45,11 @@ pub fn time_steps(
 /// its errors: the CLI's flags, the Python arguments, a batch spec's keys.
 #[derive(Clone, Copy, Debug)]
 pub struct TimeNames {
+    /// The name of the start (`--from`, `from`, …).
     pub from: &'static str,
+    /// The name of the end.
     pub to: &'static str,
+    /// The name of the step.
     pub step: &'static str,
 }
 

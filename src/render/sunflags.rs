@@ -76,10 +76,12 @@ impl SunFlags {
         }
     }
 
+    /// Number of samples.
     pub fn len(&self) -> usize {
         self.len as usize
     }
 
+    /// True when there are no samples.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

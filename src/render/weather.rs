@@ -155,12 +155,15 @@ fn station_warnings(scene: &LoadedScene) -> anyhow::Result<Vec<String>> {
 /// weather read over the window the frame needs, the forcing of its
 /// history and the deep-ground temperature.
 pub struct FrameWeather {
+    /// The scene's site (latitude, longitude, elevation).
     pub site: Site,
     /// Start of the history (UTC), its time resolution (the interval of
     /// the fine sample grid the transitions are found on) and the number
     /// of fine intervals.
     pub start: DateTime<Utc>,
+    /// Interval of the fine sample grid, s.
     pub interval_s: i64,
+    /// Number of fine intervals in the history.
     pub n_sun: i64,
     /// Fine intervals per traced (coarse) sample: the sun is traced every
     /// `coarse_every` fine samples, and between two traced samples that
@@ -169,8 +172,11 @@ pub struct FrameWeather {
     pub coarse_every: i64,
     /// Thermal step, s.
     pub step_s: f64,
+    /// The forcing at `n_steps + 1` times `step_s` apart from `start`.
     pub forcing: Vec<crate::therm::forcing::Forcing>,
+    /// Which weather estimators built it.
     pub estimators: crate::therm::forcing::EstimatorReport,
+    /// The deep-ground temperature of the frame ([`crate::therm::conditions::deep_ground_temp_k`]), K.
     pub deep_ground_k: f64,
 }
 

@@ -349,6 +349,7 @@ pub struct Exchange {
     /// Free-convection coefficients when the surface is warmer / colder
     /// than the air, W m⁻² K⁻⁴ᐟ³.
     pub free_warm: f64,
+    /// Free-convection coefficient when the surface is colder than the air, W m⁻² K⁻⁴ᐟ³.
     pub free_cold: f64,
     /// ρ_a·c_p, J m⁻³ K⁻¹.
     pub rho_cp_j_m3k: f64,

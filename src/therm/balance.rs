@@ -35,11 +35,14 @@ pub const DEFAULT_GROUND_ALBEDO: f64 = 0.2;
 /// clockwise from north), degrees.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Orientation {
+    /// Tilt of the facet's normal from the zenith, degrees (0 horizontal, 90 a wall).
     pub slope_deg: f64,
+    /// Azimuth the facet faces, degrees clockwise from north.
     pub aspect_deg: f64,
 }
 
 impl Orientation {
+    /// A horizontal facet facing up.
     pub const HORIZONTAL: Orientation = Orientation {
         slope_deg: 0.0,
         aspect_deg: 0.0,
@@ -94,8 +97,11 @@ pub enum Convection {
     /// reference tests (whose independent solvers use it) and for constant
     /// coefficients ([`Convection::constant`]). Not for scenes.
     Linear {
+        /// The still-air term `a`, W m⁻² K⁻¹.
         still_air_w_m2k: f64,
+        /// The wind term `b`, W m⁻² K⁻¹ per m/s (= J m⁻³ K⁻¹).
         wind_coeff_j_m3k: f64,
+        /// The free-convection term `c`, W m⁻² K⁻⁴ᐟ³.
         free_coeff_w_m2k4_3: f64,
     },
     /// Convection only, from surface-layer similarity
@@ -207,6 +213,7 @@ pub struct SurfaceDrive {
     pub ground_longwave_in_w_m2: f64,
     /// Internal power delivered at the surface node, W/m².
     pub internal_w_m2: f64,
+    /// Air temperature, K.
     pub air_temp_k: f64,
     /// Station wind, m/s.
     pub wind_speed_m_s: f64,
@@ -214,6 +221,7 @@ pub struct SurfaceDrive {
     pub incident_shortwave_w_m2: f64,
     /// Turbulent exchange of the exposed face and of the back face.
     pub exchange: Exchange,
+    /// Turbulent exchange of the back face (for a back exposed to air).
     pub back_exchange: Exchange,
     /// Surface conductance to vapour `1/r_s`, m/s: 0 dry, ∞ free water.
     pub conductance_m_s: f64,
@@ -221,11 +229,14 @@ pub struct SurfaceDrive {
     pub dew: bool,
     /// Largest evaporation the surface can supply, W/m² (a drying store).
     pub evaporation_cap_w_m2: f64,
+    /// Vapour pressure of the air, Pa.
     pub vapour_pressure_pa: f64,
+    /// Station pressure, Pa.
     pub pressure_pa: f64,
     /// Heat carried by rain, `ρ_w·c_w·P`, W m⁻² K⁻¹, and the rain's
     /// temperature (wet bulb), K.
     pub rain_coeff_w_m2k: f64,
+    /// Temperature of the rain (its wet bulb), K.
     pub rain_temp_k: f64,
 }
 
@@ -271,13 +282,19 @@ impl SurfaceDrive {
 /// Inputs of [`surface_drive`]: the weather/sun forcing at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DriveInputs {
+    /// Air temperature, K.
     pub air_temp_k: f64,
+    /// Effective sky temperature for longwave exchange, K.
     pub sky_temp_k: f64,
     /// Temperature of the ground seen by a tilted facet, K.
     pub ground_temp_k: f64,
+    /// Station wind, m/s.
     pub wind_speed_m_s: f64,
+    /// Direct normal irradiance, W/m².
     pub dni_w_m2: f64,
+    /// Diffuse horizontal irradiance, W/m².
     pub dhi_w_m2: f64,
+    /// Global horizontal irradiance, W/m².
     pub ghi_w_m2: f64,
     /// Unit vector to the sun, ENU.
     pub sun_dir_enu: [f64; 3],
@@ -288,9 +305,13 @@ pub struct DriveInputs {
 /// Surface optical properties used by [`surface_drive`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceOptics {
+    /// Absorptivity α for sunlight, 0-1.
     pub solar_absorptivity: f64,
+    /// Thermal (longwave) emissivity ε, 0-1.
     pub thermal_emissivity: f64,
+    /// Solar albedo ρ_g of the ground a tilted facet sees, 0-1.
     pub ground_albedo: f64,
+    /// Internal heat delivered at the surface node, W/m².
     pub internal_power_w_m2: f64,
 }
 
@@ -335,18 +356,26 @@ pub fn surface_drive(
 /// positive number and subtracted in `net_w_m2`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SurfaceFluxes {
+    /// `α·I·E_dir·max(0, n·s)`, W/m².
     pub absorbed_direct_w_m2: f64,
+    /// `α·E_dif·F_sky`, W/m².
     pub absorbed_diffuse_w_m2: f64,
+    /// `α·ρ_g·E_glob·F_gnd`, W/m².
     pub absorbed_ground_reflected_w_m2: f64,
+    /// `ε·F_sky·σT_sky⁴`, W/m².
     pub sky_longwave_in_w_m2: f64,
+    /// `ε·F_gnd·σT_gnd⁴`, W/m².
     pub ground_longwave_in_w_m2: f64,
+    /// `ε·σT_s⁴` (counted negative in the net), W/m².
     pub emitted_longwave_w_m2: f64,
+    /// Sensible heat from the air, `h_c·(T_air − T_s)`, W/m².
     pub convection_w_m2: f64,
     /// Latent heat: negative while evaporating or transpiring, positive
     /// while dew forms.
     pub latent_w_m2: f64,
     /// Heat brought by rain at its wet-bulb temperature.
     pub rain_w_m2: f64,
+    /// Internal heat delivered at the surface node, W/m².
     pub internal_w_m2: f64,
     /// Sum of all the terms above (emission counted negative).
     pub net_w_m2: f64,

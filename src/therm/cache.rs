@@ -49,14 +49,19 @@ fn shard_of(hash: u64) -> usize {
 /// its parts as a [`ThermQuery`]).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ThermKey {
+    /// The caller's id of the material.
     pub material_id: u32,
     /// Quantised slope and aspect, in units of the cache's quantum.
     pub slope_q: i32,
+    /// Quantised aspect, in units of the cache's quantum.
     pub aspect_q: i32,
     /// Shadow history (all zeros / empty = always sunlit).
     pub shadow_start_s: i64,
+    /// Interval of the history's samples, s.
     pub shadow_interval_s: i64,
+    /// Number of history samples.
     pub shadow_len: u32,
+    /// The sunlit flags, packed 64 to a word.
     pub shadow_bits: Box<[u64]>,
     /// Caller's identity of the forcing series (weather + site + time window).
     pub weather_id: u64,
@@ -71,8 +76,11 @@ pub struct ThermKey {
 /// (the same rules as [`SunHistory`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HistoryRef<'a> {
+    /// Time of sample 0, s from the start of the run.
     pub start_s: i64,
+    /// Interval between samples, s.
     pub interval_s: i64,
+    /// The sunlit flag of each sample.
     pub sunlit: Flags<'a>,
 }
 
@@ -81,16 +89,23 @@ pub struct HistoryRef<'a> {
 /// forms of the same flags make the same key.
 #[derive(Clone, Copy, Debug)]
 pub enum Flags<'a> {
+    /// One `bool` per sample.
     Bools(&'a [bool]),
+    /// Packed 64 to a word.
     Packed {
+        /// The words (bit `i % 64` of word `i / 64` = sample `i`).
         words: &'a [u64],
+        /// Number of samples.
         len: usize,
     },
     /// Sample 0 is `first`; the flag flips at each index of `switches`
     /// (ascending, in 1..len).
     Switches {
+        /// The flag of sample 0.
         first: bool,
+        /// Indices where the flag flips, ascending.
         switches: &'a [u32],
+        /// Number of samples.
         len: usize,
     },
 }
@@ -136,6 +151,7 @@ fn switch_words<'a>(
 }
 
 impl Flags<'_> {
+    /// Number of samples.
     pub fn len(&self) -> usize {
         match self {
             Flags::Bools(b) => b.len(),
@@ -143,6 +159,7 @@ impl Flags<'_> {
         }
     }
 
+    /// True when there are no samples.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -182,6 +199,7 @@ impl Flags<'_> {
         }
     }
 
+    /// The flags, one `bool` per sample.
     pub fn to_bools(&self) -> Vec<bool> {
         match self {
             Flags::Bools(b) => b.to_vec(),
@@ -245,6 +263,7 @@ pub struct FacetKey<'a> {
     /// The caller's id of the material (the cache trusts it: one id, one
     /// material).
     pub material_id: u32,
+    /// Orientation of the facet (the cache quantises it).
     pub orientation: Orientation,
     /// Sun/shadow history; `None`: always sunlit.
     pub shadow: Option<HistoryRef<'a>>,
@@ -468,19 +487,26 @@ pub const SKY_QUANTUM: f64 = 0.02;
 /// Hit/miss counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CacheStats {
+    /// Lookups answered from an entry (or a worker's memo).
     pub hits: u64,
+    /// Lookups that created an entry (each solved once).
     pub misses: u64,
+    /// Entries held.
     pub entries: u64,
     /// Over all solves: accepted and rejected march steps, Newton
     /// iterations (surface-balance evaluations), and the core time spent
     /// solving, ns (a measurement, never part of an output).
     pub steps: u64,
+    /// Rejected march steps.
     pub steps_rejected: u64,
+    /// Newton iterations (surface-balance evaluations).
     pub newton_iterations: u64,
+    /// Core time spent solving, ns.
     pub solve_ns: u64,
     /// March states kept at checkpoints, and solves that resumed from one
     /// instead of marching from the spin-up.
     pub checkpoints: u64,
+    /// Solves that resumed from a checkpoint.
     pub resumed: u64,
 }
 
@@ -549,10 +575,12 @@ impl ThermCache {
         }
     }
 
+    /// The thermal settings every solve of this cache uses.
     pub fn settings(&self) -> &ThermSettings {
         &self.settings
     }
 
+    /// The orientation quantum, degrees.
     pub fn orientation_quantum_deg(&self) -> f64 {
         self.orientation_quantum_deg
     }
@@ -926,6 +954,7 @@ impl ThermCache {
         }
     }
 
+    /// Counters of the cache's use so far.
     pub fn stats(&self) -> CacheStats {
         let entries = self
             .shards

@@ -89,6 +89,7 @@ pub struct FrameForcing {
     /// The forcing at `n_steps + 1` times `step_s` apart from the history's
     /// start.
     pub forcing: Vec<Forcing>,
+    /// Which weather estimators built the forcing.
     pub estimators: EstimatorReport,
     /// [`deep_ground_temp_k`] at the image time, K.
     pub deep_ground_k: f64,

@@ -36,9 +36,11 @@ use crate::weather::{WeatherError, WeatherHistory, WeatherSample};
 pub struct Forcing {
     /// Seconds since the start of the run.
     pub t_s: f64,
+    /// Air temperature, K.
     pub air_temp_k: f64,
     /// Effective clear+cloud sky temperature for longwave exchange, K.
     pub sky_temp_k: f64,
+    /// Station wind speed, m/s.
     pub wind_speed_m_s: f64,
     /// Direct normal irradiance at the ground (0 with the sun down), W/m².
     pub dni_w_m2: f64,
@@ -106,7 +108,9 @@ impl Default for ForcingOptions {
 /// Which estimators [`build_forcing`] used, counted in steps.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EstimatorReport {
+    /// The weather record's source (file name, or "constant").
     pub weather_source: String,
+    /// Forcing samples counted.
     pub n_samples: usize,
     /// GHI, DNI and DHI all measured.
     pub irradiance_measured: usize,
@@ -120,12 +124,14 @@ pub struct EstimatorReport {
     pub erbs_from_measured_ghi: usize,
     /// Ineichen–Perez clear sky × Kasten–Czeplak cloud reduction, Erbs split.
     pub clear_sky_cloud: usize,
+    /// Sky temperature measured by the record.
     pub sky_temp_measured: usize,
     /// Berdahl–Martin clear sky + Crawford–Duchon cloud correction.
     pub sky_temp_estimated: usize,
     /// Cloud cover not in the record: derived from the clear-sky index of
     /// the measured GHI ([`cloud_from_clear_sky_index`]).
     pub cloud_derived: usize,
+    /// Linke turbidity used by the clear-sky model.
     pub linke_turbidity: f64,
 }
 
@@ -225,8 +231,11 @@ pub fn kasten_young_airmass(apparent_zenith_deg: f64) -> Option<f64> {
 /// Clear-sky global, direct normal and diffuse horizontal irradiance, W/m².
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Irradiance {
+    /// Global horizontal irradiance, W/m².
     pub ghi_w_m2: f64,
+    /// Direct normal irradiance, W/m².
     pub dni_w_m2: f64,
+    /// Diffuse horizontal irradiance, W/m².
     pub dhi_w_m2: f64,
 }
 

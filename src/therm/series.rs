@@ -36,7 +36,9 @@ use super::slab::{SlabMaterial, SlabModel, SpinUpStart, StepRecord, SunHistory, 
 /// (start included, end excluded; a daily range may wrap past midnight).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShadowRange {
+    /// From the first instant to the second (UTC).
     Absolute(DateTime<Utc>, DateTime<Utc>),
+    /// Every day from the first UTC time of day to the second.
     Daily(NaiveTime, NaiveTime),
 }
 
@@ -107,8 +109,11 @@ pub enum ForcingSource {
     /// ([`crate::weather::stand_in_solar_shift`], as a render does; a file
     /// without a station is applied at its own times).
     Weather {
+        /// The weather file.
         path: PathBuf,
+        /// A typical-year file, laid on every year of the run.
         typical_year: bool,
+        /// The file's station stands in for the site.
         stand_in: bool,
     },
     /// A ready forcing CSV (see [`super::forcing_csv`]).
@@ -120,19 +125,26 @@ pub enum ForcingSource {
 pub struct FacetRun {
     /// The material's name (reported) and its slab.
     pub material_name: String,
+    /// Its slab.
     pub material: SlabMaterial,
+    /// Where the forcing comes from.
     pub forcing: ForcingSource,
     /// Site (latitude, longitude, elevation); used with a weather file.
     pub site: crate::sun::Site,
+    /// Orientation of the facet.
     pub orientation: Orientation,
     /// First and last output time.
     pub from: DateTime<Utc>,
+    /// Last output time.
     pub to: DateTime<Utc>,
     /// Forcing/output step, minutes (a weather file only; a forcing CSV
     /// has its own).
     pub step_min: f64,
+    /// Spin-up before the first output, hours.
     pub spin_up_h: f64,
+    /// The spin-up's initial profile.
     pub spin_up_start: SpinUpStart,
+    /// The convection model.
     pub convection: Convection,
     /// Height of the facet above the ground, m (0-10000).
     pub facet_height_m: f64,
@@ -147,6 +159,7 @@ pub struct ThermRow {
     /// RFC 3339, whole seconds.
     pub time_utc: String,
     #[serde(flatten)]
+    /// The step's record: surface state and every flux term.
     pub rec: StepRecord,
     /// `F(Ri)` of the surface layer at this step
     /// ([`super::balance::SurfaceFluxes::stability_factor`]; 1 = neutral).
@@ -156,9 +169,13 @@ pub struct ThermRow {
 /// The facet's series; serialises as `irsig therm --json` prints it.
 #[derive(Clone, Debug, Serialize)]
 pub struct FacetSeries {
+    /// The material's name.
     pub material: String,
+    /// Its slab properties.
     pub properties: SlabMaterial,
+    /// Orientation of the facet.
     pub orientation: Orientation,
+    /// The solver settings used.
     pub settings: ThermSettings,
     /// Nodes of the slab's grid.
     pub nodes: usize,
@@ -167,6 +184,7 @@ pub struct FacetSeries {
     /// [`super::conditions::deep_ground_temp_k`] with `to` as the image
     /// time; a fixed `temp_c`: that); `None` for other backs.
     pub deep_ground_k: Option<f64>,
+    /// One row per output time.
     pub rows: Vec<ThermRow>,
     /// The weather estimators used, one line each (none for a forcing CSV).
     #[serde(skip)]

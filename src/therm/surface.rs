@@ -50,6 +50,7 @@ use crate::bounds::{Bound, KeyError};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SurfaceKind {
+    /// A solid: pavement, metal, bare soil.
     Solid {
         /// Depth of water the surface holds before runoff, mm (0: never wet).
         water_capacity_mm: f64,
@@ -62,7 +63,9 @@ pub enum SurfaceKind {
         #[serde(default)]
         soil_wetness: Option<f64>,
     },
+    /// A vegetation canopy over soil.
     Vegetation(Canopy),
+    /// Open water, mixed by eddy diffusion.
     Water(WaterBody),
     /// Seasonal snow: a solid whose surface cannot rise above 0 °C (the
     /// surplus melts it) and that sublimates or takes frost through the
@@ -307,9 +310,13 @@ pub fn mixing_conductances(
 #[serde(rename_all = "snake_case")]
 pub enum KindSpec {
     #[default]
+    /// A solid: pavement, metal, bare soil.
     Solid,
+    /// A vegetation canopy.
     Vegetation,
+    /// Open water.
     Water,
+    /// Seasonal snow.
     Snow,
 }
 
@@ -368,31 +375,47 @@ pub mod surface_defaults {
 pub mod keys {
     use crate::bounds::{Bound, Key};
 
+    /// `water_capacity_mm`: depth of water a solid holds before runoff.
     pub const WATER_CAPACITY: Bound = Bound::new("water_capacity_mm", 0.0, 50.0, "mm");
+    /// `roughness_m` of a solid: roughness length for momentum.
     pub const SOLID_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-5, 0.5, "m");
+    /// `soil_wetness`: θ/θ_sat of a bare soil's top layer.
     pub const SOIL_WETNESS: Bound = Bound::new("soil_wetness", 0.0, 1.0, "");
+    /// `canopy_height_m`: height of a vegetation canopy.
     pub const CANOPY_HEIGHT: Bound = Bound::new("canopy_height_m", 0.01, 30.0, "m");
+    /// `lai`: leaf area index of a canopy.
     pub const LAI: Bound = Bound::new("lai", 0.1, 10.0, "m²/m²");
+    /// `soil_moisture`: relative available soil water of a canopy, 0-1 (Jarvis F₄).
     pub const SOIL_MOISTURE: Bound = Bound::new("soil_moisture", 0.0, 1.0, "");
+    /// `min_stomatal_resistance_s_m`: a well-lit, well-watered leaf's resistance.
     pub const MIN_STOMATAL_RESISTANCE: Bound =
         Bound::new("min_stomatal_resistance_s_m", 10.0, 1000.0, "s/m");
     /// Lower end: the minimum resistance of the same material.
     pub const MAX_STOMATAL_RESISTANCE: Bound =
         Bound::new("max_stomatal_resistance_s_m", 10.0, 1e5, "s/m");
+    /// `radiation_limit_w_m2`: Jarvis R_gl, the light the stomata open to.
     pub const RADIATION_LIMIT: Bound = Bound::new("radiation_limit_w_m2", 1.0, 1000.0, "W/m²");
+    /// `vpd_coeff`: Jarvis h_s, the stomata's closing with the vapour-pressure deficit.
     pub const VPD_COEFF: Bound = Bound::new("vpd_coeff", 0.0, 200.0, "(kg/kg)⁻¹");
+    /// `skin_conductance_w_m2k`: Λ_sk between a canopy's skin and its soil.
     pub const SKIN_CONDUCTANCE: Bound =
         Bound::new("skin_conductance_w_m2k", 0.5, 1.0e4, "W/(m²·K)");
+    /// `canopy_heat_capacity_j_m2k`: the canopy's own heat capacity.
     pub const CANOPY_HEAT_CAPACITY: Bound =
         Bound::new("canopy_heat_capacity_j_m2k", 10.0, 1.0e6, "J/(m²·K)");
+    /// `soil_shortwave_fraction`: share of the absorbed sunlight that reaches the soil.
     pub const SOIL_SHORTWAVE_FRACTION: Bound = Bound::new("soil_shortwave_fraction", 0.0, 0.9, "");
+    /// `extinction_per_m`: shortwave extinction of water.
     pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
+    /// `shortwave_surface_fraction`: share of absorbed sunlight taken by the water's skin.
     pub const SHORTWAVE_SURFACE_FRACTION: Bound =
         Bound::new("shortwave_surface_fraction", 0.0, 1.0, "");
+    /// `eddy_diffusivity_m2_s`: mixing of stably stratified water.
     pub const EDDY_DIFFUSIVITY: Bound = Bound::new("eddy_diffusivity_m2_s", 0.0, 1.0, "m²/s");
     /// Lower end: the eddy diffusivity of the same material.
     pub const CONVECTIVE_DIFFUSIVITY: Bound =
         Bound::new("convective_diffusivity_m2_s", 0.0, 10.0, "m²/s");
+    /// `roughness_m` of water: roughness length for momentum.
     pub const WATER_ROUGHNESS: Bound = Bound::new("roughness_m", 1e-6, 0.1, "m");
 
     const fn row(

@@ -9,21 +9,32 @@ pub enum GeometryError {
     #[error(
         "vertex {index} is not finite: ({x}, {y}, {z}); every coordinate must be a finite number"
     )]
+    /// A vertex with a NaN or infinite coordinate.
     NonFiniteVertex {
+        /// Index of the vertex.
         index: usize,
+        /// Its coordinates, m.
         x: f32,
+        /// y coordinate, m.
         y: f32,
+        /// z coordinate, m.
         z: f32,
     },
     #[error("triangle {tri} refers to vertex {vertex}, but there are only {count} vertices")]
+    /// A triangle naming a vertex past the end of the vertex list.
     IndexOutOfRange {
+        /// Index of the triangle.
         tri: usize,
+        /// The vertex index it names.
         vertex: u32,
+        /// Number of vertices there are.
         count: usize,
     },
     #[error("too many triangles ({0}); at most {max} are supported", max = u32::MAX - 1)]
+    /// More triangles than a `u32` primitive id can number.
     TooMany(usize),
     #[error("Embree error: {0}")]
+    /// An error reported by Embree while building the scene.
     Embree(String),
 }
 
@@ -43,7 +54,9 @@ pub fn has_area(v: [Vec3; 3]) -> bool {
 /// A validated world-space triangle soup, the tracer's input.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
+    /// Vertex positions, m (the scene's local east-north-up frame).
     pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
     /// Indices (into `triangles`) of the triangles that are traced: all but
     /// the zero-area ones.

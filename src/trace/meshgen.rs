@@ -7,11 +7,14 @@ use glam::Vec3;
 /// A triangle soup being assembled.
 #[derive(Clone, Debug, Default)]
 pub struct MeshBuilder {
+    /// Vertex positions, m.
     pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl MeshBuilder {
+    /// An empty mesh.
     pub fn new() -> Self {
         Self::default()
     }
@@ -105,6 +108,7 @@ impl MeshBuilder {
         self
     }
 
+    /// The vertices and triangles built so far.
     pub fn finish(self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         (self.positions, self.triangles)
     }
@@ -115,6 +119,7 @@ impl MeshBuilder {
 pub struct SplitMix(pub u64);
 
 impl SplitMix {
+    /// The next 64-bit value of the sequence.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;

@@ -12,9 +12,13 @@ pub const MAX_RAY_COORD: f32 = 1.844e18;
 /// `|dir|`), and the accepted interval `[tnear, tfar]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
+    /// Origin, m (scene coordinates).
     pub org: Vec3,
+    /// Direction (any non-zero length; sets the unit of `t`).
     pub dir: Vec3,
+    /// Start of the accepted interval, in units of `|dir|`.
     pub tnear: f32,
+    /// End of the accepted interval (`f32::INFINITY`: unbounded).
     pub tfar: f32,
 }
 
@@ -49,9 +53,13 @@ pub fn in_ray_range(v: Vec3) -> bool {
 /// index, and Embree-convention barycentrics (`p = (1-u-v)·v0 + u·v1 + v·v2`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Distance to the hit, in units of the ray's `|dir|`.
     pub t: f32,
+    /// Index of the input triangle hit.
     pub prim: u32,
+    /// Barycentric weight of the triangle's second vertex.
     pub u: f32,
+    /// Barycentric weight of the triangle's third vertex.
     pub v: f32,
 }
 

@@ -103,6 +103,7 @@ pub const UNIFORM_TOLERANCE: f32 = 0.01;
 pub const GRID_SPACING_M: f32 = 2.0;
 /// Smallest and largest grid level (nodes per edge − 1): (n+1)(n+2)/2 nodes.
 pub const MIN_GRID_LEVEL: u32 = 4;
+/// Largest grid level: 153 nodes per side at most.
 pub const MAX_GRID_LEVEL: u32 = 16;
 /// A sample point whose normal ray meets the scene within this distance is
 /// taken as covered (under a decal or slab), m.
@@ -122,11 +123,14 @@ pub fn is_covered(tracer: &dyn Tracer, point: Vec3, normal: Vec3) -> bool {
 /// barycentric grid to interpolate (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SkyPatch {
+    /// One blocked fraction (0-1) for the whole side.
     Uniform(f32),
     /// Level `n`; node (i, j) (weights i/n of corner 1 and j/n of corner 2)
     /// at `values[i·(n + 1) + j]`, i + j ≤ n.
     Grid {
+        /// Grid level: nodes per edge − 1.
         n: u32,
+        /// Blocked fraction (0-1) at each node, in the order given above.
         values: Box<[f32]>,
     },
 }

@@ -30,13 +30,16 @@ impl std::fmt::Display for Backend {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum QueryMode {
     #[default]
+    /// Groups of 16 rays per Embree call (`rtcIntersect16`/`rtcOccluded16`).
     Packet16,
+    /// One ray per call.
     Single,
 }
 
 /// Ray queries over a committed, read-only scene. Implementations are
 /// shared across rayon threads.
 pub trait Tracer: Send + Sync {
+    /// Which backend answers the queries.
     fn backend(&self) -> Backend;
     /// Closest hit of each ray (`hits.len() == rays.len()`). Rays are taken
     /// in groups of 16 in order: for coherent packets, order rays by tile.

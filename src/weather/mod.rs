@@ -79,9 +79,13 @@ pub const DEFAULT_MAX_GAP_S: f64 = 3.0 * 3600.0;
 /// record does not carry them (estimators fill them in later).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WeatherSample {
+    /// Air temperature, K.
     pub air_temp_k: f64,
+    /// Dew point, K.
     pub dew_point_k: f64,
+    /// Wind speed at the station's anemometer, m/s.
     pub wind_speed_m_s: f64,
+    /// Station pressure, Pa.
     pub pressure_pa: f64,
     /// Total cloud cover, 0 (clear) to 1 (overcast); `None` where the
     /// record does not carry it but has measured irradiance the forcing
@@ -104,6 +108,7 @@ pub struct WeatherSample {
 pub struct WeatherHistory {
     /// Strictly increasing sample times (UTC).
     pub times: Vec<DateTime<Utc>>,
+    /// One sample per time in `times`.
     pub samples: Vec<WeatherSample>,
     /// Where the record came from (file name, or "constant").
     pub source: String,
@@ -114,19 +119,35 @@ pub struct WeatherHistory {
 #[derive(Debug, Error)]
 pub enum WeatherError {
     #[error("{file}: cannot read the weather file: {err}")]
-    Io { file: String, err: std::io::Error },
-    #[error("{file}:{line}: {msg}")]
-    Malformed {
+    /// The file cannot be opened or read.
+    Io {
+        /// The file.
         file: String,
+        /// The system's error.
+        err: std::io::Error,
+    },
+    #[error("{file}:{line}: {msg}")]
+    /// A line that does not parse: a field is missing or not a number.
+    Malformed {
+        /// The file, as named to the reader.
+        file: String,
+        /// 1-based line number.
         line: usize,
+        /// What is wrong and what was expected.
         msg: String,
     },
     #[error("{file}:{line}: {field} = {value} is out of range: expected {expected}")]
+    /// A value outside its physical range.
     OutOfRange {
+        /// The file.
         file: String,
+        /// 1-based line number.
         line: usize,
+        /// The field's name.
         field: String,
+        /// The value read, in the field's unit.
         value: f64,
+        /// The range expected, in words.
         expected: String,
     },
     #[error(
@@ -134,18 +155,29 @@ pub enum WeatherError {
         fmt_time(*.time),
         fmt_time(*.prev)
     )]
+    /// A record earlier than the one before it.
     Unsorted {
+        /// The file.
         file: String,
+        /// 1-based line of the record.
         line: usize,
+        /// 1-based line of the record before it.
         prev_line: usize,
+        /// Its time (UTC).
         time: DateTime<Utc>,
+        /// The earlier record's time (UTC).
         prev: DateTime<Utc>,
     },
     #[error("{file}:{line}: time {} repeats line {prev_line}: duplicate record", fmt_time(*.time))]
+    /// A record at the same time as an earlier one.
     Duplicate {
+        /// The file.
         file: String,
+        /// 1-based line of the record.
         line: usize,
+        /// 1-based line of the record it repeats.
         prev_line: usize,
+        /// Their time (UTC).
         time: DateTime<Utc>,
     },
     #[error(
@@ -155,16 +187,29 @@ pub enum WeatherError {
         fmt_time(*.time),
         .max_gap_s / 3600.0
     )]
+    /// A gap between records longer than the reader allows.
     Gap {
+        /// The file.
         file: String,
+        /// 1-based line of the record after the gap.
         line: usize,
+        /// 1-based line of the record before the gap.
         prev_line: usize,
+        /// The time before the gap (UTC).
         prev: DateTime<Utc>,
+        /// The time after the gap (UTC).
         time: DateTime<Utc>,
+        /// The largest gap allowed, s.
         max_gap_s: f64,
     },
     #[error("{file}: no weather records (expected {expected})")]
-    Empty { file: String, expected: String },
+    /// A file with no records.
+    Empty {
+        /// The file.
+        file: String,
+        /// What records the format expects, in words.
+        expected: String,
+    },
     #[error(
         "weather '{source_name}' (records {} to {}) does not cover the window {} to {}: missing {missing_desc}",
         fmt_time(*.have_start),
@@ -172,12 +217,19 @@ pub enum WeatherError {
         fmt_time(*.start),
         fmt_time(*.end)
     )]
+    /// A record that does not cover the window a render or run needs.
     NotCovered {
+        /// The record's source (file name, or "constant").
         source_name: String,
+        /// First record time (UTC).
         have_start: DateTime<Utc>,
+        /// Last record time (UTC).
         have_end: DateTime<Utc>,
+        /// Start of the window needed (UTC).
         start: DateTime<Utc>,
+        /// End of the window needed (UTC).
         end: DateTime<Utc>,
+        /// The missing intervals, in words.
         missing_desc: String,
         /// The missing intervals, UTC.
         missing: Vec<(DateTime<Utc>, DateTime<Utc>)>,
@@ -187,16 +239,25 @@ pub enum WeatherError {
          typical-year file (its months come from different years, {first_year} to {last_year}); \
          set `typical_year = true` in the scene's [weather.file] (irsig therm: --typical-year)"
     )]
+    /// A file whose dates jump between years: a typical-year file read as a dated one.
     TypicalYear {
+        /// The file.
         file: String,
+        /// 1-based line of the record after the jump.
         line: usize,
+        /// 1-based line of the record before it.
         prev_line: usize,
+        /// The date before the jump.
         prev_date: NaiveDate,
+        /// The date after it.
         date: NaiveDate,
+        /// Earliest year of the file's records.
         first_year: i32,
+        /// Latest year of the file's records.
         last_year: i32,
     },
     #[error("{0}")]
+    /// Any other problem, as a whole message.
     Invalid(String),
 }
 
@@ -233,7 +294,9 @@ impl Default for ReadOptions {
 /// February records are dropped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct YearSpan {
+    /// First year, inclusive.
     pub first: i32,
+    /// Last year, inclusive.
     pub last: i32,
 }
 
@@ -278,9 +341,13 @@ pub const SUPPORTED_FORMATS: &str = "irsig plain CSV (docs/weather-format.md), N
 /// Station metadata carried by TMY3 and EPW headers.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WeatherStation {
+    /// Station name, as the header gives it.
     pub name: String,
+    /// Latitude, degrees north.
     pub lat_deg: f64,
+    /// Longitude, degrees east.
     pub lon_deg: f64,
+    /// Elevation above sea level, m.
     pub elevation_m: f64,
     /// Offset of the file's local standard time from UTC, hours.
     pub utc_offset_h: f64,
@@ -289,8 +356,11 @@ pub struct WeatherStation {
 /// A weather file as read: the history, the format and any station metadata.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WeatherFile {
+    /// The records, in UTC.
     pub history: WeatherHistory,
+    /// The format the file was read as.
     pub format: WeatherFormat,
+    /// The station of the header (TMY3, TMY2, EPW, PSM3, PVGIS); `None` for plain CSV.
     pub station: Option<WeatherStation>,
 }
 

@@ -15,14 +15,18 @@ use super::*;
 /// day), which is what the spin-up before the traced window needs.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct SunHistory {
+    /// Time of sample 0, s from the start of the run.
     pub start_s: i64,
+    /// Interval between samples, s.
     pub interval_s: i64,
+    /// Sunlit flag of each sample (true: the facet sees the sun).
     pub sunlit: Vec<bool>,
 }
 
 impl SunHistory {
     /// Default sampling: 48 samples per 24 h (every 30 min).
     pub const DEFAULT_INTERVAL_S: i64 = 1800;
+    /// Default number of samples (48 × 30 min = 24 h).
     pub const DEFAULT_SAMPLES: usize = 48;
 
     fn index_at(&self, t_s: f64) -> usize {

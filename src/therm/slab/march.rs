@@ -17,9 +17,13 @@ use super::*;
 /// Surface state and every flux term at one output time.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StepRecord {
+    /// Time, s from the start of the forcing.
     pub t_s: f64,
+    /// Surface temperature, K.
     pub surface_temp_k: f64,
+    /// Air temperature, K.
     pub air_temp_k: f64,
+    /// Whether the facet saw the sun (a sunlit fraction above one half).
     pub sunlit: bool,
     /// Sunlit fraction in force (0 … 1).
     pub sunlit_fraction: f64,
@@ -27,6 +31,7 @@ pub struct StepRecord {
     pub water_store_mm: f64,
     /// Sky view factor of the facet (the rest of the hemisphere is ground).
     pub sky_view: f64,
+    /// Every term of the surface energy balance.
     pub surface: SurfaceFluxes,
     /// Conduction from the surface node into the slab, W/m² (under a
     /// canopy: from the canopy skin into the soil).
@@ -40,6 +45,7 @@ pub struct StepRecord {
     pub melt_w_m2: f64,
     /// Flux into the slab through the back face, W/m².
     pub back_w_m2: f64,
+    /// Temperature of the back face, K.
     pub back_temp_k: f64,
     /// Heat stored in the slab relative to 0 K, J/m².
     pub stored_energy_j_m2: f64,
@@ -61,6 +67,7 @@ pub struct ThermSolution {
     pub series: Vec<StepRecord>,
     /// Accepted and rejected internal steps.
     pub steps_accepted: usize,
+    /// Rejected internal steps.
     pub steps_rejected: usize,
     /// Newton iterations over all steps (accepted, rejected and the
     /// spin-up's steady state), i.e. surface-balance evaluations.
@@ -87,15 +94,20 @@ pub struct MarchState {
     energy_in: f64,
     /// Accepted and rejected steps and Newton iterations so far.
     pub accepted: usize,
+    /// Rejected steps so far.
     pub rejected: usize,
+    /// Newton iterations so far.
     pub newton: usize,
 }
 
 /// A slab of one material at one orientation, ready to march.
 #[derive(Clone, Debug)]
 pub struct SlabModel {
+    /// The slab's material.
     pub material: SlabMaterial,
+    /// Orientation of the facet.
     pub orientation: Orientation,
+    /// Solver settings (step, tolerance, mesh, convection, spin-up).
     pub settings: ThermSettings,
     /// The graded mesh (shared by the solves of one material in a cache).
     pub mesh: Arc<Mesh>,

@@ -24,6 +24,7 @@ pub enum BackBoundary {
     #[serde(rename = "air")]
     ExposedToAir {
         #[serde(rename = "exposed_area", default = "one")]
+        /// Exposed back area per unit front area (`exposed_area`).
         area_factor: f64,
     },
     /// Back face held at a deep-ground temperature: `temp_k` (written in
@@ -37,6 +38,7 @@ pub enum BackBoundary {
             skip_serializing_if = "Option::is_none",
             with = "celsius"
         )]
+        /// The deep-ground temperature, K (`None`: the site's or the forcing's).
         temp_k: Option<f64>,
     },
 }
@@ -88,16 +90,24 @@ mod celsius {
 pub mod keys {
     use crate::bounds::{Bound, Key};
 
+    /// `density_kg_m3`: ρ.
     pub const DENSITY: Bound = Bound::new("density_kg_m3", 1.0, 25_000.0, "kg/m³");
+    /// `specific_heat_j_kgk`: c.
     pub const SPECIFIC_HEAT: Bound = Bound::new("specific_heat_j_kgk", 100.0, 15_000.0, "J/(kg·K)");
+    /// `conductivity_w_mk`: k.
     pub const CONDUCTIVITY: Bound = Bound::new("conductivity_w_mk", 0.005, 2_500.0, "W/(m·K)");
+    /// `thickness_m`: L.
     pub const THICKNESS: Bound = Bound::new("thickness_m", 1e-5, 10.0, "m");
+    /// `solar_absorptivity`: α for sunlight.
     pub const SOLAR_ABSORPTIVITY: Bound = Bound::new("solar_absorptivity", 0.0, 1.0, "");
+    /// `thermal_emissivity`: ε.
     pub const THERMAL_EMISSIVITY: Bound = Bound::new("thermal_emissivity", 0.0, 1.0, "");
     /// Internal heat source: up to about a solar constant either way
     /// (engines, heated buildings, cooled skins).
     pub const INTERNAL_POWER: Bound = Bound::new("internal_power_w_m2", -1_000.0, 1_000.0, "W/m²");
+    /// `exposed_area` of a back exposed to air (its area per unit front area).
     pub const EXPOSED_AREA: Bound = Bound::new("exposed_area", 1e-6, 10.0, "");
+    /// `temp_c` of a deep-ground back.
     pub const DEEP_GROUND_TEMP: Bound = Bound::new("temp_c", -90.0, 100.0, "°C");
 
     /// Every key of the construction, in the order the docs list them.
@@ -182,13 +192,20 @@ pub mod keys {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlabMaterial {
+    /// Density ρ, kg/m³.
     pub density_kg_m3: f64,
+    /// Specific heat c, J kg⁻¹ K⁻¹.
     pub specific_heat_j_kgk: f64,
+    /// Thermal conductivity k, W m⁻¹ K⁻¹.
     pub conductivity_w_mk: f64,
+    /// Thickness L, m.
     pub thickness_m: f64,
+    /// Absorptivity α for sunlight (DIRSIG's VISIBLE_EMISSIVITY), 0-1.
     pub solar_absorptivity: f64,
+    /// Thermal emissivity ε, 0-1.
     pub thermal_emissivity: f64,
     #[serde(default)]
+    /// What the back face sees.
     pub back: BackBoundary,
     /// Internal heat delivered at the surface node, W/m² (docs/models.md, "Thermal model").
     #[serde(default)]

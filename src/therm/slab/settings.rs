@@ -48,6 +48,7 @@ pub struct ThermSettings {
     pub surface_time_s: f64,
     /// Largest ratio between neighbouring cell sizes.
     pub max_growth: f64,
+    /// The convection model.
     pub convection: Convection,
     /// Sun/shadow between history samples: a linear ramp (true, the
     /// default) or the nearest sample's flag (THERM's step rule).
@@ -102,11 +103,19 @@ impl ThermSettings {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ThermError {
     #[error("bad material: {0}")]
+    /// A material the solver cannot use (what is wrong).
     BadMaterial(String),
     #[error("bad thermal input: {0}")]
+    /// Forcing or history the solver cannot use (what is wrong).
     BadInput(String),
     #[error("thermal solver failed at t = {t_s} s: {why}")]
-    NoConvergence { t_s: f64, why: String },
+    /// A step that would not converge.
+    NoConvergence {
+        /// Time of the step, s from the start of the forcing.
+        t_s: f64,
+        /// Why it failed.
+        why: String,
+    },
 }
 
 #[cfg(test)]

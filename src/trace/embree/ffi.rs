@@ -2,6 +2,8 @@
 //! against the installed Embree headers. This module and [`super`] are the
 //! only places in irsig with `unsafe` code.
 #![allow(
+    // Generated items: bindgen writes no docs (the Embree headers hold them).
+    missing_docs,
     non_upper_case_globals,
     non_camel_case_types,
     non_snake_case,
