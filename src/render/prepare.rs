@@ -20,7 +20,7 @@ use crate::scene::material::{Emissivity as SceneEmissivity, Material};
 use crate::scene::spec::TracerKind;
 use crate::sun::{SolarPosition, solar_position};
 use crate::therm::cache::ThermCache;
-use crate::therm::conditions::{solve_ground, with_deep_ground};
+use crate::therm::conditions::frame_ground;
 use crate::therm::forcing::{EstimatorReport, Forcing};
 use crate::therm::slab::{SlabMaterial, ThermSettings};
 use crate::trace::sky_view::{SkyPatch, barycentric};
@@ -369,20 +369,9 @@ pub fn ground_material(scene: &LoadedScene) -> Option<u32> {
 pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Result<Conditions> {
     let sc = &st.scene.scene;
     let opts = &sc.render;
-    let FrameWeather {
-        site,
-        start,
-        interval_s,
-        n_sun,
-        coarse_every,
-        step_s,
-        mut forcing,
-        estimators,
-        deep_ground_k,
-    } = frame_weather(&st.scene, image_time)?;
-    let mut slabs = with_deep_ground(&st.slabs, deep_ground_k);
+    let mut fw = frame_weather(&st.scene, image_time)?;
     let settings = ThermSettings {
-        step_s,
+        step_s: fw.step_s,
         tol_k: Some(opts.thermal_tol_k),
         tol_age_s: Some(THERMAL_TOL_AGE_S),
         spin_up_h: opts.history_hours,
@@ -392,17 +381,29 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
     // sunlit and horizontal over the history; its temperature series and
     // solar albedo go into every facet's balance (F_gnd = (1 − cos β)/2).
     let ground = ground_material(&st.scene);
-    let mut ground_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
-    if let Some(g) = ground {
-        let m = slabs[g as usize];
-        ground_temp_k =
-            solve_ground(&m, &settings, &mut forcing, &mut slabs).with_context(|| {
-                format!(
-                    "thermal model of the ground material {}",
-                    st.scene.materials[g as usize].name
-                )
-            })?;
-    }
+    let (slabs, ground_temp_k) = frame_ground(
+        &st.slabs,
+        fw.deep_ground_k,
+        ground.map(|g| g as usize),
+        &settings,
+        &mut fw.forcing,
+    )
+    .with_context(|| {
+        format!(
+            "thermal model of the ground material {}",
+            ground.map_or("", |g| st.scene.materials[g as usize].name.as_str())
+        )
+    })?;
+    let FrameWeather {
+        site,
+        start,
+        interval_s,
+        n_sun,
+        coarse_every,
+        forcing,
+        estimators,
+        ..
+    } = fw;
     let suns = (0..=n_sun)
         .map(|k| {
             let t = start + chrono::Duration::seconds(k * interval_s);

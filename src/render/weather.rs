@@ -1,10 +1,11 @@
 //! The scene's weather for a render: its record over a window (a file, a
 //! stand-in moved to the site's solar time, or constant weather), the
 //! warnings about it, and the forcing of one frame's history
-//! ([`frame_weather`], from [`crate::therm::conditions`]). What
-//! [`super::prepare::prepare_conditions`] assembles a frame from. It reads
-//! the loaded scene, which sits above `therm` and `weather`, so it stays in
-//! the render.
+//! ([`frame_weather`]). What [`super::prepare::prepare_conditions`]
+//! assembles a frame from. This file only unpacks the loaded scene (which
+//! sits above `therm` and `weather`): the physics — the thermal steps, the
+//! forcing, the deep-ground rule, window means, the ground solve — is in
+//! [`crate::therm::conditions`], plain data in and out.
 
 use anyhow::Context;
 use chrono::{DateTime, Utc};
@@ -12,7 +13,7 @@ use chrono::{DateTime, Utc};
 use crate::scene::LoadedScene;
 use crate::scene::spec::WeatherSpec;
 use crate::sun::Site;
-use crate::therm::conditions::{FrameForcing, frame_forcing, weather_window};
+use crate::therm::conditions::{FrameForcing, frame_forcing, history_steps, weather_window};
 use crate::weather::{ReadOptions, WeatherHistory, YearSpan};
 
 /// The scene's weather record: its file (whole), or its constant weather
@@ -223,9 +224,7 @@ pub fn frame_weather(
     let n_sun = n_coarse * coarse_every;
     let history_s = n_sun * interval_s;
     let start = image_time - chrono::Duration::seconds(history_s);
-    let step_s = opts.thermal_step_min * 60.0;
-    let n_steps = (history_s as f64 / step_s).ceil().max(1.0) as usize;
-    let step_s = history_s as f64 / n_steps as f64;
+    let (n_steps, step_s) = history_steps(history_s as f64, opts.thermal_step_min * 60.0);
 
     let (from, to) = weather_window(start, image_time);
     let history = scene_weather(scene, from, to)?;

@@ -1,9 +1,12 @@
 //! The thermal conditions of one frame, from its weather record: the
-//! forcing of the history, the deep-ground temperature (a multi-day mean of
-//! the air), means over a window of the record (the atmosphere's follow-
-//! the-weather fit), and the ground that tilted facets see, solved sunlit
-//! and horizontal. Plain data in and out: the render assembles a frame from
-//! these ([`crate::render::prepare::prepare_conditions`]).
+//! history's thermal steps, the forcing of the history, the deep-ground
+//! temperature (a multi-day mean of the air), means over a window of the
+//! record (the atmosphere's follow-the-weather fit), and the ground that
+//! tilted facets see, solved sunlit and horizontal, with the frame's slabs.
+//! Plain data in and out (a parsed record, a site, times, slabs): the
+//! render only unpacks its loaded scene and calls these
+//! ([`crate::render::weather::frame_weather`],
+//! [`crate::render::prepare::prepare_conditions`]).
 
 use chrono::{DateTime, Utc};
 
@@ -83,6 +86,14 @@ pub fn weather_window(
     )
 }
 
+/// The thermal steps of a history `history_s` long, with steps of at
+/// most `step_s`: (number of steps, at least one; their length, s), the
+/// history cut into equal whole steps.
+pub fn history_steps(history_s: f64, step_s: f64) -> (usize, f64) {
+    let n_steps = (history_s / step_s).ceil().max(1.0) as usize;
+    (n_steps, history_s / n_steps as f64)
+}
+
 /// The forcing of a frame's thermal history and its deep-ground
 /// temperature.
 pub struct FrameForcing {
@@ -154,6 +165,30 @@ pub fn solve_ground(
     Ok(sol.surface_temp_k)
 }
 
+/// A frame's slabs and the temperature of the ground its tilted facets
+/// see: `slabs` with `deep_ground = {}` set to `deep_ground_k`
+/// ([`with_deep_ground`]); with a `ground` material (an index into
+/// `slabs`), that material solved sunlit and horizontal ([`solve_ground`]:
+/// its series into `forcing`, its albedo into every slab) and its surface
+/// temperature at the last step; without one, the air temperature at the
+/// last step (288.15 K with no forcing). Returns (slabs, ground
+/// temperature, K).
+pub fn frame_ground(
+    slabs: &[SlabMaterial],
+    deep_ground_k: f64,
+    ground: Option<usize>,
+    settings: &ThermSettings,
+    forcing: &mut [Forcing],
+) -> anyhow::Result<(Vec<SlabMaterial>, f64)> {
+    let mut slabs = with_deep_ground(slabs, deep_ground_k);
+    let mut ground_temp_k = forcing.last().map(|f| f.air_temp_k).unwrap_or(288.15);
+    if let Some(g) = ground {
+        let m = slabs[g];
+        ground_temp_k = solve_ground(&m, settings, forcing, &mut slabs)?;
+    }
+    Ok((slabs, ground_temp_k))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,6 +251,17 @@ mod tests {
         let got = deep_ground_temp_k(&w, &SITE, hist_start, image).unwrap();
         let expect = trend(150.0 - 48.0) + 273.15;
         assert!((got - expect).abs() < 1e-9, "{got} vs {expect}");
+    }
+
+    /// The history cut into equal whole steps of at most the step asked
+    /// for (worked by hand): 72 h at 15 min is 288 steps of 900 s; 1 h at
+    /// 7 min is ⌈8.57⌉ = 9 steps of 400 s; a history shorter than one step
+    /// is one step.
+    #[test]
+    fn history_steps_are_whole_and_at_most_the_step() {
+        assert_eq!(history_steps(72.0 * 3600.0, 900.0), (288, 900.0));
+        assert_eq!(history_steps(3600.0, 420.0), (9, 400.0));
+        assert_eq!(history_steps(600.0, 900.0), (1, 600.0));
     }
 
     /// A record shorter than the window: the mean over what there is.
