@@ -21,7 +21,12 @@
 //! paths outside comments, and bare paths that start at a child module of the
 //! file (`mod obj;` then `obj::load_obj(…)` or `use obj::X`, with no `use` of
 //! a `crate::` path), resolved to the longest path that is a file of
-//! `src/`. Each file's `#[cfg(test)]` module (the tail of the file, by the
+//! `src/`. A path that names an item a module re-exports (`pub use
+//! sample::Sample;` in `render/mod.rs`, then `super::Sample` or
+//! `crate::render::Sample`) is followed to the file that defines it, and a
+//! file that uses a name it re-exports itself has an edge to that name's
+//! file (`pub use thermal::key_history;` and `key_history(…)` in the same
+//! `mod.rs`). Each file's `#[cfg(test)]` module (the tail of the file, by the
 //! project's convention, or a `tests.rs` file of its own) is left out: a
 //! test may reach anywhere.
 
@@ -183,14 +188,191 @@ fn paths_from(code: &str, start: &str, bare: bool) -> Vec<Vec<String>> {
     out
 }
 
-/// The file of `src/` a path names: its longest prefix that is a module file.
+/// A module's re-exports: (module path, name) → the full path it stands for.
+type Reexports = BTreeMap<(Vec<String>, String), Vec<String>>;
+
+/// The file of `src/` a path names: its longest prefix that is a module
+/// file, or, when the rest of the path starts with a name that module
+/// re-exports, the file of the re-exported path (followed up to 8 times).
 fn resolve<'a>(
     path: &[String],
     by_module: &'a BTreeMap<Vec<String>, String>,
+    reexports: &Reexports,
 ) -> Option<&'a String> {
-    (1..=path.len())
-        .rev()
-        .find_map(|n| by_module.get(&path[..n].to_vec()))
+    let mut path = path.to_vec();
+    for _ in 0..8 {
+        let n = (1..=path.len())
+            .rev()
+            .find(|&n| by_module.contains_key(&path[..n]))?;
+        match path
+            .get(n)
+            .and_then(|name| reexports.get(&(path[..n].to_vec(), name.clone())))
+        {
+            Some(to) if *to != path[..=n] => {
+                let mut next = to.clone();
+                next.extend_from_slice(&path[n + 1..]);
+                path = next;
+            }
+            _ => return by_module.get(&path[..n]),
+        }
+    }
+    None
+}
+
+/// The `pub use` / `pub(crate) use` statements of `code` (the file of
+/// `module`, whose parent is `parent`): each re-exported name (its alias,
+/// or the path's last segment) and the full path it stands for. A glob
+/// (`pub use spec::*;`) re-exports every item its module defines (found by
+/// [`defines`] in `files`).
+fn reexports_of(
+    code: &str,
+    module: &[String],
+    parent: &[String],
+    files: &[SourceFile],
+) -> Vec<(String, Vec<String>)> {
+    let mut out = Vec::new();
+    for stmt in reexport_statements(code) {
+        let body = stmt.trim().trim_end_matches(';');
+        let (head, items): (&str, Vec<&str>) = match body.find('{') {
+            Some(i) => (
+                &body[..i],
+                body[i + 1..body.rfind('}').unwrap_or(body.len())]
+                    .split(',')
+                    .collect(),
+            ),
+            None => ("", vec![body]),
+        };
+        for item in items {
+            let item = item.trim();
+            if item.is_empty() {
+                continue;
+            }
+            let (path, alias) = match item.split_once(" as ") {
+                Some((p, a)) => (p.trim(), Some(a.trim())),
+                None => (item, None),
+            };
+            let segs: Vec<&str> = head
+                .split("::")
+                .chain(path.split("::"))
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .collect();
+            let Some((&first, rest)) = segs.split_first() else {
+                continue;
+            };
+            let mut full: Vec<String> = match first {
+                "crate" => Vec::new(),
+                "super" => parent.to_vec(),
+                "self" => module.to_vec(),
+                child => {
+                    let mut m = module.to_vec();
+                    m.push(child.to_string());
+                    m
+                }
+            };
+            full.extend(rest.iter().map(|s| s.to_string()));
+            if full.last().is_some_and(|l| l == "*") {
+                full.pop();
+                if let Some(f) = files.iter().find(|f| f.module == full) {
+                    for name in defined_names(&code_of(&f.text)) {
+                        let mut to = full.clone();
+                        to.push(name.clone());
+                        out.push((name, to));
+                    }
+                }
+                continue;
+            }
+            let name = alias.unwrap_or(full.last().map_or("", String::as_str));
+            if name != "self" && name != "_" {
+                out.push((name.to_string(), full.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// The re-export statements of `code` (`pub use …;`, `pub(crate) use
+/// …;`), from `use` to the `;`.
+fn reexport_statements(code: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut rest = code;
+    while let Some(i) = rest.find("pub") {
+        let word_start = i == 0 || !rest[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_');
+        let after = &rest[i + 3..];
+        let after = after
+            .strip_prefix("(crate)")
+            .or_else(|| after.strip_prefix("(super)"))
+            .unwrap_or(after);
+        let t = after.trim_start();
+        if word_start && let Some(body) = t.strip_prefix("use ") {
+            let end = body.find(';').map_or(body.len(), |e| e + 1);
+            out.push(&body[..end]);
+            rest = &body[end..];
+        } else {
+            rest = &rest[i + 3..];
+        }
+    }
+    out
+}
+
+/// The names of the public items `code` defines (`pub fn x`, `pub struct
+/// X`, …, `pub(crate)` too).
+fn defined_names(code: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for line in code.lines() {
+        let t = line.trim_start();
+        let Some(t) = t.strip_prefix("pub") else {
+            continue;
+        };
+        let t = t
+            .strip_prefix("(crate)")
+            .or_else(|| t.strip_prefix("(super)"))
+            .unwrap_or(t)
+            .trim_start();
+        let t = t.strip_prefix("const fn ").unwrap_or(t);
+        for kw in [
+            "fn ", "struct ", "enum ", "type ", "const ", "static ", "trait ", "mod ",
+        ] {
+            if let Some(rest) = t.strip_prefix(kw) {
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if !name.is_empty() {
+                    out.insert(name);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Whether `code` uses `name` (a name its file re-exports): as a word of
+/// its own that starts a path (not after `::` or `.`, not in a `mod name;`
+/// declaration); a function's name (lower case) only where it is called
+/// or starts a path (`name(`, `name::`: not a variable of the same name);
+/// a type's name not where a line declares an enum variant or a field of
+/// that name (`Name(String),`, `Name {` with no `=` on the line).
+fn uses_name(code: &str, name: &str) -> bool {
+    let is_fn = name.starts_with(|c: char| c.is_lowercase() || c == '_');
+    code.match_indices(name).any(|(i, _)| {
+        let (before, after) = (&code[..i], &code[i + name.len()..]);
+        let starts = !before
+            .ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == ':' || c == '.')
+            && !before.trim_end().ends_with(" mod");
+        let ends = !after.starts_with(|c: char| c.is_alphanumeric() || c == '_');
+        let line_start = before.rfind('\n').map_or(0, |n| n + 1);
+        let line = code[line_start..].lines().next().unwrap_or("");
+        let declares = before[line_start..].trim().is_empty()
+            && !line.contains('=')
+            && (after.starts_with('(') || after.starts_with(" {") || after.starts_with(','));
+        let used = if is_fn {
+            after.starts_with('(') || after.starts_with("::")
+        } else {
+            !declares
+        };
+        starts && ends && used
+    })
 }
 
 fn layer_of(top: &str) -> usize {
@@ -209,6 +391,13 @@ fn graph() -> (Vec<SourceFile>, BTreeMap<String, BTreeSet<String>>) {
         .iter()
         .map(|f| (f.module.clone(), f.rel.clone()))
         .collect();
+    let mut reexports = Reexports::new();
+    for f in &files {
+        let parent = &f.module[..f.module.len().saturating_sub(1)];
+        for (name, to) in reexports_of(&code_of(&f.text), &f.module, parent, &files) {
+            reexports.insert((f.module.clone(), name), to);
+        }
+    }
     let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     for f in &files {
         // A unit-test module in its own file (`#[cfg(test)] mod tests;`).
@@ -240,9 +429,15 @@ fn graph() -> (Vec<SourceFile>, BTreeMap<String, BTreeSet<String>>) {
                 targets.push(full);
             }
         }
+        // A name this file re-exports, used in its own code.
+        for ((m, name), to) in &reexports {
+            if *m == f.module && uses_name(&used, name) {
+                targets.push(to.clone());
+            }
+        }
         let set = edges.entry(f.rel.clone()).or_default();
         for t in targets {
-            if let Some(to) = resolve(&t, &by_module)
+            if let Some(to) = resolve(&t, &by_module, &reexports)
                 && *to != f.rel
             {
                 set.insert(to.clone());
@@ -492,6 +687,63 @@ fn the_resolver_sees_a_planted_up_import_and_cycle() {
         "obj::",
     );
     assert_eq!(b, vec![vec!["load_obj".to_string()]], "{b:?}");
+    // A re-exported name is followed to the file that defines it.
+    let files = vec![
+        SourceFile {
+            rel: "r/mod.rs".into(),
+            module: vec!["r".into()],
+            text: "mod s;\npub use s::{f, G as H};\npub use t::*;\nfn go() { f(); }\n".into(),
+        },
+        SourceFile {
+            rel: "r/s.rs".into(),
+            module: vec!["r".into(), "s".into()],
+            text: "pub fn f() {}\n".into(),
+        },
+        SourceFile {
+            rel: "r/t.rs".into(),
+            module: vec!["r".into(), "t".into()],
+            text: "pub(crate) struct K;\n".into(),
+        },
+    ];
+    let r = reexports_of(&files[0].text, &files[0].module, &[], &files);
+    let to = |p: &[&str]| p.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    assert_eq!(
+        r,
+        vec![
+            ("f".to_string(), to(&["r", "s", "f"])),
+            ("H".to_string(), to(&["r", "s", "G"])),
+            ("K".to_string(), to(&["r", "t", "K"])),
+        ]
+    );
+    let by_module: BTreeMap<Vec<String>, String> = files
+        .iter()
+        .map(|f| (f.module.clone(), f.rel.clone()))
+        .collect();
+    let rx: Reexports = r
+        .into_iter()
+        .map(|(n, p)| ((vec!["r".to_string()], n), p))
+        .collect();
+    assert_eq!(
+        resolve(&to(&["r", "K", "new"]), &by_module, &rx).map(String::as_str),
+        Some("r/t.rs")
+    );
+    assert_eq!(
+        resolve(&to(&["r", "go"]), &by_module, &rx).map(String::as_str),
+        Some("r/mod.rs")
+    );
+    assert!(uses_name("fn go() { f(); }", "f"));
+    assert!(!uses_name("x.f(); a::f(); ff();", "f"));
+    // Not a module declaration, a variable or a variant of the same name.
+    assert!(!uses_name(
+        "pub mod rays;\nfn t(rays: &[Ray]) -> usize { rays.len() }",
+        "rays"
+    ));
+    assert!(!uses_name(
+        "enum E {\n    Emissivity(String),\n}",
+        "Emissivity"
+    ));
+    assert!(uses_name("let e = Emissivity::Table(t);", "Emissivity"));
+    assert!(uses_name("fn f(b: &Batch) -> Vec<FrameJob> {", "FrameJob"));
     // Comments and the trailing test module are not code.
     let c = code_of(
         "use a; // crate::x\n/// [`crate::y`]\n#[cfg(test)]\nmod tests {\n use crate::z;\n}\n",
