@@ -5,7 +5,7 @@
 //! 10x from 40 to 5 cm⁻¹.
 
 mod common;
-use common::{airfield, irsig, run};
+use common::{airfield, irsig, run, succeed};
 
 fn csv_rows(text: &str) -> Vec<Vec<String>> {
     text.lines()
@@ -135,26 +135,18 @@ fn accuracy_ladder_needs_one_knob() {
 
 #[test]
 fn speed_reports_the_write_stage() {
-    let out = irsig()
-        .args([
-            "bench",
-            "speed",
-            airfield().to_str().unwrap(),
-            "--sizes",
-            "32",
-            "--subdivide",
-            "1",
-            "--set",
-            "render.history_hours=6",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = succeed(irsig().args([
+        "bench",
+        "speed",
+        airfield().to_str().unwrap(),
+        "--sizes",
+        "32",
+        "--subdivide",
+        "1",
+        "--set",
+        "render.history_hours=6",
+        "--json",
+    ]));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let r = &rows[0];
     let f = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k} in {r}"));

@@ -6,6 +6,9 @@
 //! program quietly, `--version` names the commit and Embree, and the shell
 //! completions and man page are generated.
 
+mod common;
+use common::succeed;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -51,18 +54,13 @@ fn a_copied_binary_renders_from_any_folder() {
     let bin = dir.path().join("irsig");
     std::fs::copy(env!("CARGO_BIN_EXE_irsig"), &bin).unwrap();
     copy_dir(&root().join("scenes"), &dir.path().join("scenes"));
-    let out = Command::new(&bin)
-        .current_dir(dir.path())
-        .env_remove("IRSIG_DATA")
-        .args(["render", "scenes/plate/scene.toml", "-o", "out/p.exr"])
-        .args(SMALL)
-        .args(["--set", "atmosphere.model=\"mid-latitude-summer\""])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeed(
+        Command::new(&bin)
+            .current_dir(dir.path())
+            .env_remove("IRSIG_DATA")
+            .args(["render", "scenes/plate/scene.toml", "-o", "out/p.exr"])
+            .args(SMALL)
+            .args(["--set", "atmosphere.model=\"mid-latitude-summer\""]),
     );
     assert!(dir.path().join("out/p.exr").is_file());
     let list = Command::new(&bin)
@@ -170,17 +168,12 @@ fn batch_progress_quiet_and_stats() {
     let dir = tempfile::tempdir().unwrap();
     let exr = dir.path().join("p.exr");
     let run = |extra: &[&str]| {
-        let out = irsig()
-            .args(["render", plate().to_str().unwrap(), "-o"])
-            .arg(&exr)
-            .args(SMALL)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let out = succeed(
+            irsig()
+                .args(["render", plate().to_str().unwrap(), "-o"])
+                .arg(&exr)
+                .args(SMALL)
+                .args(extra),
         );
         (
             String::from_utf8(out.stdout).unwrap(),

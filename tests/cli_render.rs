@@ -1,6 +1,9 @@
 //! `irsig render` end to end: EXR, PNG, JSON and ENVI in MWIR and LWIR,
 //! nothing partial left behind, clear errors for bad flags.
 
+mod common;
+use common::succeed;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -12,32 +15,31 @@ fn scene() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/airfield/scene.toml")
 }
 
+/// Renders the airfield scene into `exr` at `w`×`h` pixels with the flags
+/// `extra`; panics with its stderr unless it succeeds.
+fn render_airfield(exr: &Path, (w, h): (u32, u32), extra: &[&str]) {
+    let size = [
+        format!("sensor.width_px={w}"),
+        format!("sensor.height_px={h}"),
+    ];
+    succeed(
+        irsig()
+            .arg("render")
+            .arg(scene())
+            .arg("-o")
+            .arg(exr)
+            .args(["--set", &size[0], "--set", &size[1]])
+            .args(extra),
+    );
+}
+
 #[test]
 fn render_writes_exr_png_json_and_envi_in_both_bands() {
     let dir = tempfile::tempdir().unwrap();
     for band in ["mwir", "lwir"] {
         let exr = dir.path().join(format!("a-{band}.exr"));
-        let out = irsig()
-            .arg("render")
-            .arg(scene())
-            .arg("-o")
-            .arg(&exr)
-            .args([
-                "--envi",
-                "--stats",
-                "--set",
-                "sensor.width_px=48",
-                "--set",
-                "sensor.height_px=48",
-            ])
-            .args(["--set", &format!("sensor.band={band}")])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let set_band = format!("sensor.band={band}");
+        render_airfield(&exr, (48, 48), &["--envi", "--stats", "--set", &set_band]);
         let (w, h, chans) = irsig::output::exr::read_exr(&exr).unwrap();
         assert_eq!((w, h), (48, 48));
         let names: Vec<&str> = chans.iter().map(|(n, _)| n.as_str()).collect();
@@ -193,26 +195,7 @@ fn bvh_backend_renders_the_same_image() {
     let mut planes = Vec::new();
     for tracer in ["embree", "bvh"] {
         let exr = dir.path().join(format!("{tracer}.exr"));
-        let out = irsig()
-            .arg("render")
-            .arg(scene())
-            .arg("-o")
-            .arg(&exr)
-            .args([
-                "--tracer",
-                tracer,
-                "--set",
-                "sensor.width_px=64",
-                "--set",
-                "sensor.height_px=64",
-            ])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        render_airfield(&exr, (64, 64), &["--tracer", tracer]);
         let (_, _, chans) = irsig::output::exr::read_exr(&exr).unwrap();
         planes.push(
             chans
@@ -326,28 +309,18 @@ fn envi_band_centre_and_fwhm_are_the_responses() {
     let csv = dir.path().join("tri.csv");
     std::fs::write(&csv, "wavelength_um,response\n8,0\n9,1\n12,0\n").unwrap();
     let exr = dir.path().join("t.exr");
-    let out = irsig()
-        .arg("render")
-        .arg(scene())
-        .arg("-o")
-        .arg(&exr)
-        .args(["--envi", "-q", "--set", "files.allow=[\"/\"]"])
-        .args([
+    let set_band = format!("sensor.band={{ response_file = \"{}\" }}", csv.display());
+    render_airfield(
+        &exr,
+        (16, 12),
+        &[
+            "--envi",
+            "-q",
             "--set",
-            "sensor.width_px=16",
+            "files.allow=[\"/\"]",
             "--set",
-            "sensor.height_px=12",
-        ])
-        .args([
-            "--set",
-            &format!("sensor.band={{ response_file = \"{}\" }}", csv.display()),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+            &set_band,
+        ],
     );
     let hdr = std::fs::read_to_string(exr.with_extension("hdr")).unwrap();
     let field = |k: &str| -> Vec<f64> {

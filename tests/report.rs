@@ -4,6 +4,9 @@
 //! scripts/setup.sh): a screenshot shows the drawn planes, and a scripted
 //! hover reads back known pixel values.
 
+mod common;
+use common::succeed;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -162,24 +165,19 @@ fn element_text(dom: &str, id: &str) -> String {
 fn report_page_draws_planes_and_reads_back_hovered_values_in_chromium() {
     let dir = tempfile::tempdir().unwrap();
     let exr = dir.path().join("p.exr");
-    let out = irsig()
-        .arg("render")
-        .arg(plate())
-        .arg("-o")
-        .arg(&exr)
-        .args(["-q", "--colormap", "inferno"])
-        .args([
-            "--set",
-            "sensor.width_px=40",
-            "--set",
-            "sensor.height_px=24",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeed(
+        irsig()
+            .arg("render")
+            .arg(plate())
+            .arg("-o")
+            .arg(&exr)
+            .args(["-q", "--colormap", "inferno"])
+            .args([
+                "--set",
+                "sensor.width_px=40",
+                "--set",
+                "sensor.height_px=24",
+            ]),
     );
     let json = exr.with_extension("json");
     let out = irsig().arg("report").arg(&json).output().unwrap();

@@ -226,6 +226,12 @@ azimuth_deg = 180.0
 file = \"g.obj\"
 ";
 
+/// The error of the test scene with `from` replaced by `to` (the test
+/// library and mesh as they are).
+fn scene_err(from: &str, to: &str) -> String {
+    Fixture::new(&SCENE.replace(from, to), MATS, OBJ).err()
+}
+
 struct Fixture {
     dir: tempfile::TempDir,
 }
@@ -344,13 +350,8 @@ fn toml_syntax_error_names_line_and_column() {
 
 #[test]
 fn unknown_key_is_rejected_with_a_suggestion() {
-    let f = Fixture::new(
-        &SCENE.replace("latitude_deg = 43.0", "latitude = 43.0"),
-        MATS,
-        OBJ,
-    );
     assert_eq!(
-        f.err(),
+        scene_err("latitude_deg = 43.0", "latitude = 43.0"),
         "D/scene.toml:4:1: unknown field `latitude`, expected one of `name`, `latitude_deg`, `longitude_deg`, \
          `elevation_m`, `utc_offset_h`, `crs`; did you mean `latitude_deg`?"
     );
@@ -404,22 +405,12 @@ fn wrong_type_names_what_is_expected() {
 
 #[test]
 fn out_of_range_scene_value_names_its_line() {
-    let f = Fixture::new(
-        &SCENE.replace("latitude_deg = 43.0", "latitude_deg = 95.0"),
-        MATS,
-        OBJ,
-    );
     assert_eq!(
-        f.err(),
+        scene_err("latitude_deg = 43.0", "latitude_deg = 95.0"),
         "D/scene.toml:4:16: `latitude_deg` = 95 is out of range: expected -90 <= latitude_deg <= 90 degrees"
     );
-    let f = Fixture::new(
-        &SCENE.replace("dew_point_c = 10.0", "dew_point_c = 18.0"),
-        MATS,
-        OBJ,
-    );
     assert_eq!(
-        f.err(),
+        scene_err("dew_point_c = 10.0", "dew_point_c = 18.0"),
         "D/scene.toml:15:15: `dew_point_c` = 18 is out of range: expected -100 <= dew_point_c <= 15 °C \
          (the dew point cannot exceed the air temperature)"
     );
@@ -440,13 +431,8 @@ fn out_of_range_array_element_of_an_instance_names_its_line_and_column() {
         f.err(),
         "D/scene.toml:34:15: `scale` = 0 is out of range: expected 1e-9 <= scale <= 1e9"
     );
-    let f = Fixture::new(
-        &SCENE.replace("view_zenith_deg = 0.0", "view_zenith_deg = 89.5"),
-        MATS,
-        OBJ,
-    );
     assert_eq!(
-        f.err(),
+        scene_err("view_zenith_deg = 0.0", "view_zenith_deg = 89.5"),
         "D/scene.toml:25:19: `view_zenith_deg` = 89.5 is out of range: expected 0 <= \
          view_zenith_deg <= 89 degrees"
     );

@@ -23,13 +23,13 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use serde::Serialize;
 
-use super::OutputSet;
-use super::envi::{list, write_cube};
+use super::envi::{EnviSample, list, write_cube};
 use super::exr::{Attr, ExrCompression, write_exr, write_exr_planes};
 use super::geotiff::{
     Band, Placement, is_class_plane, north_up_grid, placement, resample_affine, write_geotiff,
 };
 use super::quicklook::{Colormap, QuicklookStyle, percentile_stretch, write_quicklook};
+use super::{OutputError, OutputSet};
 use crate::render::{Frame, Rendered, Stats};
 use crate::scene::georef::{Geo, Geolocation, Georef, geolocate};
 
@@ -800,6 +800,26 @@ fn write_geotiff_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The DN cube (`x_dn.img`): one band `d` of uint16 counts or float32.
+fn write_dn<T: EnviSample>(
+    set: &mut OutputSet,
+    path: &Path,
+    size: (u32, u32),
+    d: &[T],
+    desc: &str,
+    fields: &[(String, String)],
+) -> Result<(), OutputError> {
+    write_cube(
+        set,
+        path,
+        size,
+        &[("dn [counts]", d)],
+        "ENVI Standard",
+        desc,
+        fields,
+    )
+}
+
 /// ENVI: the radiance cube (`x.img`), the truth cube (`x_truth.img`), the
 /// counts (`x_dn.img`) and the material classification (`x_class.img`).
 fn write_envi_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
@@ -956,27 +976,10 @@ fn write_envi_files(set: &mut OutputSet, c: &Ctx) -> anyhow::Result<()> {
         if counts {
             fields.extend(common_int);
             let d: Vec<u16> = dn.data.iter().map(|&v| v as u16).collect();
-            write_cube(
-                set,
-                &dn_path,
-                (w, h),
-                &[("dn [counts]", d.as_slice())],
-                "ENVI Standard",
-                &desc,
-                &fields,
-            )?;
+            write_dn(set, &dn_path, (w, h), &d, &desc, &fields)?;
         } else {
             fields.extend(common.iter().cloned());
-            let d = envi_f32(&dn.data);
-            write_cube(
-                set,
-                &dn_path,
-                (w, h),
-                &[("dn [counts]", d.as_slice())],
-                "ENVI Standard",
-                &desc,
-                &fields,
-            )?;
+            write_dn(set, &dn_path, (w, h), &envi_f32(&dn.data), &desc, &fields)?;
         }
     }
     // Material classification: class = material index + 1, 0 = none.

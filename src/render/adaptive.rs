@@ -69,7 +69,7 @@ use super::assemble::{FramePlanes, PixelValues};
 use super::blocks::{BLOCK, band_target, block_pixels};
 use super::cancel;
 use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, Stats, add};
-use super::pixel::{self, EvalMemo, RadiometryContext};
+use super::pixel::{EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
 use super::thermal::solve_temperatures;
@@ -728,16 +728,7 @@ pub fn render_adaptive(
     }
     counters.flush(&mut stats);
     stats.adaptive_refined_density = n;
-    let t3 = Instant::now();
-    let planes = planes.finish()?;
-    pixel::check_finite(&planes)?;
-    stats.seconds.sensor = t3.elapsed().as_secs_f64();
-    Ok(Frame {
-        planes,
-        stats,
-        sample_width: if st.keep_samples { w } else { sw },
-        samples: kept,
-    })
+    planes.into_frame(stats, kept, if st.keep_samples { w } else { sw })
 }
 
 /// The samples of output pixel (`x`, `y`) as [`render_adaptive`] uses them

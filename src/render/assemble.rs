@@ -13,9 +13,12 @@
 //! centre; the apparent temperature inverts the mean band radiance
 //! ([`pixel::ApparentTempLut`]).
 
+use std::time::Instant;
+
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
+use super::frame::{Frame, Stats};
 use super::pixel::{self, ApparentTempLut, RadiometryContext, SampleResult};
 use super::planes::{FIRST_TERM, PIXEL_PLANES, PLANES, Planes};
 use super::prepare::{Conditions, Static};
@@ -163,6 +166,27 @@ impl<'a> FramePlanes<'a> {
     /// What makes a pixel's values (see [`PixelMaker::pixel`]).
     pub fn maker(&self) -> &PixelMaker<'a> {
         &self.maker
+    }
+
+    /// Ends a frame: the planes finished ([`Self::finish`]: the sensor
+    /// chain), checked finite, the sensor's time counted in `stats`; with
+    /// the `samples` kept (`sample_width` wide).
+    pub fn into_frame(
+        self,
+        mut stats: Stats,
+        samples: Vec<Sample>,
+        sample_width: u32,
+    ) -> anyhow::Result<Frame> {
+        let t = Instant::now();
+        let planes = self.finish()?;
+        pixel::check_finite(&planes)?;
+        stats.seconds.sensor = t.elapsed().as_secs_f64();
+        Ok(Frame {
+            planes,
+            stats,
+            samples,
+            sample_width,
+        })
     }
 
     /// The finished planes: the per-pixel planes, then what the sensor

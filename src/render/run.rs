@@ -181,14 +181,5 @@ pub fn render_with(st: &Static, cond: &Conditions, progress: ProgressFn) -> anyh
         }
         Ok(())
     })?;
-    let t3 = Instant::now();
-    let planes = planes.finish()?;
-    pixel::check_finite(&planes)?;
-    stats.seconds.sensor = t3.elapsed().as_secs_f64();
-    Ok(Frame {
-        planes,
-        stats,
-        samples: kept,
-        sample_width: sw,
-    })
+    planes.into_frame(stats, kept, sw)
 }

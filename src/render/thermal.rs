@@ -13,7 +13,7 @@ use super::sample::{LastKey, Sample, Surface};
 use super::sunflags::{self, SunFlags};
 use crate::therm::balance::Orientation;
 use crate::therm::cache::{FacetParts, HistoryRef, ThermCache, ThermMemo, ThermQuery};
-use crate::therm::slab::{ThermError, ThermSolution};
+use crate::therm::slab::{SlabMaterial, ThermError, ThermSolution};
 
 /// Samples per progress report in the thermal and radiometry stages.
 const PROGRESS_CHUNK: usize = 1024;
@@ -25,18 +25,9 @@ pub fn thermal_solution(
     cond: &Conditions,
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
-    let m = s.material as usize;
-    let keyed = key_history(&s.history, cond.key_recent);
-    let q = therm_query(
-        st,
-        cond,
-        s,
-        keyed.as_ref().unwrap_or(&s.history),
-        &mut KeyMemo::default(),
-    );
-    cond.cache
-        .solve_query(&q, &cond.slabs[m], &cond.forcing)
-        .map_err(|e| therm_error(st, m, e))
+    with_key(st, cond, s, &mut KeyMemo::default(), |q, slab| {
+        cond.cache.solve_query(q, slab, &cond.forcing)
+    })
 }
 
 /// The key parts of the last facet side and height a worker saw: pure
@@ -158,18 +149,27 @@ fn temperature(
     s: &Surface,
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
+    with_key(st, cond, s, &mut memo.keys, |q, slab| {
+        cond.cache
+            .surface_temp_k_memo(q, slab, &cond.forcing, &mut memo.therm)
+    })
+}
+
+/// The thermal key of surface `s` (its history keyed to
+/// `cond.key_recent`, [`key_history`]; its facet parts through `keys`),
+/// handed with its material's slab to `solve`; a solver error names the
+/// material.
+fn with_key<R>(
+    st: &Static,
+    cond: &Conditions,
+    s: &Surface,
+    keys: &mut KeyMemo,
+    solve: impl FnOnce(&ThermQuery, &SlabMaterial) -> Result<R, ThermError>,
+) -> anyhow::Result<R> {
     let m = s.material as usize;
     let keyed = key_history(&s.history, cond.key_recent);
-    let q = therm_query(
-        st,
-        cond,
-        s,
-        keyed.as_ref().unwrap_or(&s.history),
-        &mut memo.keys,
-    );
-    cond.cache
-        .surface_temp_k_memo(&q, &cond.slabs[m], &cond.forcing, &mut memo.therm)
-        .map_err(|e| therm_error(st, m, e))
+    let q = therm_query(st, cond, s, keyed.as_ref().unwrap_or(&s.history), keys);
+    solve(&q, &cond.slabs[m]).map_err(|e| therm_error(st, m, e))
 }
 
 /// Step 4 for every surface (primary and background) of `samples`.

@@ -14,6 +14,18 @@ pub fn irsig() -> Command {
     Command::new(env!("CARGO_BIN_EXE_irsig"))
 }
 
+/// Runs `c`; panics with its stderr unless it succeeded; returns its
+/// output.
+pub fn succeed(c: &mut Command) -> std::process::Output {
+    let out = c.output().unwrap_or_else(|e| panic!("{c:?}: {e}"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// Runs `irsig` with `args`: (exit code, stdout, stderr), whatever the
 /// outcome.
 pub fn irsig_out(args: &[&str]) -> (i32, String, String) {
