@@ -750,3 +750,89 @@ fn the_resolver_sees_a_planted_up_import_and_cycle() {
     );
     assert!(!c.contains("crate::"), "{c}");
 }
+
+/// The `.rs` files below `dir`, recursively.
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+        let p = e.expect("directory entry").path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The struct literals `Name { … }` in `text` that name every field (no
+/// `..base`), as 1-based line numbers; a definition (`struct Name {`), an
+/// `impl` block (`impl Name {`, `impl Trait for Name {`) or a return type
+/// (`-> Name {`) is not a literal.
+fn literals_without_base(text: &str, name: &str) -> Vec<usize> {
+    let open = format!("{name} {{");
+    let mut out = Vec::new();
+    for (i, _) in text.match_indices(&open) {
+        let before = text[..i].trim_end();
+        if ["struct", "impl", "for", "->"]
+            .iter()
+            .any(|w| before.ends_with(w))
+        {
+            continue;
+        }
+        let mut depth = 0usize;
+        let mut end = text.len();
+        for (j, c) in text[i + open.len() - 1..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = i + open.len() - 1 + j;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if !text[i..end].contains("..") {
+            out.push(text[..i].matches('\n').count() + 1);
+        }
+    }
+    out
+}
+
+/// Adding a material key touches at most two files (ARCHITECTURE.md, "where
+/// to add a material key"): code that builds a `SlabMaterial` by hand
+/// completes it with `..` (`SlabMaterial::with_defaults`, the six required
+/// keys), so a new key with a default changes none of it.
+#[test]
+fn slab_materials_built_by_hand_complete_themselves_with_defaults() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for d in ["src", "tests", "python/src"] {
+        if root.join(d).is_dir() {
+            rust_files(&root.join(d), &mut files);
+        }
+    }
+    let mut found = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        for line in literals_without_base(&text, "SlabMaterial") {
+            found.push(format!(
+                "{}:{line}",
+                f.strip_prefix(root).unwrap().display()
+            ));
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "SlabMaterial literals naming every field (complete them with \
+         `..SlabMaterial::with_defaults(…)`):\n{}",
+        found.join("\n")
+    );
+    // The check can fail.
+    assert_eq!(
+        literals_without_base("pub struct Mat {\n}\nlet m = Mat {\n a: 1,\n};", "Mat"),
+        vec![3]
+    );
+    assert!(literals_without_base("let m = Mat { a: 1, ..b };", "Mat").is_empty());
+}

@@ -38,16 +38,8 @@ fn night(air_k: f64) -> Forcing {
 
 fn concrete(thickness_m: f64, back: BackBoundary) -> SlabMaterial {
     SlabMaterial {
-        density_kg_m3: 2300.0,
-        specific_heat_j_kgk: 880.0,
-        conductivity_w_mk: 1.4,
-        thickness_m,
-        solar_absorptivity: 0.0,
-        thermal_emissivity: 0.0,
         back,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: irsig::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2300.0, 880.0, 1.4, thickness_m, 0.0, 0.0)
     }
 }
 
@@ -87,16 +79,7 @@ fn max_err(series: impl Iterator<Item = (f64, f64)>) -> f64 {
 #[test]
 fn lumped_thin_plate_exponential_approach() {
     let mat = SlabMaterial {
-        density_kg_m3: 2700.0,
-        specific_heat_j_kgk: 900.0,
-        conductivity_w_mk: 200.0,
-        thickness_m: 0.001,
-        solar_absorptivity: 0.0,
-        thermal_emissivity: 0.0,
-        back: BackBoundary::Insulated,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: irsig::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(2700.0, 900.0, 200.0, 0.001, 0.0, 0.0)
     };
     let h = 10.0;
     let settings = ThermSettings {
@@ -267,18 +250,12 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 #[test]
 fn slab_steady_state_deep_ground() {
     let mat = SlabMaterial {
-        density_kg_m3: 1800.0,
-        specific_heat_j_kgk: 1000.0,
-        conductivity_w_mk: 1.2,
-        thickness_m: 0.3,
-        solar_absorptivity: 0.7,
-        thermal_emissivity: 0.9,
         back: BackBoundary::DeepGround {
             temp_k: Some(285.0),
         },
         internal_power_w_m2: 10.0,
         ground_albedo: Some(0.3),
-        surface: irsig::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(1800.0, 1000.0, 1.2, 0.3, 0.7, 0.9)
     };
     let o = Orientation {
         slope_deg: 20.0,
@@ -346,16 +323,8 @@ fn slab_steady_state_deep_ground() {
 #[test]
 fn slab_steady_state_exposed_back() {
     let mat = SlabMaterial {
-        density_kg_m3: 1200.0,
-        specific_heat_j_kgk: 1500.0,
-        conductivity_w_mk: 0.2,
-        thickness_m: 0.02,
-        solar_absorptivity: 0.8,
-        thermal_emissivity: 0.9,
         back: BackBoundary::ExposedToAir { area_factor: 1.0 },
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: irsig::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(1200.0, 1500.0, 0.2, 0.02, 0.8, 0.9)
     };
     // The analytic balance below uses the linear (McAdams) coefficient.
     let settings = ThermSettings {

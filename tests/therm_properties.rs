@@ -52,16 +52,8 @@ fn clear_days(days: f64, dt_s: f64, mean_k: f64, amp_k: f64, wind_m_s: f64) -> V
 
 fn material(thickness_m: f64, k: f64, rho: f64, c: f64, back: BackBoundary) -> SlabMaterial {
     SlabMaterial {
-        density_kg_m3: rho,
-        specific_heat_j_kgk: c,
-        conductivity_w_mk: k,
-        thickness_m,
-        solar_absorptivity: 0.8,
-        thermal_emissivity: 0.9,
         back,
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
-        surface: irsig::therm::surface::SurfaceKind::default(),
+        ..SlabMaterial::with_defaults(rho, c, k, thickness_m, 0.8, 0.9)
     }
 }
 

@@ -238,18 +238,11 @@ fn canopy_skin_over_soil_is_a_series_conductance() {
         soil_shortwave_fraction: 0.05,
     };
     let mat = SlabMaterial {
-        density_kg_m3: 2050.0,
-        specific_heat_j_kgk: 1840.0,
-        conductivity_w_mk: 0.52,
-        thickness_m: 0.5,
-        solar_absorptivity: 0.8,
-        thermal_emissivity: 0.98,
         back: BackBoundary::DeepGround {
             temp_k: Some(285.0),
         },
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
         surface: SurfaceKind::Vegetation(canopy),
+        ..SlabMaterial::with_defaults(2050.0, 1840.0, 0.52, 0.5, 0.8, 0.98)
     };
     let s = ThermSettings::default();
     let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
@@ -301,18 +294,11 @@ fn canopy_skin_over_soil_is_a_series_conductance() {
 fn snow_surface_is_capped_at_zero_celsius_and_the_surplus_melts() {
     use crate::therm::surface::SurfaceKind;
     let mat = SlabMaterial {
-        density_kg_m3: 300.0,
-        specific_heat_j_kgk: 2040.0,
-        conductivity_w_mk: 0.126,
-        thickness_m: 0.3,
-        solar_absorptivity: 0.2,
-        thermal_emissivity: 0.985,
         back: BackBoundary::DeepGround {
             temp_k: Some(268.15),
         },
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
         surface: SurfaceKind::Snow { roughness_m: 0.001 },
+        ..SlabMaterial::with_defaults(300.0, 2040.0, 0.126, 0.3, 0.2, 0.985)
     };
     let s = ThermSettings::default();
     let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
@@ -379,22 +365,15 @@ fn bare_soil_evaporates_through_the_sellers_resistance() {
     use crate::therm::aero;
     use crate::therm::surface::SurfaceKind;
     let soil = |w: Option<f64>| SlabMaterial {
-        density_kg_m3: 2050.0,
-        specific_heat_j_kgk: 1840.0,
-        conductivity_w_mk: 0.52,
-        thickness_m: 0.5,
-        solar_absorptivity: 0.8,
-        thermal_emissivity: 0.94,
         back: BackBoundary::DeepGround {
             temp_k: Some(290.0),
         },
-        internal_power_w_m2: 0.0,
-        ground_albedo: None,
         surface: SurfaceKind::Solid {
             water_capacity_mm: 0.0,
             roughness_m: 0.005,
             soil_wetness: w,
         },
+        ..SlabMaterial::with_defaults(2050.0, 1840.0, 0.52, 0.5, 0.8, 0.94)
     };
     let s = ThermSettings::default();
     let mut sunny = f(0.0, 300.0);
