@@ -546,3 +546,75 @@ fn probe_and_render_take_unset() {
     ]);
     assert!(rc != 0 && e.contains("unset `sensor.pose.look_at`"), "{e}");
 }
+
+/// `irsig probe` shows the snow state (issue #30): the terrain scene with
+/// its land cover set to `snow`, probed at the nadir centre pixel. In the
+/// scene's August weather the snow is held at 0 °C and melts (text:
+/// "snow: melting at 0 °C"; JSON: `melt_w_m2` > 0, T_s = 273.15 K); in
+/// winter air (−12 to −3 °C) at 03:00 it is frozen (melt 0, T_s below
+/// 0 °C) and the stable night's stability factor shows the floor of snow
+/// (`aero::SNOW_STABLE_FLOOR`), above Louis's value at the same Ri.
+#[test]
+fn probe_shows_the_snow_state() {
+    let scene = terrain_km().display().to_string();
+    let base = [
+        "sensor.pose.altitude.altitude_m=2000",
+        "sensor.pose.altitude.view_zenith_deg=0",
+        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
+        "sensor.width_px=41",
+        "sensor.height_px=41",
+        "sensor.fov_h_deg=5",
+        "render.supersample=1",
+        r#"terrain.terrain.land_cover.classes={"1"="snow","2"="snow"}"#,
+    ];
+    let cold = [
+        "weather.constant.air_min_c=-12",
+        "weather.constant.air_max_c=-3",
+        "weather.constant.dew_point_c=-14",
+        "time.local=2001-08-08T03:00:00",
+    ];
+    let probe = |extra: &[&str], json: bool| {
+        let mut args = vec![
+            "probe".to_string(),
+            scene.clone(),
+            "--pixel".into(),
+            "20,20".into(),
+        ];
+        if json {
+            args.push("--json".into());
+        }
+        args.extend(sets(&[&base[..], extra].concat()));
+        run(&args)
+    };
+    let thermal = |extra: &[&str]| -> Value {
+        let v: Value = serde_json::from_str(&probe(extra, true)).expect("probe JSON");
+        let s = v["samples"].as_array().expect("samples");
+        s[s.len() / 2]["hit"]["thermal"].clone()
+    };
+
+    let text = probe(&[], false);
+    assert!(text.contains("snow: melting at 0 °C"), "{text}");
+    let warm = thermal(&[]);
+    assert!(warm["surface"]["snow"].is_object(), "{warm}");
+    let last = warm["series"].as_array().unwrap().last().unwrap().clone();
+    assert!(f(&last["melt_w_m2"]) > 0.0, "{last}");
+    assert!((f(&warm["surface_temp_k"]) - 273.15).abs() < 1e-6);
+
+    let text = probe(&cold, false);
+    assert!(text.contains("snow: frozen, melt 0.0 W m-2"), "{text}");
+    let frozen = thermal(&cold);
+    let last = frozen["series"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(f(&last["melt_w_m2"]), 0.0);
+    assert!(f(&frozen["surface_temp_k"]) < 273.15 - 5.0, "{frozen}");
+    let (ri, sf) = (f(&frozen["richardson"]), f(&frozen["stability_factor"]));
+    assert!(ri > 0.0, "a stable night: Ri {ri}");
+    assert!(
+        sf >= irsig::therm::aero::SNOW_STABLE_FLOOR
+            && sf > irsig::therm::aero::stability_factor(ri),
+        "F {sf} at Ri {ri}"
+    );
+    assert_eq!(
+        f(&last["surface"]["stability_floor"]),
+        irsig::therm::aero::SNOW_STABLE_FLOOR
+    );
+}

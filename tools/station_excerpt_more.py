@@ -27,6 +27,10 @@ it, measured, is the 24-h spin-up):
                 clear and calm (Morin et al. 2012 forcing via GEOtop's test
                 data: hourly, UTC, stamps at the END of each hour; the snow
                 surface temperature from the CRYOBSCLIM.CDP hourly file).
+  cdp-20011231  More Col de Porte days, chosen by the rule of
+  cdp-20020219  select_cdp_days() (the clearest day of December 2001 and of
+                February 2002, before any model run); raw lines in
+                cdp_meteo0001_more.txt and cdp_surface_temp_more.csv.
 
 Raw inputs: tools/data/stations-raw/ holds unchanged line excerpts of the
 Noah and Col de Porte forcing files and the surface-temperature column of the
@@ -35,6 +39,7 @@ written by --cdp-nc from the full 120 MB file, which is not committed).
 
 Standard library only. Run:
     python3 tools/station_excerpt_more.py [--cdp-nc CDP_hourly_19930801_20170731.nc]
+    python3 tools/station_excerpt_more.py --select-cdp meteo0001.txt CDP_hourly_19930801_20170731.nc
 """
 import argparse
 import datetime as dt
@@ -55,6 +60,8 @@ RAW_SHA256 = {
     "noah98_bondville_excerpt2.dat": "76682ed795cb281dacdde6fa9ca47723b8494562aa74e85bbfa2e3b98d0d3b59",
     "cdp_meteo0001_2002-01.txt": "5f3ea8e641ad1583b1f723a49cec235e9d52e51260f6146da078e6ad7b3ab171",
     "cdp_surface_temp_2002-01.csv": "76b03c0ba288135fbcd308580b8d3b43c42100264f83519d3cbfad5e40ef2360",
+    "cdp_meteo0001_more.txt": "4d1bc2535bef1e243d0da5ea77d075ee6aa9dc9e389e62fa9d1240deb10d1291",
+    "cdp_surface_temp_more.csv": "4182bd1843df0cbde6b113c2dbfbb972a269ba5018412672ebe48076a3956f05",
     "de-tha_bigleaf_DE_Tha_Jun_2014_doy157-158.csv": "d0f4e774187ac5571e3991d690245d0e96f890092419560071f234d6ba1f17bc",
 }
 se.RAW_SHA256.update(RAW_SHA256)
@@ -227,6 +234,63 @@ def select_bondville_days(path):
     return chosen
 
 
+# Col de Porte days beyond cdp-20020110 (issue #30, session 18). The rule,
+# fixed before any model run on them: for each of December 2001, February
+# 2002 and March 2002 (the other full winter months of meteo0001.txt, which
+# runs 2001-09-21 .. 2002-04-10), the day with the smallest daily mean of
+# LWdn / (sigma Ta^4) (the clearest sky: effective sky emissivity) among the
+# days whose 24 hourly surface temperatures are all present, whose snow
+# depth is >= 20 cm in every hour (a settled cover: `snow` is 0.3 m of
+# settled snow), with no precipitation on the day and a complete day before
+# it (the spin-up). A month with no such day gives none. Each chosen day
+# stays in the set whatever the model does on it.
+CDP_MONTHS = (("December 2001", 2001, 12), ("February 2002", 2002, 2), ("March 2002", 2002, 3))
+# What --select-cdp printed (March 2002 has no day that passes the rule).
+CDP_MORE_DAYS = (dt.date(2001, 12, 31), dt.date(2002, 2, 19))
+
+
+def select_cdp_days(meteo_path, nc_path):
+    """Applies the CDP_MONTHS rule to the whole meteo0001.txt (not
+    committed) and the CRYOBSCLIM.CDP hourly netCDF (needs h5py); prints
+    and returns the chosen days (UTC dates)."""
+    import h5py  # only for this one-off selection
+
+    f = h5py.File(nc_path, "r")
+    base = dt.datetime(1960, 8, 1)
+    t, ts, sd = f["time"][:], f["Surface_temperature"][:], f["Snow_depth"][:]
+    obs = {}
+    for i, s in enumerate(t):
+        obs[base + dt.timedelta(seconds=int(s))] = (ts[i], sd[i])
+    days = {}
+    lines = pathlib.Path(meteo_path).read_text().splitlines()
+    head = lines[0].split(",")
+    for ln in lines[1:]:
+        v = dict(zip(head, ln.split(",")))
+        end = dt.datetime.strptime(v["Date"], "%d/%m/%Y %H:%M")
+        day = (end - dt.timedelta(minutes=30)).date()  # hour-ending stamps: 01:00 .. 24:00 make a day
+        days.setdefault(day, []).append((end, float(v["Prec"]), float(v["Tair"]), float(v["LW"])))
+    chosen = []
+    for name, y, m in CDP_MONTHS:
+        cands = []
+        for d, rs in days.items():
+            if (d.year, d.month) != (y, m) or len(rs) != 24 or len(days.get(d - dt.timedelta(days=1), [])) != 24:
+                continue
+            if any(p > 0 for _, p, _, _ in rs):
+                continue
+            o = [obs.get(e, (-1e9, -1e9)) for e, _, _, _ in rs]
+            if any(tk < -9e6 or s < 20 for tk, s in o):
+                continue
+            eps = sum(lw / (se.SIGMA * (ta + 273.15) ** 4) for _, _, ta, lw in rs) / 24
+            cands.append((eps, d))
+        if not cands:
+            print(f"{name}: no day passes the rule")
+            continue
+        eps, d = min(cands)
+        print(f"{name}: {d} (mean LWdn/(sigma Ta^4) {eps:.3f}; {len(cands)} candidate days)")
+        chosen.append(d)
+    return chosen
+
+
 def rows_of(recs, t0, t1):
     """One row per record whose interval centre lies in [t0, t1)."""
     out = []
@@ -305,9 +369,11 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
           f"{se.iso(compare_to)} ({n_skin} with skin), spin-up {spin_up_h:g} h")
 
 
-def cdp_surface_temp_from_nc(nc_path, out_path, t0, t1):
-    """Extracts Surface_temperature and Snow_depth for [t0, t1) from the
-    CRYOBSCLIM.CDP hourly netCDF-4 file (needs h5py; run once)."""
+def cdp_surface_temp_from_nc(nc_path, out_path, t0, t1, windows=None):
+    """Extracts Surface_temperature and Snow_depth for [t0, t1) (or for
+    each (t0, t1) of `windows`) from the CRYOBSCLIM.CDP hourly netCDF-4
+    file (needs h5py; run once)."""
+    windows = windows or [(t0, t1)]
     import h5py  # only for this one-off extraction
 
     f = h5py.File(nc_path, "r")
@@ -317,7 +383,7 @@ def cdp_surface_temp_from_nc(nc_path, out_path, t0, t1):
     lines = ["time_utc_end_of_hour,surface_temperature_k,snow_depth_cm"]
     for i, s in enumerate(t):
         tt = base + dt.timedelta(seconds=int(s))
-        if t0 <= tt < t1:
+        if any(a <= tt < b for a, b in windows):
             v = lambda x: "" if x < -9e6 else f"{x:.2f}"
             lines.append(f"{tt:%Y-%m-%dT%H:%M},{v(ts[i])},{v(sd[i])}")
     pathlib.Path(out_path).write_text("\n".join(lines) + "\n")
@@ -327,14 +393,24 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--select-noah98", type=pathlib.Path,
                     help="forcing98_with_validation.dat: print the Bondville days the selection rule picks")
+    ap.add_argument("--select-cdp", type=pathlib.Path, nargs=2, metavar=("METEO0001", "NC"),
+                    help="meteo0001.txt and CDP_hourly_19930801_20170731.nc: print the Col de Porte days "
+                         "the selection rule picks")
     ap.add_argument("--cdp-nc", type=pathlib.Path,
                     help="CDP_hourly_19930801_20170731.nc: re-extract the surface temperature excerpt")
     a = ap.parse_args()
     if a.select_noah98:
         select_bondville_days(a.select_noah98)
+    if a.select_cdp:
+        select_cdp_days(*a.select_cdp)
+        return 0
     if a.cdp_nc:
         cdp_surface_temp_from_nc(a.cdp_nc, RAW / "cdp_surface_temp_2002-01.csv",
                                  dt.datetime(2002, 1, 9, 0), dt.datetime(2002, 1, 11, 1))
+        cdp_surface_temp_from_nc(a.cdp_nc, RAW / "cdp_surface_temp_more.csv", None, None,
+                                 [(dt.datetime(d.year, d.month, d.day) - dt.timedelta(days=1),
+                                   dt.datetime(d.year, d.month, d.day) + dt.timedelta(days=1, hours=1))
+                                  for d in CDP_MORE_DAYS])
 
     # --- Bondville (ATDD/ARL flux site), 1998: three local days ---
     recs = read_noah98(RAW / "noah98_bondville_excerpt.dat")
@@ -425,31 +501,52 @@ def main():
          "hour is 11.7 CET on both days, solar noon 12.1 CET)"],
         (42.0, 42.0), eps=0.98)
 
-    # --- Col de Porte, 2002-01-10 (snow, clear, calm) ---
-    recs = read_cdp(RAW / "cdp_meteo0001_2002-01.txt", RAW / "cdp_surface_temp_2002-01.csv")
-    t0 = dt.datetime(2002, 1, 10, tzinfo=UTC)
+    # --- Col de Porte: 2002-01-10 (snow, clear, calm) and the CDP_MONTHS days ---
+    cdp_days = [(dt.datetime(2002, 1, 10, tzinfo=UTC), "cdp_meteo0001_2002-01.txt", "cdp_surface_temp_2002-01.csv",
+                 ["snow-covered meadow, 37 cm of settled snow (hourly snow depth 37 cm both days); no snowfall",
+                  "clear and calm both days (LWdn 220-230 W/m2, wind 0.3-0.6 m/s mean); air -3 to +3.5 C, snow "
+                  "surface -16 to -7 C"])]
+    for d in CDP_MORE_DAYS:
+        cdp_days.append((dt.datetime(d.year, d.month, d.day, tzinfo=UTC), "cdp_meteo0001_more.txt",
+                         "cdp_surface_temp_more.csv", None))
+    for t0, meteo, stemp, notes in cdp_days:
+        write_cdp_day(RAW / meteo, RAW / stemp, t0, notes)
+    return 0
+
+
+def write_cdp_day(meteo, stemp, t0, notes):
+    """One Col de Porte station-day (the UTC day from t0; the day before
+    as the measured spin-up). `notes`: the day's description; None writes
+    the rule's description with the measured ranges."""
+    recs = read_cdp(meteo, stemp)
     spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
     day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
     p_est = 1013.25 * (1 - 2.25577e-5 * 1325) ** 5.25588
+    if notes is None:
+        rng = lambda k: (min(r[k] for r in day if r[k] is not None), max(r[k] for r in day if r[k] is not None))
+        eps = sum(r["lw_dn"] / (se.SIGMA * (r["t_air_c"] + 273.15) ** 4) for r in day) / len(day)
+        notes = [f"snow-covered meadow, {rng('snow_cm')[0]:.0f}-{rng('snow_cm')[1]:.0f} cm of snow (hourly snow depth); "
+                 "no precipitation on the day",
+                 f"chosen by select_cdp_days (the clearest day of its month, mean LWdn/(sigma Ta^4) {eps:.3f}; rule "
+                 "fixed before any model run)",
+                 "air {:.1f} to {:.1f} C, wind {:.1f}-{:.1f} m/s, snow surface {:.1f} to {:.1f} C".format(
+                     *rng("t_air_c"), *rng("wind"), *rng("irt"))]
     for r in spin + day:
         r["p_hpa"] = p_est
     write_ir_station(
-        "cdp-20020110", spin, day, {"lat": 45.30, "lon": 5.77, "elev": 1325},
+        f"cdp-{t0:%Y%m%d}", spin, day, {"lat": 45.30, "lon": 5.77, "elev": 1325},
         "snow surface temperature of the CRYOBSCLIM.CDP hourly file (infrared radiometer; Lejeune et al. 2019)",
         ["source: Col de Porte (Chartreuse, France), CNRM/CEN: forcing of Morin et al. 2012 (doi:10.1594/PANGAEA.774249)",
          "        as GEOtop's test input, and the CRYOBSCLIM.CDP hourly file (Lejeune et al. 2019, doi:10.17178/CRYOBSCLIM.CDP.2018),",
          "        both via github.com/EURAC-Ecohydro/GEOtopExamples tests/ColdelaPorte/obss (see tests/data/stations/README.md)",
          "data: Meteo-France - CNRS, CNRM, Centre d'Etudes de la Neige; Morin et al. 2012 data CC-BY-3.0"],
-        ["snow-covered meadow, 37 cm of settled snow (hourly snow depth 37 cm both days); no snowfall",
-         "clear and calm both days (LWdn 220-230 W/m2, wind 0.3-0.6 m/s mean); air -3 to +3.5 C, snow surface -16 to -7 C",
-         "the site is ringed by mountains and forest: the measured GHI already carries the horizon mask",
+        notes + ["the site is ringed by mountains and forest: the measured GHI already carries the horizon mask",
          "(direct sun only about 10:00-15:00 UTC in January); DHI measured, DNI left to irsig",
          f"pressure not in the forcing file: {p_est:.1f} hPa = standard atmosphere at 1325 m",
          "times: UTC, hourly means stamped at the end of the hour (checked against the horizon mask: the",
          "direct beam correlates 0.88 with the sun above the mask for hour-ending UTC, 0.42 for hour-ending CET)",
          "heights: the files do not state the sensor heights above the snow; taken as 2 m for wind and air"],
         (2.0, 2.0))
-    return 0
 
 
 if __name__ == "__main__":

@@ -170,6 +170,39 @@ pub const MAX_RICHARDSON: f64 = 0.2;
 /// K too warm; the day is within tolerance for 0.75-1.4.
 pub const WINDLESS_EXCHANGE_W_M2K: f64 = 1.0;
 
+/// Smallest stability factor `F = h/h_neutral` on snow, the stable-side
+/// floor of Martin & Lejeune (1998, *Ann. Glaciol.* 26, 179), fitted at Col
+/// de Porte to the turbulent fluxes over snow and kept by Crocus as its
+/// `M98` option (SURFEX SURFACE_AERO_COND, Cluzet et al. 2016, *Geosci.
+/// Model Dev.* 9, 3963; Lafaysse et al. 2017, *The Cryosphere* 11, 1173):
+/// `C_H = max(0.75, (1 − 5·Ri)²)·C_HN` for `Ri ≥ 0`, i.e. never under 0.75
+/// of neutral (Louis's function falls under it at Ri ≈ 0.03). Over snow the
+/// measured exchange stays near neutral in stable air that the bulk
+/// Richardson number calls strongly stable (Martin & Lejeune's finding:
+/// intermittent turbulence and the shallow, sloping layers over a snow
+/// field); without it the clear, stable Col de Porte night of 2001-12-31
+/// (1.6-2.3 m/s) ran 3-5 K too cold (docs/validation-stations.md). Snow
+/// only (the `snow` kind, [`Exchange::stable_floor`]), joined to
+/// [`stability_factor`] by a smooth maximum
+/// `F = (F_L⁸ + 0.75⁸)^(1/8)` ([`floored_stability_factor_and_slope`]),
+/// at most 2^(1/8) − 1 = 9 % above the larger of the two (where they are
+/// equal, Ri ≈ 0.03) and 1.2 % at neutral, so `h` stays smooth in `T_s`
+/// for the surface Newton iteration. Unlike M98, the neutral coefficient
+/// keeps the surface's own `z_oh` ([`HEAT_ROUGHNESS_RATIO`]).
+pub const SNOW_STABLE_FLOOR: f64 = 0.75;
+
+/// [`stability_factor_and_slope`] joined to a floor `floor` (0: none) by
+/// the smooth maximum `F = (F_L⁸ + floor⁸)^(1/8)`, with `dF/dRi =
+/// (F_L/F)⁷·dF_L/dRi` ([`SNOW_STABLE_FLOOR`]).
+pub fn floored_stability_factor_and_slope(richardson: f64, floor: f64) -> (f64, f64) {
+    let (f, df) = stability_factor_and_slope(richardson);
+    if floor <= 0.0 {
+        return (f, df);
+    }
+    let s = (f.powi(8) + floor.powi(8)).powf(0.125);
+    (s, df * (f / s).powi(7))
+}
+
 /// Stability factor `F(Ri) = h/h_neutral` of the bulk transfer coefficient
 /// for heat. Unstable `Ri < 0`: `(1 − 16·Ri)^0.75` (Monteith & Unsworth
 /// 2013, §16.2, after Businger-Dyer), Ri capped at [`MIN_RICHARDSON`].
@@ -358,6 +391,11 @@ pub struct Exchange {
     /// slab model for the `snow` kind).
     #[serde(default)]
     pub windless_w_m2k: f64,
+    /// Smallest stability factor (smooth floor), 0 from [`Exchange::new`];
+    /// [`SNOW_STABLE_FLOOR`] on snow (set by the slab model for the `snow`
+    /// kind).
+    #[serde(default)]
+    pub stable_floor: f64,
 }
 
 impl Exchange {
@@ -403,6 +441,7 @@ impl Exchange {
             free_cold: free_convection_coeff(slope_deg, false),
             rho_cp_j_m3k: rho_cp,
             windless_w_m2k: 0.0,
+            stable_floor: 0.0,
         }
     }
 
@@ -418,7 +457,8 @@ impl Exchange {
     /// cold values) the one-sided derivative of the side `ΔT` is on.
     pub fn coefficient_and_slope(&self, air_temp_k: f64, surf_temp_k: f64) -> (f64, f64) {
         let dt = air_temp_k - surf_temp_k;
-        let (f, df) = stability_factor_and_slope(self.richardson_per_k * dt);
+        let (f, df) =
+            floored_stability_factor_and_slope(self.richardson_per_k * dt, self.stable_floor);
         let forced = self.h_neutral_w_m2k * f;
         let c = if dt < 0.0 {
             self.free_warm
@@ -746,6 +786,43 @@ mod tests {
         assert!((below - above).abs() < 1e-6 && below >= WINDLESS_EXCHANGE_W_M2K);
     }
 
+    /// The stable floor of snow (Martin & Lejeune 1998): F stays within
+    /// 2^(1/8) (9 %) of max(F_Louis, 0.75) for −1 ≤ Ri ≤ 10, is 0.75 (to 1e-4) in
+    /// strongly stable air where Louis gives 0.19, leaves neutral within
+    /// 1.2 %, and its slope matches a central difference; an exchange
+    /// without the floor (every surface but snow) is unchanged bit for bit.
+    #[test]
+    fn snow_stable_floor_keeps_stable_snow_near_neutral() {
+        for i in -100..=1000 {
+            let ri = i as f64 * 0.01;
+            let (f, df) = floored_stability_factor_and_slope(ri, SNOW_STABLE_FLOOR);
+            let plain = stability_factor(ri).max(SNOW_STABLE_FLOOR);
+            assert!(f >= plain && f <= 1.0906 * plain, "{ri}: {f} vs {plain}");
+            let d = 1e-6;
+            if (ri - MAX_RICHARDSON).abs() > 2.0 * d
+                && (ri - MIN_RICHARDSON).abs() > 2.0 * d
+                && ri != 0.0
+            {
+                let num = (floored_stability_factor_and_slope(ri + d, SNOW_STABLE_FLOOR).0
+                    - floored_stability_factor_and_slope(ri - d, SNOW_STABLE_FLOOR).0)
+                    / (2.0 * d);
+                assert!(
+                    (num - df).abs() < 1e-5 + 1e-5 * df.abs(),
+                    "{ri}: {num} vs {df}"
+                );
+            }
+            assert_eq!(
+                floored_stability_factor_and_slope(ri, 0.0),
+                stability_factor_and_slope(ri)
+            );
+        }
+        let neutral = floored_stability_factor_and_slope(0.0, SNOW_STABLE_FLOOR).0;
+        assert!(neutral > 1.0 && neutral < 1.012, "{neutral}");
+        let deep = floored_stability_factor_and_slope(1.0, SNOW_STABLE_FLOOR).0;
+        assert!((deep - SNOW_STABLE_FLOOR).abs() < 1e-4, "{deep}");
+        assert!((stability_factor(1.0) - 0.1907).abs() < 1e-4);
+    }
+
     /// Stability: neutral 1; Businger-Dyer at Ri = −0.1: 2.6^0.75; Louis
     /// (1979) eq. 21 (b = d = 5) stable at Ri = 0.1 and at the cap 0.2:
     /// 1/(1 + 1.5·√1.5) = 0.3524, 1/(1 + 3·√2) = 0.1907; beyond the cap
@@ -838,6 +915,7 @@ mod tests {
             ("MIN_RICHARDSON", MIN_RICHARDSON),
             ("MAX_RICHARDSON", MAX_RICHARDSON),
             ("WINDLESS_EXCHANGE_W_M2K", WINDLESS_EXCHANGE_W_M2K),
+            ("SNOW_STABLE_FLOOR", SNOW_STABLE_FLOOR),
             ("FREE_CONVECTION_AIR_300K", FREE_CONVECTION_AIR_300K),
             ("HEAT_ROUGHNESS_RATIO", HEAT_ROUGHNESS_RATIO),
             (

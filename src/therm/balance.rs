@@ -388,16 +388,27 @@ pub struct SurfaceFluxes {
     /// McAdams or a constant coefficient, and on walls (their exchange is
     /// neutral).
     pub richardson: f64,
+    /// Floor of the stability factor in force
+    /// ([`super::aero::Exchange::stable_floor`]: 0, or
+    /// [`super::aero::SNOW_STABLE_FLOOR`] on snow). Written only where
+    /// set, so the JSON of every other surface is unchanged.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub stability_floor: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl SurfaceFluxes {
     /// The stability function `F(Ri) = h_forced/h_neutral` in force
     /// ([`super::aero::stability_factor`]: Businger-Dyer unstable, Louis
-    /// 1979 stable, Ri capped to `[MIN_RICHARDSON, MAX_RICHARDSON]`); 1 is
+    /// 1979 stable, Ri capped to `[MIN_RICHARDSON, MAX_RICHARDSON]`; on
+    /// snow with the floor [`super::aero::SNOW_STABLE_FLOOR`]); 1 is
     /// neutral. Computed from [`SurfaceFluxes::richardson`] on demand (not
     /// in the solver's hot loop).
     pub fn stability_factor(&self) -> f64 {
-        super::aero::stability_factor(self.richardson)
+        super::aero::floored_stability_factor_and_slope(self.richardson, self.stability_floor).0
     }
 }
 
@@ -473,6 +484,10 @@ pub fn surface_fluxes(
             convection_coeff_w_m2k: h,
             richardson: match conv {
                 Convection::SurfaceLayer(_) => drive.exchange.richardson_per_k * dt,
+                Convection::Linear { .. } => 0.0,
+            },
+            stability_floor: match conv {
+                Convection::SurfaceLayer(_) => drive.exchange.stable_floor,
                 Convection::Linear { .. } => 0.0,
             },
         },

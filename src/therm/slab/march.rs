@@ -313,9 +313,11 @@ impl SlabModel {
                 )
             };
             d.exchange = ex(slope, &self.roughness);
-            // Snow keeps SNTHERM's windless exchange (aero::WINDLESS_EXCHANGE_W_M2K).
+            // Snow keeps SNTHERM's windless exchange (aero::WINDLESS_EXCHANGE_W_M2K)
+            // and Crocus's stable floor (aero::SNOW_STABLE_FLOOR).
             if matches!(self.material.surface, SurfaceKind::Snow { .. }) {
                 d.exchange.windless_w_m2k = aero::WINDLESS_EXCHANGE_W_M2K;
+                d.exchange.stable_floor = aero::SNOW_STABLE_FLOOR;
             }
             // The back of a plate: a smooth face looking the other way
             // (only a back exposed to air exchanges with it).
