@@ -26,8 +26,10 @@
 //!    history that the coarse samples of the pixel's 3×3 neighbourhood on
 //!    its plane and material share, if its sun rays of the last hour agree
 //!    (as in step 4: no history edge crosses the neighbourhood there). A cell is refined
-//!    when its first-level sample differs ([`differ`], the temperature
-//!    criterion ×[`CELL_THRESHOLD_FACTOR`]) from a neighbouring cell's, from
+//!    when its first-level sample differs ([`cells_differ`]: [`differ`]
+//!    with the temperature criterion ×[`CELL_THRESHOLD_FACTOR`], a
+//!    temperature difference counting only where the two histories differ
+//!    within the last hour) from a neighbouring cell's, from
 //!    the neighbouring pixel's coarse sample across the pixel's edge, or
 //!    from the coarse sample at its corner; a refined cell traces all its
 //!    samples (second level), an unrefined one stands for its cell with its
@@ -353,6 +355,31 @@ fn check_recent(
     own
 }
 
+/// The cell criterion ([`refined_cells`]): [`differ`], except that a
+/// temperature difference alone between two surfaces whose sun/shadow
+/// histories agree at the `recent` history samples does not refine. Such a
+/// difference comes from an older shadow edge (or the sky view, or the
+/// height, which vary smoothly): the second level would give its samples
+/// the nearest first-level sample's history (module docs, step 4), which
+/// is the cell's own first-level sample — the same value the unrefined
+/// cell stands for. A recent difference (a shadow edge of the last hour
+/// between the two) still refines, as do specular backgrounds (whose
+/// second-level samples trace their own histories).
+fn cells_differ(a: &Sample, b: &Sample, threshold_k: f64, recent: &[usize]) -> bool {
+    if differ(a, b, f64::INFINITY) {
+        return true;
+    }
+    if !differ(a, b, threshold_k) {
+        return false;
+    }
+    match (&a.surface, &b.surface, &a.bounce, &b.bounce) {
+        (Some(x), Some(y), None, None) => {
+            recent.iter().any(|&k| x.history.get(k) != y.history.get(k))
+        }
+        _ => true,
+    }
+}
+
 /// Which cells of a refined pixel are refined (module docs, step 3): a
 /// cell whose first-level sample differs from a neighbouring cell's — a
 /// neighbour beyond the pixel's edge is that neighbouring pixel's coarse
@@ -363,8 +390,9 @@ fn refined_cells(
     coarse: &Sample,
     nb: &[Option<&Sample>; 8],
     n: u32,
-    threshold_k: f64,
+    (threshold_k, recent): (f64, &[usize]),
 ) -> Vec<bool> {
+    let differ = |a: &Sample, b: &Sample, t: f64| cells_differ(a, b, t, recent);
     let (m, s) = layout(n);
     let mi = m as i64;
     let at = |i: i64, j: i64| &l1[(j * mi + i) as usize];
@@ -649,7 +677,7 @@ pub fn render_adaptive(
                     let (x, y) = xy(i);
                     let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
                     let mine = &l1[k * per1..(k + 1) * per1];
-                    let cells = refined_cells(mine, &cur[i], &nb, n, cell_threshold_k);
+                    let cells = refined_cells(mine, &cur[i], &nb, n, (cell_threshold_k, &recent));
                     let refined_here = cells.iter().filter(|&&r| r).count();
                     add(&counters.cells_refined, refined_here);
                     add(&counters.cells_coarse, cells.len() - refined_here);
@@ -796,7 +824,13 @@ pub fn pixel_samples(
     });
     let mut l1 = level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &c);
     solve_temperatures(st, cond, &mut l1, stats, &quiet)?;
-    let cells = refined_cells(&l1, &me, &nb, n, threshold_k * CELL_THRESHOLD_FACTOR);
+    let cells = refined_cells(
+        &l1,
+        &me,
+        &nb,
+        n,
+        (threshold_k * CELL_THRESHOLD_FACTOR, &recent),
+    );
     let (mut fine, slots) = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
     solve_temperatures(st, cond, &mut fine, stats, &quiet)?;
     let out = (slots.iter())

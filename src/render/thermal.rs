@@ -12,23 +12,112 @@ use super::prepare::{Conditions, Static};
 use super::sample::{LastKey, Sample, Surface};
 use super::sunflags::{self, SunFlags};
 use crate::therm::balance::Orientation;
-use crate::therm::cache::{FacetParts, HistoryRef, ThermCache, ThermMemo, ThermQuery};
-use crate::therm::slab::{SlabMaterial, ThermError, ThermSolution};
+use crate::therm::cache::{
+    FacetParts, HistoryRef, SKY_NODE_QUANTA, ThermCache, ThermMemo, ThermQuery,
+};
+use crate::therm::slab::{ThermError, ThermSolution};
 
 /// Samples per progress report in the thermal and radiometry stages.
 const PROGRESS_CHUNK: usize = 1024;
 
 /// Step 4: the memoised thermal solution of a surface (with the whole
-/// series of flux terms when the cache keeps series).
+/// series of flux terms when the cache keeps series): the solution at its
+/// sky-view node, or, between two nodes, the two nodes' solutions
+/// interpolated as [`temperature`] interpolates their temperatures
+/// ([`lerp_solution`]), so that the solution ends at the temperature the
+/// render used.
 pub fn thermal_solution(
     st: &Static,
     cond: &Conditions,
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
-    with_key(st, cond, s, &mut KeyMemo::default(), |q, slab| {
-        cond.cache.solve_query(q, slab, &cond.forcing)
+    let (a, hi) = at_nodes(st, cond, s, &mut KeyMemo::default(), |q, _| {
+        cond.cache
+            .solve_query(q, &cond.slabs[s.material as usize], &cond.forcing)
+    })?;
+    match hi {
+        None => Ok(a),
+        Some((b, w)) => Ok(Arc::new(lerp_solution(&a, &b, w)?)),
+    }
+}
+
+/// `f` applied to the thermal key of surface `s` at its sky-view node, or
+/// at the two nodes around its blocked sky fraction (the upper one's
+/// result with its weight): the one place a render builds a key (its
+/// keyed history [`key_history`], its nodes [`ThermCache::sky_nodes`]).
+fn at_nodes<R>(
+    st: &Static,
+    cond: &Conditions,
+    s: &Surface,
+    keys: &mut KeyMemo,
+    mut f: impl FnMut(&ThermQuery, FacetParts) -> Result<R, ThermError>,
+) -> anyhow::Result<(R, Option<(R, f64)>)> {
+    let m = s.material as usize;
+    let keyed = key_history(&s.history, cond.key_recent);
+    let history = keyed.as_ref().unwrap_or(&s.history);
+    let (lo, hi, w) = facet_nodes(st, cond, s, keys);
+    let mut at = |facet: FacetParts| {
+        let q = therm_query(cond, s, history, facet, keys);
+        f(&q, facet).map_err(|e| therm_error(st, m, e))
+    };
+    let a = at(lo)?;
+    if w == 0.0 {
+        return Ok((a, None));
+    }
+    Ok((a, Some((at(hi)?, w))))
+}
+
+/// `a` + `w`·(`b` − `a`) of two solutions of one facet and history at two
+/// sky-view nodes: the temperatures, the water store, the profile and
+/// every number of every series record (through the records' serde form,
+/// so a field added to them is interpolated too; a field that is not a
+/// number is `a`'s); the step counts are both solves' together. Quantities
+/// computed from a record on demand (the stability function from the
+/// Richardson number) follow the interpolated record.
+fn lerp_solution(a: &ThermSolution, b: &ThermSolution, w: f64) -> anyhow::Result<ThermSolution> {
+    fn lerp_json(x: &mut serde_json::Value, y: &serde_json::Value, w: f64) {
+        use serde_json::Value;
+        match (x, y) {
+            (Value::Number(p), Value::Number(q)) => {
+                if let (Some(u), Some(v)) = (p.as_f64(), q.as_f64())
+                    && let Some(n) = serde_json::Number::from_f64(u + w * (v - u))
+                    && p.is_f64()
+                {
+                    *p = n;
+                }
+            }
+            (Value::Array(p), Value::Array(q)) => {
+                p.iter_mut().zip(q).for_each(|(u, v)| lerp_json(u, v, w));
+            }
+            (Value::Object(p), Value::Object(q)) => {
+                for (k, u) in p.iter_mut() {
+                    if let Some(v) = q.get(k) {
+                        lerp_json(u, v, w);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    let lerp = |u: f64, v: f64| u + w * (v - u);
+    let mut series = serde_json::to_value(&a.series)?;
+    lerp_json(&mut series, &serde_json::to_value(&b.series)?, w);
+    Ok(ThermSolution {
+        surface_temp_k: lerp(a.surface_temp_k, b.surface_temp_k),
+        water_store_mm: lerp(a.water_store_mm, b.water_store_mm),
+        profile_k: (a.profile_k.iter().zip(&b.profile_k))
+            .map(|(&u, &v)| lerp(u, v))
+            .collect(),
+        series: serde_json::from_value(series)?,
+        steps_accepted: a.steps_accepted + b.steps_accepted,
+        steps_rejected: a.steps_rejected + b.steps_rejected,
+        newton_iterations: a.newton_iterations + b.newton_iterations,
     })
 }
+
+/// The sky-view nodes of a point: lower, upper and the upper's weight
+/// ([`ThermCache::sky_nodes`]).
+type SkyNodes = (FacetParts, FacetParts, f64);
 
 /// The key parts of the last facet side and height a worker saw: pure
 /// functions of [`Surface::side`] with its blocked sky, and of z, that
@@ -36,7 +125,7 @@ pub fn thermal_solution(
 /// acos/atan2 and the height's log; the key is the same).
 #[derive(Default)]
 struct KeyMemo {
-    facet: LastKey<((u32, [u32; 3]), u64), FacetParts>,
+    facet: LastKey<((u32, [u32; 3]), u64), SkyNodes>,
     height: LastKey<u32, i32>,
 }
 
@@ -94,22 +183,33 @@ pub fn key_history(h: &SunFlags, recent: usize) -> Option<SunFlags> {
     Some(SunFlags::from_switches(first, &out, len))
 }
 
-/// The thermal cache's key of a surface (borrows its history, or the keyed
-/// history [`key_history`] made of it, which the caller keeps).
-fn therm_query<'a>(
+/// The sky-view nodes of a surface's facet side and point
+/// ([`ThermCache::sky_nodes`]: lower and upper node and the upper's weight).
+fn facet_nodes(
     st: &Static,
     cond: &Conditions,
     s: &Surface,
-    history: &'a SunFlags,
     memo: &mut KeyMemo,
-) -> ThermQuery<'a> {
+) -> (FacetParts, FacetParts, f64) {
     let blocked = st.blocked_sky(s.prim, s.normal, s.point);
-    let facet = memo.facet.get_or((s.side(), blocked.to_bits()), || {
-        cond.cache.facet_parts(
+    memo.facet.get_or((s.side(), blocked.to_bits()), || {
+        cond.cache.sky_nodes(
             Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
             blocked,
         )
-    });
+    })
+}
+
+/// The thermal cache's key of a surface at sky-view node `facet` (borrows
+/// its history, or the keyed history [`key_history`] made of it, which the
+/// caller keeps).
+fn therm_query<'a>(
+    cond: &Conditions,
+    s: &Surface,
+    history: &'a SunFlags,
+    facet: FacetParts,
+    memo: &mut KeyMemo,
+) -> ThermQuery<'a> {
     let height_q = memo.height.get_or(s.point.z.to_bits(), || {
         ThermCache::quantise_height(s.point.z as f64 - cond.ground_z_m).0
     });
@@ -137,39 +237,33 @@ fn therm_error(st: &Static, m: usize, e: ThermError) -> anyhow::Error {
 /// key parts' ([`KeyMemo`]).
 #[derive(Default)]
 struct TempMemo {
-    therm: ThermMemo,
+    /// The thermal cache's last-key memos of the even and the odd sky-view
+    /// nodes (a point between two nodes asks for both, alternately).
+    therm: [ThermMemo; 2],
     keys: KeyMemo,
 }
 
 /// Step 4: the temperature of a surface at the image time, K (through
-/// the worker's memo).
+/// the worker's memo): the solve at its sky-view node, or the linear
+/// interpolation of the solves at the two nodes around its blocked sky
+/// fraction ([`ThermCache::sky_nodes`]).
 fn temperature(
     st: &Static,
     cond: &Conditions,
     s: &Surface,
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
-    with_key(st, cond, s, &mut memo.keys, |q, slab| {
+    let slab = &cond.slabs[s.material as usize];
+    let therm = &mut memo.therm;
+    let (t_lo, hi) = at_nodes(st, cond, s, &mut memo.keys, |q, facet| {
+        let node_memo = &mut therm[((facet.blocked_q() / SKY_NODE_QUANTA) & 1) as usize];
         cond.cache
-            .surface_temp_k_memo(q, slab, &cond.forcing, &mut memo.therm)
+            .surface_temp_k_memo(q, slab, &cond.forcing, node_memo)
+    })?;
+    Ok(match hi {
+        None => t_lo,
+        Some((t_hi, w)) => t_lo + w * (t_hi - t_lo),
     })
-}
-
-/// The thermal key of surface `s` (its history keyed to
-/// `cond.key_recent`, [`key_history`]; its facet parts through `keys`),
-/// handed with its material's slab to `solve`; a solver error names the
-/// material.
-fn with_key<R>(
-    st: &Static,
-    cond: &Conditions,
-    s: &Surface,
-    keys: &mut KeyMemo,
-    solve: impl FnOnce(&ThermQuery, &SlabMaterial) -> Result<R, ThermError>,
-) -> anyhow::Result<R> {
-    let m = s.material as usize;
-    let keyed = key_history(&s.history, cond.key_recent);
-    let q = therm_query(st, cond, s, keyed.as_ref().unwrap_or(&s.history), keys);
-    solve(&q, &cond.slabs[m]).map_err(|e| therm_error(st, m, e))
 }
 
 /// Step 4 for every surface (primary and background) of `samples`.
@@ -196,7 +290,9 @@ pub(super) fn solve_temperatures(
                 }
                 Ok(())
             });
-            cond.cache.absorb_memo(&memo.therm);
+            for m in &memo.therm {
+                cond.cache.absorb_memo(m);
+            }
             solved?;
             progress.add(chunk.len() as u64);
             Ok(())

@@ -370,6 +370,13 @@ pub struct FacetParts {
     blocked_q: i32,
 }
 
+impl FacetParts {
+    /// The blocked sky fraction's key part, in [`SKY_QUANTUM`]s.
+    pub fn blocked_q(&self) -> i32 {
+        self.blocked_q
+    }
+}
+
 /// A worker's memo of the last key it asked for and the surface
 /// temperature found (see the module docs). Start one per worker (or per
 /// chunk of pixels) with `ThermMemo::default()`; it keeps its own copy of
@@ -483,6 +490,18 @@ struct Checkpoint {
 /// Quantum of the blocked sky fraction in the cache key (and the solve):
 /// ±0.01 of the hemisphere, about ±1 W/m² of longwave, ≤ 0.1 K.
 pub const SKY_QUANTUM: f64 = 0.02;
+
+/// Spacing of the sky-view nodes a render solves at, in [`SKY_QUANTUM`]s
+/// (0.1 of the hemisphere): a point whose blocked fraction lies between two
+/// nodes takes the linear interpolation of their surface temperatures
+/// ([`ThermCache::sky_nodes`]). The surface temperature is a smooth
+/// function of the blocked fraction (the longwave it trades, ≈ b·(σT_g⁴ −
+/// L_sky), is linear in b; the balance's curvature in T is weak), so the
+/// interpolation error is far below the quantum's ±0.01 of the
+/// hemisphere — while the points along a sky-view gradient (beside a
+/// building) share the solves of a few nodes instead of one per quantum
+/// (BENCHMARKS.md, "Sky-view nodes").
+pub const SKY_NODE_QUANTA: i32 = 5;
 
 /// Hit/miss counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -664,6 +683,36 @@ impl ThermCache {
             slope_q,
             aspect_q,
             blocked_q: Self::quantise_blocked(blocked_sky),
+        }
+    }
+
+    /// The two sky-view nodes around a blocked sky fraction and the weight
+    /// of the upper one: `(lo, hi, w)` with the fraction ≈ (1 − w)·lo + w·hi;
+    /// `lo` and `hi` are facet parts whose blocked fraction is a multiple of
+    /// [`SKY_NODE_QUANTA`] quanta. A fraction on a node (open ground:
+    /// exactly 0) gives `w` = 0 and `hi` = `lo`. A pure function of the
+    /// arguments (so the interpolated temperature is one of the key alone).
+    pub fn sky_nodes(&self, o: Orientation, blocked_sky: f64) -> (FacetParts, FacetParts, f64) {
+        let lo = self.facet_parts(o, 0.0);
+        let b = if blocked_sky.is_finite() {
+            blocked_sky.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let x = b / (SKY_QUANTUM * SKY_NODE_QUANTA as f64);
+        let k = x.floor();
+        let w = x - k;
+        let at = |k: i32| FacetParts {
+            blocked_q: k * SKY_NODE_QUANTA,
+            ..lo
+        };
+        // (within 1e-9 of a node: that node alone; never a weight of 1)
+        if w < 1e-9 {
+            (at(k as i32), at(k as i32), 0.0)
+        } else if w > 1.0 - 1e-9 {
+            (at(k as i32 + 1), at(k as i32 + 1), 0.0)
+        } else {
+            (at(k as i32), at(k as i32 + 1), w)
         }
     }
 
