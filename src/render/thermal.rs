@@ -13,7 +13,7 @@ use super::sample::{LastKey, Sample, Surface};
 use super::sunflags::{self, SunFlags};
 use crate::therm::balance::Orientation;
 use crate::therm::cache::{
-    FacetParts, HistoryRef, SKY_NODE_QUANTA, ThermCache, ThermMemo, ThermQuery,
+    FacetParts, HistoryRef, SKY_NODE_QUANTA, SkyNodes, ThermCache, ThermMemo, ThermQuery,
 };
 use crate::therm::slab::{ThermError, ThermSolution};
 
@@ -115,10 +115,6 @@ fn lerp_solution(a: &ThermSolution, b: &ThermSolution, w: f64) -> anyhow::Result
     })
 }
 
-/// The sky-view nodes of a point: lower, upper and the upper's weight
-/// ([`ThermCache::sky_nodes`]).
-type SkyNodes = (FacetParts, FacetParts, f64);
-
 /// The key parts of the last facet side and height a worker saw: pure
 /// functions of [`Surface::side`] with its blocked sky, and of z, that
 /// neighbouring samples mostly share (a repeat skips the orientation's
@@ -185,12 +181,7 @@ pub fn key_history(h: &SunFlags, recent: usize) -> Option<SunFlags> {
 
 /// The sky-view nodes of a surface's facet side and point
 /// ([`ThermCache::sky_nodes`]: lower and upper node and the upper's weight).
-fn facet_nodes(
-    st: &Static,
-    cond: &Conditions,
-    s: &Surface,
-    memo: &mut KeyMemo,
-) -> (FacetParts, FacetParts, f64) {
+fn facet_nodes(st: &Static, cond: &Conditions, s: &Surface, memo: &mut KeyMemo) -> SkyNodes {
     let blocked = st.blocked_sky(s.prim, s.normal, s.point);
     memo.facet.get_or((s.side(), blocked.to_bits()), || {
         cond.cache.sky_nodes(

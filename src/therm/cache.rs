@@ -362,6 +362,10 @@ impl ThermQuery<'_> {
     }
 }
 
+/// The sky-view nodes of a point ([`ThermCache::sky_nodes`]): the lower
+/// node's and the upper node's facet parts and the upper one's weight.
+pub type SkyNodes = (FacetParts, FacetParts, f64);
+
 /// The key parts of a facet side ([`ThermCache::facet_parts`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FacetParts {
@@ -488,7 +492,9 @@ struct Checkpoint {
 }
 
 /// Quantum of the blocked sky fraction in the cache key (and the solve):
-/// ±0.01 of the hemisphere, about ±1 W/m² of longwave, ≤ 0.1 K.
+/// ±0.01 of the hemisphere, about ±1 W/m² of longwave — up to 0.29 K on a
+/// thin shaded plate in the test `sky_nodes_interpolate_the_blocked_sky`;
+/// a render solves at [`SKY_NODE_QUANTA`] nodes and interpolates instead.
 pub const SKY_QUANTUM: f64 = 0.02;
 
 /// Spacing of the sky-view nodes a render solves at, in [`SKY_QUANTUM`]s
@@ -496,11 +502,14 @@ pub const SKY_QUANTUM: f64 = 0.02;
 /// nodes takes the linear interpolation of their surface temperatures
 /// ([`ThermCache::sky_nodes`]). The surface temperature is a smooth
 /// function of the blocked fraction (the longwave it trades, ≈ b·(σT_g⁴ −
-/// L_sky), is linear in b; the balance's curvature in T is weak), so the
-/// interpolation error is far below the quantum's ±0.01 of the
-/// hemisphere — while the points along a sky-view gradient (beside a
-/// building) share the solves of a few nodes instead of one per quantum
-/// (BENCHMARKS.md, "Sky-view nodes").
+/// L_sky), is linear in b; the balance's curvature in T is weak, largest
+/// where convection changes regime), so against the slab model solved at
+/// the point's own fraction the interpolation is off by RMS 0.016, max
+/// 0.13 K (test `sky_nodes_interpolate_the_blocked_sky`; keying on the
+/// quantum alone: 0.13, 0.29 K) — while the points along a sky-view
+/// gradient (beside a building) share the solves of a few nodes instead of
+/// one per quantum (BENCHMARKS.md, session 18: nodes 0.2 apart give max
+/// 0.37 K).
 pub const SKY_NODE_QUANTA: i32 = 5;
 
 /// Hit/miss counters.
@@ -654,10 +663,16 @@ impl ThermCache {
 
     /// The key part of a blocked sky fraction (see [`SKY_QUANTUM`]).
     fn quantise_blocked(blocked_sky: f64) -> i32 {
+        (Self::blocked_fraction(blocked_sky) / SKY_QUANTUM).round() as i32
+    }
+
+    /// A blocked sky fraction as the key uses it: clamped to [0, 1], 0 when
+    /// not finite.
+    fn blocked_fraction(blocked_sky: f64) -> f64 {
         if blocked_sky.is_finite() {
-            (blocked_sky.clamp(0.0, 1.0) / SKY_QUANTUM).round() as i32
+            blocked_sky.clamp(0.0, 1.0)
         } else {
-            0
+            0.0
         }
     }
 
@@ -692,14 +707,9 @@ impl ThermCache {
     /// [`SKY_NODE_QUANTA`] quanta. A fraction on a node (open ground:
     /// exactly 0) gives `w` = 0 and `hi` = `lo`. A pure function of the
     /// arguments (so the interpolated temperature is one of the key alone).
-    pub fn sky_nodes(&self, o: Orientation, blocked_sky: f64) -> (FacetParts, FacetParts, f64) {
+    pub fn sky_nodes(&self, o: Orientation, blocked_sky: f64) -> SkyNodes {
         let lo = self.facet_parts(o, 0.0);
-        let b = if blocked_sky.is_finite() {
-            blocked_sky.clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let x = b / (SKY_QUANTUM * SKY_NODE_QUANTA as f64);
+        let x = Self::blocked_fraction(blocked_sky) / (SKY_QUANTUM * SKY_NODE_QUANTA as f64);
         let k = x.floor();
         let w = x - k;
         let at = |k: i32| FacetParts {
