@@ -487,7 +487,8 @@ fn slot_sample<'a>(sl: Slot, coarse: &'a Sample, l1: &'a [Sample], l2: &'a [Samp
 /// specular background traces its own).
 ///
 /// A sample that takes its donor's history and sees no specular
-/// background (nor does the donor) also takes the donor's surface
+/// background surface (nor does the donor; a mirror that sees the sky on
+/// the donor's side of the horizon does) also takes the donor's surface
 /// temperature and, in the pixel, the donor's radiometry ([`Level2::donor`],
 /// [`grid_owners`]): it differs from the donor only by where it lies on
 /// the plane (sky view, height, view angle and range inside a quarter of a
@@ -558,7 +559,15 @@ fn level_two(
     let donor: Vec<Option<Slot>> = (fine.iter_mut().zip(&nearest).zip(&own))
         .map(|((smp, d), &o)| {
             let (sl, dsmp, dsurf) = (*d)?;
-            if o || smp.bounce.is_some() || dsmp.bounce.is_some() {
+            // (a mirror that sees the sky, as its donor does, on the same
+            // side of the horizon: the sky dome varies smoothly between
+            // their directions; a background surface has its own history)
+            let same_bounce = match (&smp.bounce, &dsmp.bounce) {
+                (None, None) => true,
+                (Some((da, None)), Some((db, None))) => (da.z > 0.0) == (db.z > 0.0),
+                _ => false,
+            };
+            if o || !same_bounce {
                 return None;
             }
             let surf = smp.surface.as_mut()?;
