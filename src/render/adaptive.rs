@@ -74,7 +74,7 @@ use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, Stats, add
 use super::pixel::{EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
-use super::thermal::solve_temperatures;
+use super::thermal::{solve_temperatures, solve_temperatures_except};
 use super::tracing::{sample_camera, trace_block, trace_geometry, trace_sample_histories};
 use crate::sensor::camera::Camera;
 use crate::trace::Ray;
@@ -484,8 +484,16 @@ fn slot_sample<'a>(sl: Slot, coarse: &'a Sample, l1: &'a [Sample], l2: &'a [Samp
 /// each takes the sun/shadow history of the nearest first-level or coarse
 /// sample on its plane and material if its own sun rays at the `recent`
 /// history samples agree with it, and traces its own otherwise (every
-/// specular background traces its own). Returns the new samples and the
-/// [`Slot`] of each of the `n`×`n` positions (row-major).
+/// specular background traces its own).
+///
+/// A sample that takes its donor's history and sees no specular
+/// background (nor does the donor) also takes the donor's surface
+/// temperature and, in the pixel, the donor's radiometry ([`Level2::donor`],
+/// [`grid_owners`]): it differs from the donor only by where it lies on
+/// the plane (sky view, height, view angle and range inside a quarter of a
+/// pixel), as an unrefined cell's positions differ from its one sample;
+/// what it adds is the edge's coverage. Its own geometry (range, point)
+/// still goes into the pixel's mean planes.
 #[allow(clippy::too_many_arguments)]
 fn level_two(
     st: &Static,
@@ -496,7 +504,7 @@ fn level_two(
     (coarse, l1, cells): (&Sample, &[Sample], &[bool]),
     recent: &[usize],
     c: &Counters,
-) -> (Vec<Sample>, Vec<Slot>) {
+) -> Level2 {
     let (m, s) = layout(n);
     let c0 = n / 2;
     let first = 1 + (m * m) as Slot;
@@ -519,18 +527,19 @@ fn level_two(
     }
     let mut fine = trace_geometry(st, cam, &pos, c);
     // The donors: the first-level samples and the coarse one, with their
-    // grid positions (within the pixel).
-    let donors: Vec<((u32, u32), &Surface)> = (0..m * m)
+    // grid positions (within the pixel) and slots.
+    let donors: Vec<((u32, u32), Slot, &Sample, &Surface)> = (0..m * m)
         .map(|k| {
             (
                 (cell_centre(k % m, s), cell_centre(k / m, s)),
+                1 + k,
                 &l1[k as usize],
             )
         })
-        .chain(std::iter::once(((c0, c0), coarse)))
-        .filter_map(|(p, smp)| smp.surface.as_ref().map(|surf| (p, surf)))
+        .chain(std::iter::once(((c0, c0), 0, coarse)))
+        .filter_map(|(p, sl, smp)| smp.surface.as_ref().map(|surf| (p, sl, smp, surf)))
         .collect();
-    let given: Vec<Option<&Surface>> = fine
+    let nearest: Vec<Option<(Slot, &Sample, &Surface)>> = fine
         .iter()
         .zip(&pos)
         .map(|(smp, &(px, py))| {
@@ -539,15 +548,65 @@ fn level_two(
             let dist = |q: (u32, u32)| p.0.abs_diff(q.0).pow(2) + p.1.abs_diff(q.1).pow(2);
             donors
                 .iter()
-                .filter(|(_, d)| same_plane(surf, d))
-                .min_by_key(|(q, _)| dist(*q))
-                .map(|&(_, d)| d)
+                .filter(|(_, _, _, d)| same_plane(surf, d))
+                .min_by_key(|(q, _, _, _)| dist(*q))
+                .map(|&(_, sl, smp, d)| (sl, smp, d))
         })
         .collect();
+    let given: Vec<Option<&Surface>> = nearest.iter().map(|d| d.map(|(_, _, s)| s)).collect();
     let own = check_recent(st, cond, &mut fine, &given, recent, c);
+    let donor: Vec<Option<Slot>> = (fine.iter_mut().zip(&nearest).zip(&own))
+        .map(|((smp, d), &o)| {
+            let (sl, dsmp, dsurf) = (*d)?;
+            if o || smp.bounce.is_some() || dsmp.bounce.is_some() {
+                return None;
+            }
+            let surf = smp.surface.as_mut()?;
+            surf.temp_k = dsurf.temp_k;
+            Some(sl)
+        })
+        .collect();
+    add(&c.donor_values, donor.iter().flatten().count());
     trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
-    (fine, slots)
+    Level2 { fine, slots, donor }
 }
+
+/// What [`level_two`] gives a refined pixel.
+#[derive(Default)]
+struct Level2 {
+    /// The second-level samples.
+    fine: Vec<Sample>,
+    /// The [`Slot`] of each of the `n`×`n` positions (row-major).
+    slots: Vec<Slot>,
+    /// Per second-level sample: the slot of the donor whose temperature
+    /// (already set) and radiometry it takes, if it does.
+    donor: Vec<Option<Slot>>,
+}
+
+/// The position whose radiometry each of a refined pixel's grid positions
+/// uses: the first position of its slot's sample, or, for a second-level
+/// sample that takes its donor's values ([`Level2::donor`]), the donor's
+/// first position (each owner is its own owner).
+fn grid_owners(slots: &[Slot], donor: &[Option<Slot>], first_fine: Slot) -> Vec<usize> {
+    let mut first = vec![usize::MAX; first_fine as usize + donor.len()];
+    for (q, &sl) in slots.iter().enumerate() {
+        let f = &mut first[sl as usize];
+        if *f == usize::MAX {
+            *f = q;
+        }
+    }
+    slots
+        .iter()
+        .map(|&sl| {
+            let d = sl
+                .checked_sub(first_fine)
+                .and_then(|j| donor[j as usize])
+                .unwrap_or(sl);
+            first[d as usize]
+        })
+        .collect()
+}
+
 /// Renders one frame with adaptive sampling (module docs); `n` =
 /// `render.supersample` > 1. With [`Static::keep_samples`] the frame keeps
 /// its coarse samples (one per pixel: `sample_width` = the image's width),
@@ -667,12 +726,12 @@ pub fn render_adaptive(
             stats.samples += l1.len() as u64;
             solve_temperatures(st, cond, &mut l1, &mut stats, &quiet)?;
             let t1 = Instant::now();
-            let two: Vec<(Vec<Sample>, Vec<Slot>)> = chunk
+            let two: Vec<Level2> = chunk
                 .par_iter()
                 .enumerate()
                 .map(|(k, &i)| {
                     if cancel::cancelled() {
-                        return (Vec::new(), Vec::new());
+                        return Level2::default();
                     }
                     let (x, y) = xy(i);
                     let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
@@ -696,14 +755,22 @@ pub fn render_adaptive(
             cancel::check()?;
             let mut offsets = Vec::with_capacity(two.len() + 1);
             offsets.push(0);
-            let (fines, slots): (Vec<Vec<Sample>>, Vec<Vec<Slot>>) = two.into_iter().unzip();
-            for f in &fines {
-                offsets.push(offsets.last().copied().unwrap_or(0) + f.len());
+            for t in &two {
+                offsets.push(offsets.last().copied().unwrap_or(0) + t.fine.len());
             }
-            let mut fine: Vec<Sample> = fines.into_iter().flatten().collect();
+            let owners: Vec<Vec<usize>> = two
+                .iter()
+                .map(|t| grid_owners(&t.slots, &t.donor, 1 + per1 as Slot))
+                .collect();
+            let solved: Vec<bool> = two
+                .iter()
+                .flat_map(|t| t.donor.iter().map(|d| d.is_some()))
+                .collect();
+            let slots: Vec<Vec<Slot>> = two.iter().map(|t| t.slots.clone()).collect();
+            let mut fine: Vec<Sample> = two.into_iter().flat_map(|t| t.fine).collect();
             stats.seconds.trace += t1.elapsed().as_secs_f64();
             stats.samples += fine.len() as u64;
-            solve_temperatures(st, cond, &mut fine, &mut stats, &quiet)?;
+            solve_temperatures_except(st, cond, &mut fine, &solved, &mut stats, &quiet)?;
             let t2 = Instant::now();
             let maker = planes.maker();
             let vals: Vec<PixelValues> = chunk
@@ -715,17 +782,7 @@ pub fn render_adaptive(
                     let px: Vec<&Sample> = (slots[k].iter())
                         .map(|&sl| slot_sample(sl, &cur[i], mine, two))
                         .collect();
-                    let mut first = vec![usize::MAX; 1 + per1 + two.len()];
-                    let owner: Vec<usize> = (slots[k].iter().enumerate())
-                        .map(|(q, &sl)| {
-                            let f = &mut first[sl as usize];
-                            if *f == usize::MAX {
-                                *f = q;
-                            }
-                            *f
-                        })
-                        .collect();
-                    maker.pixel_shared(&ctx, &px, Some(&owner), n as usize, memo)
+                    maker.pixel_shared(&ctx, &px, Some(&owners[k]), n as usize, memo)
                 })
                 .collect::<anyhow::Result<_>>()?;
             values.extend(vals);
@@ -763,15 +820,16 @@ pub fn render_adaptive(
 /// (for `irsig probe`): the coarse samples of the pixel and its
 /// neighbours, traced in their blocks as the coarse pass traces them, and,
 /// if the pixel is refined, its first and second levels. Returns the
-/// samples of its grid positions (row-major; a shared sample repeated) and
-/// the grid's side: 1 for an unrefined pixel (its coarse sample alone),
-/// `n` for a refined one.
+/// samples of its grid positions (row-major; a shared sample repeated),
+/// the grid's side (1 for an unrefined pixel, its coarse sample alone; `n`
+/// for a refined one) and, for a refined pixel, the position whose
+/// radiometry each position uses ([`grid_owners`]).
 pub fn pixel_samples(
     st: &Static,
     cond: &Conditions,
     (x, y): (u32, u32),
     stats: &mut Stats,
-) -> anyhow::Result<(Vec<Sample>, u32)> {
+) -> anyhow::Result<(Vec<Sample>, u32, Option<Vec<usize>>)> {
     let cam = sample_camera(st);
     let n = st.scene.scene.render.supersample().max(1);
     let threshold_k = st.scene.scene.render.refine_threshold_k;
@@ -815,7 +873,7 @@ pub fn pixel_samples(
     let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
     if !border && !nb.iter().flatten().any(|o| differ(&me, o, threshold_k)) {
         c.flush(stats);
-        return Ok((vec![me], 1));
+        return Ok((vec![me], 1, None));
     }
     let recent = recent_samples(cond);
     let hood = hood_of(&me, |dx, dy| {
@@ -831,11 +889,14 @@ pub fn pixel_samples(
         n,
         (threshold_k * CELL_THRESHOLD_FACTOR, &recent),
     );
-    let (mut fine, slots) = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
-    solve_temperatures(st, cond, &mut fine, stats, &quiet)?;
-    let out = (slots.iter())
+    let two = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
+    let owners = grid_owners(&two.slots, &two.donor, 1 + l1.len() as Slot);
+    let skip: Vec<bool> = two.donor.iter().map(|d| d.is_some()).collect();
+    let mut fine = two.fine;
+    solve_temperatures_except(st, cond, &mut fine, &skip, stats, &quiet)?;
+    let out = (two.slots.iter())
         .map(|&sl| slot_sample(sl, &me, &l1, &fine).clone())
         .collect();
     c.flush(stats);
-    Ok((out, n))
+    Ok((out, n, Some(owners)))
 }

@@ -233,8 +233,9 @@ impl PixelMaker<'_> {
 
     /// [`Self::pixel`] where positions of the n×n grid may share one
     /// sample (adaptive sampling's unrefined cells: [`super::adaptive`]):
-    /// `owner[k]` is the first position whose sample `px[k]` is, and each
-    /// shared sample is evaluated once and weighted by its positions.
+    /// `owner[k]` is the position whose sample's radiometry position `k`
+    /// uses (its own for a sample of its own; an owner is its own owner),
+    /// each owner evaluated once and weighted by its positions.
     pub fn pixel_shared(
         &self,
         ctx: &RadiometryContext,
@@ -244,26 +245,48 @@ impl PixelMaker<'_> {
         memo: &mut pixel::EvalMemo,
     ) -> anyhow::Result<PixelValues> {
         let c = (n / 2) * n + n / 2;
+        let np = px.len();
         let uniform = n == 1 || pixel::representatives(px, n as u32)[0] == c;
-        let mut evaluated = 1;
-        let results: SmallVec<[SampleResult; 1]> = if uniform {
-            smallvec::smallvec![ctx.evaluate_memo(px[c], memo)?]
+        // The distinct results (each owner's, evaluated once) and how many
+        // positions each stands for; `centre` is the centre position's.
+        let mut results: SmallVec<[SampleResult; 1]> = SmallVec::new();
+        let mut weight: SmallVec<[u32; 1]> = SmallVec::new();
+        let centre = if uniform {
+            results.push(ctx.evaluate_memo(px[c], memo)?);
+            weight.push(np as u32);
+            0
         } else {
-            let mut out: SmallVec<[SampleResult; 1]> = SmallVec::with_capacity(px.len());
-            evaluated = 0;
-            for (k, s) in px.iter().enumerate() {
-                let r = match owner.map(|o| o[k]) {
-                    Some(o) if o < k => out[o].clone(),
-                    _ => {
-                        evaluated += 1;
-                        ctx.evaluate_memo(s, memo)?
-                    }
-                };
-                out.push(r);
+            // (an owner may come after the positions it stands for)
+            let mut of = vec![u32::MAX; np];
+            for k in 0..np {
+                let o = owner.map_or(k, |o| o[k]);
+                if of[o] == u32::MAX {
+                    of[o] = results.len() as u32;
+                    results.push(ctx.evaluate_memo(px[o], memo)?);
+                    weight.push(0);
+                }
+                weight[of[o] as usize] += 1;
             }
-            out
+            of[owner.map_or(c, |o| o[c])] as usize
         };
-        let res = |k: usize| &results[if uniform { 0 } else { k }];
+        let evaluated = results.len();
+        // The positions' mean of a result's value: each distinct result
+        // weighted by its positions (non-finite values left out).
+        let wmean = |f: &dyn Fn(&SampleResult) -> f64| -> f32 {
+            let (mut s, mut finite) = (0.0, 0u32);
+            for (r, &w) in results.iter().zip(&weight) {
+                let v = f(r);
+                if v.is_finite() {
+                    s += v * w as f64;
+                    finite += w;
+                }
+            }
+            if finite > 0 {
+                (s / finite as f64) as f32
+            } else {
+                f32::NAN
+            }
+        };
         // (generic, not `&dyn Fn`: each plane's closure is inlined)
         fn mean_of(count: usize, f: impl Fn(usize) -> f64) -> f32 {
             let (mut s, mut finite) = (0.0, 0u32);
@@ -280,9 +303,8 @@ impl PixelMaker<'_> {
                 f32::NAN
             }
         }
-        let np = px.len();
         let surf = |k: usize| px[k].surface.as_ref();
-        let radiance = mean_of(np, |k| res(k).radiance_w_m2_sr_um);
+        let radiance = wmean(&|r| r.radiance_w_m2_sr_um);
         let band = &self.st.band;
         let t_app = memo.apparent.get_or(radiance.to_bits(), || {
             self.lut
@@ -310,10 +332,10 @@ impl PixelMaker<'_> {
         for axis in 0..3 {
             v[8 + axis] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
         }
-        v[11] = mean_of(np, |k| res(k).view_angle_deg);
-        v[12] = res(c).case as f32;
+        v[11] = wmean(&|r| r.view_angle_deg);
+        v[12] = results[centre].case as f32;
         for (t, f) in TERMS.iter().enumerate() {
-            v[FIRST_TERM + t] = mean_of(np, |k| f(&res(k).terms));
+            v[FIRST_TERM + t] = wmean(&|r| f(&r.terms));
         }
         Ok((v, evaluated))
     }

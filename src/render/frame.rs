@@ -89,6 +89,10 @@ pub struct Stats {
     pub adaptive_cells_coarse: u64,
     /// Samples that took a neighbour's sun/shadow history.
     pub adaptive_histories_shared: u64,
+    /// Second-level samples that also took their donor's temperature and
+    /// radiometry (same plane and material, same recent history, no
+    /// specular background): their own geometry, the donor's values.
+    pub adaptive_values_shared: u64,
     /// Distinct thermal solves (cache misses).
     pub thermal_solves: u64,
     /// Thermal lookups answered from the cache or a worker's memo.
@@ -144,6 +148,7 @@ pub(super) struct Counters {
     pub(super) cells_refined: AtomicU64,
     pub(super) cells_coarse: AtomicU64,
     pub(super) donated: AtomicU64,
+    pub(super) donor_values: AtomicU64,
 }
 
 pub(super) fn add(c: &AtomicU64, n: usize) {
@@ -197,5 +202,6 @@ impl Counters {
         stats.adaptive_cells_refined += get(&self.cells_refined);
         stats.adaptive_cells_coarse += get(&self.cells_coarse);
         stats.adaptive_histories_shared += get(&self.donated);
+        stats.adaptive_values_shared += get(&self.donor_values);
     }
 }

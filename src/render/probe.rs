@@ -422,21 +422,29 @@ pub fn probe(
     // (a shared sample of an unrefined cell is reported at each grid
     // position it stands for)
     let px = output_pixel_samples(st, x, y);
-    let (samples, n, px) = if ss > 1 && st.scene.scene.render.sampling == Sampling::Adaptive {
-        let (samples, n) = super::adaptive::pixel_samples(st, cond, (x, y), &mut stats)?;
+    let (samples, n, px, owners) = if ss > 1 && st.scene.scene.render.sampling == Sampling::Adaptive
+    {
+        let (samples, n, owners) = super::adaptive::pixel_samples(st, cond, (x, y), &mut stats)?;
         let px = if n == 1 {
             vec![px[((ss / 2) * ss + ss / 2) as usize]]
         } else {
             px
         };
-        (samples, n, px)
+        (samples, n, px, owners)
     } else {
-        (trace_samples(st, cond, &px, &mut stats)?, ss, px)
+        (trace_samples(st, cond, &px, &mut stats)?, ss, px, None)
     };
     let rctx = RadiometryContext::new(st, cond)?;
     // As the render: a uniform pixel evaluates its centre sample only and
-    // reports that result for each of its samples.
+    // reports that result for each of its samples; a refined pixel of
+    // adaptive sampling evaluates each position's owner (a shared sample
+    // or a donor).
     let rep = representatives(&samples.iter().collect::<Vec<_>>(), n);
+    let uniform = rep.iter().enumerate().any(|(k, &r)| r != k);
+    let rep = match owners {
+        Some(o) if !uniform => o,
+        _ => rep,
+    };
     let mut results: Vec<SampleResult> = Vec::new();
     let mut bins = Vec::new();
     for (k, s) in samples.iter().enumerate() {

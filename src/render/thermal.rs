@@ -265,22 +265,40 @@ pub(super) fn solve_temperatures(
     stats: &mut Stats,
     progress: &StageProgress,
 ) -> anyhow::Result<()> {
+    solve_temperatures_except(st, cond, samples, &[], stats, progress)
+}
+
+/// [`solve_temperatures`] for the samples whose `skip` flag is not set
+/// (a sample beyond `skip`'s end is solved): a skipped sample keeps the
+/// temperatures it has (adaptive sampling's donated values).
+pub(super) fn solve_temperatures_except(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    skip: &[bool],
+    stats: &mut Stats,
+    progress: &StageProgress,
+) -> anyhow::Result<()> {
     let t1 = Instant::now();
     let before = cond.cache.stats();
     samples
         .par_chunks_mut(PROGRESS_CHUNK)
-        .try_for_each(|chunk| -> anyhow::Result<()> {
+        .enumerate()
+        .try_for_each(|(c, chunk)| -> anyhow::Result<()> {
             cancel::check()?;
             let mut memo = TempMemo::default();
-            let solved = chunk.iter_mut().try_for_each(|s| -> anyhow::Result<()> {
-                if let Some(surf) = s.surface.as_mut() {
-                    surf.temp_k = temperature(st, cond, surf, &mut memo)?;
-                }
-                if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                    bg.temp_k = temperature(st, cond, bg, &mut memo)?;
-                }
-                Ok(())
-            });
+            let skipped = |k: usize| skip.get(c * PROGRESS_CHUNK + k).copied().unwrap_or(false);
+            let solved = (chunk.iter_mut().enumerate())
+                .filter(|(k, _)| !skipped(*k))
+                .try_for_each(|(_, s)| -> anyhow::Result<()> {
+                    if let Some(surf) = s.surface.as_mut() {
+                        surf.temp_k = temperature(st, cond, surf, &mut memo)?;
+                    }
+                    if let Some((_, Some(bg))) = s.bounce.as_mut() {
+                        bg.temp_k = temperature(st, cond, bg, &mut memo)?;
+                    }
+                    Ok(())
+                });
             for m in &memo.therm {
                 cond.cache.absorb_memo(m);
             }
