@@ -23,6 +23,10 @@ it, measured, is the 24-h spin-up):
   bnd-19981215  winter snow-free residue (Feb 24), snow cover (Mar 10), crop
                 (Jul 12), after harvest (Dec 15); raw lines in
                 noah98_bondville_excerpt2.dat.
+  bnd-19980405  The two windows added later by the same rule: spring (Apr 5,
+  bnd-19980923  bare soil with residue) and early autumn (Sep 23, the crop
+                standing and senescent); raw lines in
+                noah98_bondville_excerpt3.dat.
   cdp-20020110  Col de Porte (1325 m, French Alps), snow-covered meadow,
                 clear and calm (Morin et al. 2012 forcing via GEOtop's test
                 data: hourly, UTC, stamps at the END of each hour; the snow
@@ -58,6 +62,7 @@ UTC = se.UTC
 RAW_SHA256 = {
     "noah98_bondville_excerpt.dat": "42f4bebcd20a94cfca4fe4fb39ac55e47d88e21e09e8796749e307d55d575bcd",
     "noah98_bondville_excerpt2.dat": "76682ed795cb281dacdde6fa9ca47723b8494562aa74e85bbfa2e3b98d0d3b59",
+    "noah98_bondville_excerpt3.dat": "e94277e4434a045ddf205d7fb61fa94433bbdc6fdb81923cd67ea8ff338de775",
     "cdp_meteo0001_2002-01.txt": "5f3ea8e641ad1583b1f723a49cec235e9d52e51260f6146da078e6ad7b3ab171",
     "cdp_surface_temp_2002-01.csv": "76b03c0ba288135fbcd308580b8d3b43c42100264f83519d3cbfad5e40ef2360",
     "cdp_meteo0001_more.txt": "4d1bc2535bef1e243d0da5ea77d075ee6aa9dc9e389e62fa9d1240deb10d1291",
@@ -191,20 +196,82 @@ def haurwitz_ghi_w_m2(doy, lst_h, lat=40.01, lon=-88.37, utc_offset_h=-6):
 # rule: in each, the local day with the largest ratio of measured daily GHI
 # to Haurwitz's clear-sky GHI, whose 48 IRT values are all present and whose
 # day before is in the file. Fixed before any model run on these days.
+# The first four windows were run in session 18; the last two (spring and
+# early autumn, issue #30 session 19) were added, with their surface and
+# material rule below, before any model run on the days they pick.
 SEASONS = (
     ("winter, snow-free", 1, 74, lambda alb: alb < 0.4),
     ("snow cover (midday PAR albedo > 0.4)", 1, 365, lambda alb: alb > 0.4),
     ("crop (Jun 15 - Aug 31; not Jul 25 or Aug 1, already in the set)", 166, 243, lambda alb: alb < 0.4),
     ("after harvest (Oct 15 - Dec 31)", 288, 365, lambda alb: alb < 0.4),
+    ("spring (Mar 16 - Jun 14; not May 17, already in the set)", 75, 165, lambda alb: alb < 0.4),
+    ("early autumn (Sep 1 - Oct 14: ripening crop, harvest)", 244, 287, lambda alb: alb < 0.4),
 )
-ALREADY = {206, 213}
+ALREADY = {137, 206, 213}
+
+# The surface, and the library material that stands for it, by a rule fixed
+# with the windows (tests/data/stations/README.md, "How the Bondville days
+# were chosen"):
+#   * midday PAR albedo > 0.4: snow -> `snow`;
+#   * the crop window (Jun 15 - Aug 31): the crop at (or near) full cover -> `crop`;
+#   * spring (Mar 16 - Jun 14): bare soil with the crop residue of no-till
+#     before and around emergence (midday PAR albedo 0.08-0.13 all through
+#     the window, as May 17's 0.11; the green canopy's 0.03-0.06 is first
+#     reached in July) -> the bare-soil rule;
+#   * early autumn (Sep 1 - Oct 14): the standing crop until harvest. The
+#     Noah forcing's documentation (User's Guide 2.7.1, sec. 6.1) names
+#     neither the crop nor its harvest date (its green vegetation fraction
+#     for the site falls 0.96 -> 0.65 -> 0.24 from August to October), so
+#     both are read from the file: harvest = the first day from Sep 1 whose
+#     daytime median u*/u_bar(6 m) (a measure of the surface roughness) is
+#     below HARVEST_USTAR_RATIO and stays below it for the next 5 days with
+#     data (printed by --select-noah98: Oct 11; the standing crop reads
+#     0.09-0.16, the bare field of spring 0.05-0.09). Before it the crop
+#     stands: midday PAR albedo < GREEN_PAR_ALBEDO (green leaves; the July
+#     and August crop days read 0.035-0.06) -> `crop`; otherwise senescent
+#     (yellowing and dropping leaves, PAR albedo rising to 0.09-0.11 from
+#     mid-September) -> `grass_dry`, the library's senescent vegetation
+#     (a dry sparse canopy, LAI 1, over dry soil). From harvest on -> the
+#     bare-soil rule;
+#   * the bare-soil rule (soil with residue): `soil_moist` where theta(5 cm)
+#     >= 0.3 at the start of the day (as May 17), else `soil_bare`.
+GREEN_PAR_ALBEDO = 0.07
+HARVEST_USTAR_RATIO = 0.09
+
+
+def bondville_material(season, d, alb, sm5, harvest_doy):
+    """The library material of a chosen Bondville day by the rule above."""
+    if alb > 0.4:
+        return "snow"
+    if season.startswith("crop"):
+        return "crop"
+    if season.startswith("early autumn") and d < harvest_doy:
+        return "crop" if alb < GREEN_PAR_ALBEDO else "grass_dry"
+    return "soil_moist" if sm5 >= 0.3 else "soil_bare"
+
+
+def harvest_day(days):
+    """First day of year >= 244 (Sep 1) whose daytime (GHI > 50 W/m2, u_bar >
+    2 m/s) median u*/u_bar is below HARVEST_USTAR_RATIO, with the next 5 days
+    that have such records below it too (u* = sqrt(-u'w'))."""
+    ratio = {}
+    for d, rs in days.items():
+        r = sorted((-v["uw"]) ** 0.5 / v["u_bar"] for _, v in rs
+                   if -6000 < v["uw"] < 0 and v["u_bar"] > 2 and v["rg"] > 50)
+        if r:
+            ratio[d] = r[len(r) // 2]
+    ds = sorted(d for d in ratio if d >= 244)
+    for i, d in enumerate(ds):
+        if all(ratio[e] < HARVEST_USTAR_RATIO for e in ds[i:i + 6]):
+            return d, ratio
+    return 366, ratio
 
 
 def select_bondville_days(path):
     """Applies the SEASONS rule to the whole Noah LSM 1998 file (not
     committed: 4.2 MB) and prints the day chosen in each season with its
     clearness, midday PAR albedo (median of PAR_out/PAR_in where PAR_in >
-    500 umol/m2/s) and 5-cm soil water."""
+    500 umol/m2/s), 5-cm soil water and the material the rule gives."""
     days = {}
     for ln in pathlib.Path(path).read_text().splitlines():
         f = ln.split()
@@ -214,6 +281,11 @@ def select_bondville_days(path):
         hhmm = int(v["time"])
         centre = (int(v["jday"]) - 1) * 1440 + hhmm // 100 * 60 + hhmm % 100 - 15
         days.setdefault(centre // 1440 + 1, []).append((centre % 1440, v))
+    harvest, ratio = harvest_day(days)
+    hdate = dt.date(1998, 1, 1) + dt.timedelta(days=harvest - 1)
+    print(f"harvest (daytime median u*/u_bar < {HARVEST_USTAR_RATIO} from then on): day {harvest} ({hdate}); "
+          f"u*/u_bar the 3 days before {[round(ratio.get(d, float('nan')), 3) for d in range(harvest - 3, harvest)]}, "
+          f"from it {[round(ratio.get(d, float('nan')), 3) for d in range(harvest, harvest + 3)]}")
     stats = {}
     for d, rs in days.items():
         if len(rs) != 48 or len(days.get(d - 1, [])) != 48 or any(v["irt"] <= -6000 for _, v in rs):
@@ -228,8 +300,9 @@ def select_bondville_days(path):
         cands = [d for d, (_, alb, _) in stats.items() if lo <= d <= hi and d not in ALREADY and surface(alb)]
         d = max(cands, key=lambda d: stats[d][0])
         date = dt.date(1998, 1, 1) + dt.timedelta(days=d - 1)
+        mat = bondville_material(name, d, stats[d][1], stats[d][2], harvest)
         print(f"{name}: day {d} ({date}), clearness {stats[d][0]:.3f}, PAR albedo {stats[d][1]:.3f}, "
-              f"theta(5 cm) {stats[d][2]:.2f}")
+              f"theta(5 cm) {stats[d][2]:.2f} -> {mat}")
         chosen.append(d)
     return chosen
 
@@ -401,6 +474,7 @@ def main():
     a = ap.parse_args()
     if a.select_noah98:
         select_bondville_days(a.select_noah98)
+        return 0
     if a.select_cdp:
         select_cdp_days(*a.select_cdp)
         return 0
@@ -463,7 +537,19 @@ def main():
          ["after harvest: bare soil with residue (PAR albedo 0.10); the clearest day of Oct 15 - Dec 31 1998",
           "(daily GHI / clear-sky GHI 1.01); theta(5 cm) 0.33"]),
     ]
-    for name, t0, notes in more:
+    # --- Spring and early autumn (the two windows added in session 19) ---
+    recs3 = read_noah98(RAW / "noah98_bondville_excerpt3.dat")
+    more3 = [
+        ("bnd-19980405", lst(1998, 4, 5),
+         ["spring: bare soil with crop residue before emergence (PAR albedo 0.097); the clearest day of",
+          "Mar 16 - Jun 14 1998 other than May 17 (daily GHI / clear-sky GHI 0.96); theta(5 cm) 0.40;",
+          "air -0.4 to 14 C, IRT -0.6 to 23 C; calm clear night (6-m wind down to 0.15 m/s) after a windy day"]),
+        ("bnd-19980923", lst(1998, 9, 23),
+         ["early autumn: the crop standing but senescent (PAR albedo 0.093, up from 0.04 in August; harvest",
+          "Oct 11 by the drop of u*/u_bar); the clearest day of Sep 1 - Oct 14 1998 (daily GHI / clear-sky",
+          "GHI 0.95); theta(5 cm) 0.32; latent heat flux at most 106 W/m2, sensible heat up to 318 W/m2"]),
+    ]
+    for name, t0, notes, recs in [(*m, recs) for m in more] + [(*m, recs3) for m in more3]:
         spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
         day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
         n_sub = sum(1 for r in spin + day if r.get("wind_sub"))
