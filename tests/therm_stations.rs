@@ -73,6 +73,14 @@ const BND_SNOW_MATERIAL: &str = "snow";
 /// soil (θ(5 cm) 0.40) → `BND_RESIDUE_MATERIAL`.
 const BND_SENESCENT_MATERIAL: &str = "grass_dry";
 
+/// HiWATER Shenshawo sandy desert 2013-10-08 and 2013-08-30 (chosen by the
+/// rules of tools/station_excerpt_more.py `select_ssw_day`, before any model
+/// run: the clearest and the hottest day with a daily maximum air
+/// temperature ≥ 25 °C): dry bare sand without vegetation (θ(2 cm) 3-4 %),
+/// by the rule of the bare-soil days (dry bare soil → the library's bare
+/// soil without soil evaporation, `soil_bare`).
+const SSW_MATERIAL: &str = "soil_bare";
+
 /// Tolerances per station-day (K): issue #30's RMS ≤ 1.5 K, |bias| ≤ 1.0 K.
 const RMS_MAX_K: f64 = 1.5;
 const BIAS_MAX_K: f64 = 1.0;
@@ -373,6 +381,32 @@ fn station_bnd_19980923_senescent_crop_clear() {
     check("bnd-19980923", BND_SENESCENT_MATERIAL);
 }
 
+/// A hot, dry desert day: bare sand, clear; HiWATER Shenshawo 2013-10-08
+/// (skin from the upwelling longwave, ε 0.94; 2013-10-07 measured as
+/// spin-up; the clearest of the file's days with air ≥ 25 °C).
+#[test]
+#[ignore = "misses: RMS 3.96 K, bias -0.79 K, max 9.34 K (day -4.16 K, night +2.07 K); the absorbed sun \
+            matches the measured net shortwave. The library's bare soil is a moist-soil slab (thermal inertia \
+            ~1400 against ~650 for dry sand): 191 W/m2 into it at 12-15 BJT (plates at 6 cm: 65), 91 back at \
+            night (plates 26); and over the smooth sand h_c is 21 W/(m2 K) at midday against H/(Ts-Ta) 11 \
+            measured (15 closure-corrected): z_oh = z_om/10 where bare soil reads kB^-1 5-10 by day. With \
+            grass_dry's dry-soil slab (diagnostic only) 3.29 K / -3.01 K; docs/validation-stations.md"]
+fn station_ssw_20131008_desert_sand_clearest() {
+    check("ssw-20131008", SSW_MATERIAL);
+}
+
+/// The hottest desert day of the same candidates: HiWATER Shenshawo
+/// 2013-08-30 (air up to 28.9 °C, skin to 50 °C; 2013-08-29 as spin-up).
+#[test]
+#[ignore = "misses: RMS 3.94 K, bias -1.48 K, max 9.80 K (day -4.02 K, night +1.28 K). As Oct 8: slab \
+            155 W/m2 at 12-15 BJT (plates 91), -86 at night (plates -25); h_c 26 W/(m2 K) at midday against \
+            10 measured (12.5 closure-corrected), so the modelled H is 339 W/m2 against 215 while the surface \
+            runs 8-10 K too cold; with grass_dry's dry-soil slab (diagnostic only) 3.17 K / -2.37 K; \
+            docs/validation-stations.md"]
+fn station_ssw_20130830_desert_sand_hottest() {
+    check("ssw-20130830", SSW_MATERIAL);
+}
+
 /// Issue #30 item 4, transpiration against the measured latent heat,
 /// corrected for the energy-balance closure of eddy covariance: on the
 /// peak-season crop day (Bondville 1998-08-01) the measured `H + λE`
@@ -501,7 +535,13 @@ fn station_excerpts_are_consistent() {
     const SIGMA: f64 = 5.670_374_419e-8;
     // de-tha-20140607 (FLUXNET DE-Tha, spruce forest) has no test of its
     // own: the library has no forest material (docs/validation-stations.md).
-    for name in ["bon-19950510", "slv-20160101", "de-tha-20140607"] {
+    for name in [
+        "bon-19950510",
+        "slv-20160101",
+        "de-tha-20140607",
+        "ssw-20131008",
+        "ssw-20130830",
+    ] {
         let path = format!("{STATIONS}{name}.csv");
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(!text.contains("# skin_source: ir_thermometer"), "{name}");

@@ -68,6 +68,7 @@ RAW_SHA256 = {
     "cdp_meteo0001_more.txt": "4d1bc2535bef1e243d0da5ea77d075ee6aa9dc9e389e62fa9d1240deb10d1291",
     "cdp_surface_temp_more.csv": "4182bd1843df0cbde6b113c2dbfbb972a269ba5018412672ebe48076a3956f05",
     "de-tha_bigleaf_DE_Tha_Jun_2014_doy157-158.csv": "d0f4e774187ac5571e3991d690245d0e96f890092419560071f234d6ba1f17bc",
+    "ssw_dlseb_2013-08-29_30_2013-10-07_08.csv": "53460128ea23311f6c7afb580c5e6b152626de878e2ffdc39d6cd310998a74a7",
 }
 se.RAW_SHA256.update(RAW_SHA256)
 
@@ -364,6 +365,100 @@ def select_cdp_days(meteo_path, nc_path):
     return chosen
 
 
+# --- Shenshawo sandy desert (HiWATER, Heihe River Basin), the desert day ---
+# Source: the 30-min file of the dLSEB repository (github.com/Shuaichen-He/dLSEB,
+# data/1.origin/Shenshawo sandy desert/Shenshawo_valid_10d_periods.csv, commit
+# 5c04dd9): the HiWATER automatic weather station (10-min means averaged to the
+# half hour ending at the stamp) joined with the station's eddy covariance
+# (half hour ending at the stamp), Beijing time (UTC+8), for the repository's
+# "valid periods" (10-day windows with no rain, 2-cm soil moisture < 5 % and
+# no frost). Columns used: DR, UR, DLR_Cor, ULR_Cor (CNR1 at 6 m), Ta_5m,
+# Press, Gs_1-3 (plates at 6 cm), and from the eddy covariance at 4.5 m Wnd,
+# H2O (vapour density, g/m3), Hs, LE.
+SSW = {"lat": 38.7892, "lon": 100.4933, "elev": 1594}
+SSW_NEED = ("DR", "DLR_Cor", "ULR_Cor", "Ta_5m", "H2O", "Wnd", "Press")
+# The day, by a rule fixed before any model run on it (select_ssw_day):
+# among the local days with all 48 half-hours of SSW_NEED and a day before
+# that has them too, the "summer days" (daily maximum air temperature >=
+# 25 C, the SU25 index of the ETCCDI climate indices), the one with the
+# largest ratio of daily measured GHI (DR) to Haurwitz's clear-sky GHI
+# (-> 2013-10-08); and, a second rule fixed with it, the hottest of the same
+# candidates (largest daily maximum air temperature; -> 2013-08-30).
+SSW_HOT_C = 25.0
+SSW_UTC_OFFSET_H = 8
+# Its material, by the rule of the bare-soil days (Bondville: theta(5 cm) <
+# 0.3 -> `soil_bare`): dry bare sand without vegetation (theta(2 cm) < 0.05)
+# -> `soil_bare`, the library's bare soil without soil evaporation. The skin
+# temperature is derived from ULR_Cor with that material's emissivity, 0.94
+# (desert sands read 0.93-0.95 broadband; the source's IRT columns are not in
+# the file).
+SSW_EPS = 0.94
+
+
+def read_ssw(path):
+    """Records (UTC 'end' times) of the Shenshawo 30-min file: vapour
+    pressure e = rho_v R_v T from the eddy covariance's vapour density and
+    the 5-m air temperature, RH = e / e_s (FAO-56 e_s); G = mean of the three
+    plates at 6 cm; R_n from the four components."""
+    import csv
+    import math
+
+    recs = []
+    for v in csv.DictReader(se.check_raw(path).read_text().splitlines()):
+        num = lambda k: None if v.get(k, "") in ("", "nan", "NaN") else float(v[k])
+        end = (dt.datetime.strptime(v["time"], "%Y-%m-%d %H:%M:%S")
+               - dt.timedelta(hours=SSW_UTC_OFFSET_H)).replace(tzinfo=UTC)
+        ta, rho_v = num("Ta_5m"), num("H2O")
+        rh = None
+        if ta is not None and rho_v is not None:
+            e_kpa = rho_v * 1e-3 * 461.5 * (ta + 273.15) / 1000.0
+            es = 0.6108 * math.exp(17.27 * ta / (ta + 237.3))
+            rh = 100.0 * e_kpa / es
+        gs = [num(k) for k in ("Gs_1", "Gs_2", "Gs_3")]
+        four = [num(k) for k in ("DR", "UR", "DLR_Cor", "ULR_Cor")]
+        recs.append({"end": end, "span": dt.timedelta(minutes=30), "local": v["time"],
+                     "ghi": num("DR"), "dni": None, "dhi": None, "sw_up": num("UR"),
+                     "lw_dn": num("DLR_Cor"), "lw_up": num("ULR_Cor"), "t_air_c": ta, "rh": rh,
+                     "wind": num("Wnd"), "p_hpa": num("Press"), "precip": num("Rain"),
+                     "le": num("LE"), "h": num("Hs"),
+                     "g": None if None in gs else sum(gs) / 3.0,
+                     "rnet": None if None in four else four[0] - four[1] + four[2] - four[3],
+                     "ms2": num("Ms_2cm"), "ok": all(num(k) is not None for k in SSW_NEED)})
+    return recs
+
+
+def select_ssw_day(path):
+    """Prints the candidate days of the Shenshawo rules and returns the
+    chosen local days (dates): (the clearest, the hottest)."""
+    recs = read_ssw(path)
+    by_day = {}
+    for r in recs:
+        local_centre = r["end"] - r["span"] / 2 + dt.timedelta(hours=SSW_UTC_OFFSET_H)
+        by_day.setdefault(local_centre.date(), []).append((local_centre, r))
+    complete = {d for d, rs in by_day.items() if len(rs) == 48 and all(r["ok"] for _, r in rs)}
+    best, hottest = None, None
+    for d in sorted(complete):
+        if d - dt.timedelta(days=1) not in complete:
+            continue
+        rs = by_day[d]
+        tmax = max(r["t_air_c"] for _, r in rs)
+        if tmax < SSW_HOT_C:
+            continue
+        doy = d.timetuple().tm_yday
+        cs = sum(haurwitz_ghi_w_m2(doy, c.hour + c.minute / 60, SSW["lat"], SSW["lon"], SSW_UTC_OFFSET_H)
+                 for c, _ in rs)
+        ratio = sum(r["ghi"] for _, r in rs) / cs
+        ms = max(r["ms2"] for _, r in rs)
+        print(f"  {d}: Ta max {tmax:.1f} C, daily GHI / clear-sky GHI {ratio:.3f}, Ms_2cm max {ms:.2f} %")
+        if best is None or ratio > best[1]:
+            best = (d, ratio)
+        if hottest is None or tmax > hottest[1]:
+            hottest = (d, tmax)
+    print(f"Shenshawo: the clearest summer day {best[0]} (ratio {best[1]:.3f}); "
+          f"the hottest {hottest[0]} (air up to {hottest[1]:.1f} C)")
+    return best[0], hottest[0]
+
+
 def rows_of(recs, t0, t1):
     """One row per record whose interval centre lies in [t0, t1)."""
     out = []
@@ -410,7 +505,8 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
         *(["# x_skin_temp_c: the infrared thermometer's surface temperature as published (no emissivity",
            "#   correction applied here); x_lw_up_w_m2 and x_sw_up_w_m2: not measured (empty)."] if eps is None else
           ["# x_skin_temp_c = ((LWup - (1-eps)*LWdn)/(eps*sigma))^(1/4) - 273.15, sigma = 5.670374419e-8;",
-           "#   x_sw_up_w_m2: not measured (empty)."]),
+           "#   x_sw_up_w_m2: not measured (empty)." if all(r.get("sw_up") is None for r in day) else
+           "#   x_sw_up_w_m2: the measured reflected shortwave."]),
         "# x_le_w_m2, x_h_w_m2, x_g_w_m2: measured latent, sensible and ground heat flux where the source has",
         "#   them (eddy covariance, not closure-corrected; positive away from the surface, G into the ground).",
         "# x_rnet_w_m2: measured net radiation where the source has it (net radiometer; positive into the",
@@ -431,7 +527,8 @@ def write_ir_station(name, spin, day, meta, eps_irt_note, source_lines, notes, h
             cells.append(se.fmt(r["p_hpa"], 1))
         cells += ["0", se.fmt(clip(r["ghi"]), 1), se.fmt(clip(r["dni"]), 1), se.fmt(clip(r["dhi"]), 1),
                   se.fmt(sky), se.fmt(r["precip"] or 0.0, 2)]
-        cells += [se.fmt(r["lw_up"], 1), se.fmt(r["lw_dn"], 1), "", se.fmt(r["irt"]), "1" if copy else "0",
+        cells += [se.fmt(r["lw_up"], 1), se.fmt(r["lw_dn"], 1), se.fmt(r.get("sw_up"), 1), se.fmt(r["irt"]),
+                  "1" if copy else "0",
                   se.fmt(r.get("le"), 1), se.fmt(r.get("h"), 1), se.fmt(r.get("g"), 1),
                   se.fmt(r.get("rnet"), 1)]
         lines.append(",".join(cells))
@@ -469,6 +566,8 @@ def main():
     ap.add_argument("--select-cdp", type=pathlib.Path, nargs=2, metavar=("METEO0001", "NC"),
                     help="meteo0001.txt and CDP_hourly_19930801_20170731.nc: print the Col de Porte days "
                          "the selection rule picks")
+    ap.add_argument("--select-ssw", type=pathlib.Path,
+                    help="Shenshawo_valid_10d_periods.csv (dLSEB repository): print the Shenshawo day the rule picks")
     ap.add_argument("--cdp-nc", type=pathlib.Path,
                     help="CDP_hourly_19930801_20170731.nc: re-extract the surface temperature excerpt")
     a = ap.parse_args()
@@ -477,6 +576,9 @@ def main():
         return 0
     if a.select_cdp:
         select_cdp_days(*a.select_cdp)
+        return 0
+    if a.select_ssw:
+        select_ssw_day(a.select_ssw)
         return 0
     if a.cdp_nc:
         cdp_surface_temp_from_nc(a.cdp_nc, RAW / "cdp_surface_temp_2002-01.csv",
@@ -597,7 +699,48 @@ def main():
                          "cdp_surface_temp_more.csv", None))
     for t0, meteo, stemp, notes in cdp_days:
         write_cdp_day(RAW / meteo, RAW / stemp, t0, notes)
+
+    # --- Shenshawo sandy desert (HiWATER): the desert days of select_ssw_day ---
+    recs = read_ssw(RAW / "ssw_dlseb_2013-08-29_30_2013-10-07_08.csv")
+    for d, why in [(dt.date(2013, 10, 8), "the clearest summer day (daily max air >= 25 C) of the file"),
+                   (dt.date(2013, 8, 30), "the hottest day of the same candidates")]:
+        write_ssw_day(recs, d, why)
     return 0
+
+
+def write_ssw_day(recs, d, why):
+    """One Shenshawo station-day: the local (Beijing, UTC+8) day `d`, the day
+    before as the measured spin-up."""
+    t0 = dt.datetime(d.year, d.month, d.day, tzinfo=UTC) - dt.timedelta(hours=SSW_UTC_OFFSET_H)
+    spin = rows_of(recs, t0 - dt.timedelta(days=1), t0)
+    day = rows_of(recs, t0, t0 + dt.timedelta(days=1))
+    rng = lambda k: (min(r[k] for r in day), max(r[k] for r in day))
+    skin = [se.skin_temp_c(r["lw_up"], r["lw_dn"], SSW_EPS) for r in day]
+    alb = se.midday_albedo(day, SSW["lon"])
+    write_ir_station(
+        f"ssw-{d:%Y%m%d}", spin, day, SSW,
+        "the library's soil_bare (the material the rule picks); desert sands read 0.93-0.95 broadband",
+        ["source: HiWATER Shenshawo sandy desert station (Heihe River Basin, Gansu, China): automatic weather station",
+         "        and eddy covariance, 30-min, as the file data/1.origin/Shenshawo sandy desert/",
+         "        Shenshawo_valid_10d_periods.csv of github.com/Shuaichen-He/dLSEB (commit 5c04dd9; MIT licence)",
+         "        (see tests/data/stations/README.md)",
+         "data: Heihe hydrometeorological observation network (Liu et al. 2018, Vadose Zone J. 17:180072; Li et al.",
+         "      2013, BAMS 94:1145), published by the National Tibetan Plateau / Third Pole Environment Data Center"],
+        [f"dry bare sand (sandy desert, no vegetation): 2-cm soil moisture {rng('ms2')[0]:.1f}-{rng('ms2')[1]:.1f} %"
+         + f"; midday albedo {alb:.3f}",
+         f"chosen by select_ssw_day: {why} (rule fixed before any model run)",
+         "air {:.1f} to {:.1f} C, wind {:.1f}-{:.1f} m/s, RH {:.0f}-{:.0f} %, skin (eps {}) {:.1f} to {:.1f} C".format(
+             *rng("t_air_c"), *rng("wind"), *rng("rh"), SSW_EPS, min(skin), max(skin)),
+         "times: Beijing time (UTC+8), AWS 10-min means averaged to the half hour ending at the stamp, eddy",
+         "covariance half hour ending at the stamp (DR-weighted mean hour {:.2f} BJT; solar noon 13.1 BJT on Oct 8,".format(
+             sum(r["ghi"] * ((r["time"].hour + SSW_UTC_OFFSET_H) % 24 + r["time"].minute / 60) for r in day)
+             / sum(r["ghi"] for r in day)),
+         "13.3 on Aug 30)",
+         "heights: air temperature 5 m (HMP45AC), wind and vapour density 4.5 m (eddy covariance: CSAT3 and",
+         "LI-7500), radiometers 6 m (CNR1), pressure 2 m; RH = rho_v R_v T_a / e_s(T_a) (FAO-56 e_s)",
+         "x_g_w_m2: mean of the three plates at 6 cm (no storage correction above them); x_rnet_w_m2: the four",
+         "components DR - UR + DLR_Cor - ULR_Cor; DNI/DHI not measured (irsig splits GHI)"],
+        (4.5, 5.0), eps=SSW_EPS)
 
 
 def write_cdp_day(meteo, stemp, t0, notes):
