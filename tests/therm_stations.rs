@@ -78,8 +78,11 @@ const BND_SENESCENT_MATERIAL: &str = "grass_dry";
 /// run: the clearest and the hottest day with a daily maximum air
 /// temperature ≥ 25 °C): dry bare sand without vegetation (θ(2 cm) 3-4 %),
 /// by the rule of the bare-soil days (dry bare soil → the library's bare
-/// soil without soil evaporation, `soil_bare`).
-const SSW_MATERIAL: &str = "soil_bare";
+/// soil without soil evaporation, `soil_bare`), extended in session 21,
+/// before any run with it, by one clause: dry bare *sand* (a sandy soil or
+/// dune with θ below ~5 %) → the library's dry sand, `sand_dry` (de Vries
+/// 1963 dry sandy soil; published values, none fitted to these days).
+const SSW_MATERIAL: &str = "sand_dry";
 
 /// Tolerances per station-day (K): issue #30's RMS ≤ 1.5 K, |bias| ≤ 1.0 K.
 const RMS_MAX_K: f64 = 1.5;
