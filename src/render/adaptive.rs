@@ -48,8 +48,15 @@
 //!    (a shadow edge of now or of the last hour between the two, or no
 //!    donor) and for every specular background it traces its own. An
 //!    older shadow edge inside a cell is left at the first level's
-//!    resolution (its temperature step has decayed; BENCHMARKS.md). An
-//!    unrefined pixel is its coarse sample's value.
+//!    resolution (its temperature step has decayed; BENCHMARKS.md). A
+//!    sample that takes its donor's history and the same kind of specular
+//!    view also takes its temperature and band integral ([`level_two`]; a
+//!    first-level sample the pixel's own coarse sample's, [`level_one`]).
+//!    An unrefined pixel is its coarse sample's value.
+//! 5. **Guided histories.** A refined sample that traces its own history
+//!    inside a square of four samples on its plane traces only the history
+//!    samples where they disagree
+//!    ([`super::tracing::trace_histories_guided`]).
 //!
 //! What it leaves out: a feature that no coarse sample sees (narrower
 //! than the pixel pitch and between two pixel centres, e.g. a thin pole
@@ -75,7 +82,9 @@ use super::pixel::{EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
 use super::thermal::{solve_temperatures, solve_temperatures_except};
-use super::tracing::{sample_camera, trace_block, trace_geometry, trace_sample_histories};
+use super::tracing::{
+    Guides, sample_camera, trace_block, trace_geometry, trace_sample_histories_guided,
+};
 use crate::sensor::camera::Camera;
 use crate::trace::Ray;
 use crate::trace::offset::offset_origin;
@@ -257,7 +266,7 @@ fn level_one(
     n: u32,
     (hood, recent): (&[Option<&Sample>; 9], &[usize]),
     c: &Counters,
-) -> Vec<Sample> {
+) -> (Vec<Sample>, Vec<bool>) {
     let (m, s) = layout(n);
     let pos: Vec<(u32, u32)> = (0..m)
         .flat_map(|j| (0..m).map(move |i| (x * n + cell_centre(i, s), y * n + cell_centre(j, s))))
@@ -270,8 +279,65 @@ fn level_one(
         .collect();
     let given = shared_histories(&out, &coarse);
     let own = check_recent(st, cond, &mut out, &given, recent, c);
-    trace_sample_histories(st, cond, &mut out, |i| own[i], c);
-    out
+    // The pixel's own coarse sample as a donor of values (module docs,
+    // step 3): same plane and material, the shared history, the same kind
+    // of mirror view.
+    let me = hood[0];
+    let donated: Vec<bool> = (out.iter_mut().zip(&given).zip(&own))
+        .map(|((smp, g), &o)| {
+            let Some(me) = me else { return false };
+            if g.is_none() || o || !same_bounce(smp, me) {
+                return false;
+            }
+            match (smp.surface.as_mut(), me.surface.as_ref()) {
+                (Some(surf), Some(d)) if same_plane(surf, d) => {
+                    surf.temp_k = d.temp_k;
+                    true
+                }
+                _ => false,
+            }
+        })
+        .collect();
+    add(&c.donor_values, donated.iter().filter(|&&d| d).count());
+    // A sample that traces its own history is guided by the four coarse
+    // samples of the square around it, when all four are on its plane.
+    let c0 = (n / 2) as i64;
+    let side = |v: u32| if (v as i64) < c0 { -1 } else { 1 };
+    let hood_at = |dx: i64, dy: i64| -> Option<&Sample> {
+        match (dx, dy) {
+            (0, 0) => hood[0],
+            _ => hood[1 + NEIGHBOURS.iter().position(|&q| q == (dx, dy))?],
+        }
+    };
+    let guide = |i: usize, surf: &Surface| -> Option<Guides> {
+        let (sx, sy) = (
+            side(cell_centre(i as u32 % m, s)),
+            side(cell_centre(i as u32 / m, s)),
+        );
+        let g = [(0, 0), (sx, 0), (0, sy), (sx, sy)].map(|(dx, dy)| {
+            hood_at(dx, dy)
+                .and_then(|smp| smp.surface.as_ref())
+                .filter(|d| same_plane(surf, d))
+        });
+        let [Some(a), Some(b), Some(c), Some(d)] = g else {
+            return None;
+        };
+        Some([&a.history, &b.history, &c.history, &d.history])
+    };
+    trace_sample_histories_guided(st, cond, &mut out, |i| own[i], guide, recent, c);
+    (out, donated)
+}
+
+/// Whether two samples see the same kind of specular view for a shared
+/// value: neither is a mirror, or both are mirrors that see the sky on the
+/// same side of the horizon (the sky dome varies smoothly between their
+/// directions; a background surface has its own history).
+fn same_bounce(a: &Sample, b: &Sample) -> bool {
+    match (&a.bounce, &b.bounce) {
+        (None, None) => true,
+        (Some((da, None)), Some((db, None))) => (da.z > 0.0) == (db.z > 0.0),
+        _ => false,
+    }
 }
 
 /// A pixel's 3×3 neighbourhood of coarse samples: its own (`own`) and
@@ -559,15 +625,7 @@ fn level_two(
     let donor: Vec<Option<Slot>> = (fine.iter_mut().zip(&nearest).zip(&own))
         .map(|((smp, d), &o)| {
             let (sl, dsmp, dsurf) = (*d)?;
-            // (a mirror that sees the sky, as its donor does, on the same
-            // side of the horizon: the sky dome varies smoothly between
-            // their directions; a background surface has its own history)
-            let same_bounce = match (&smp.bounce, &dsmp.bounce) {
-                (None, None) => true,
-                (Some((da, None)), Some((db, None))) => (da.z > 0.0) == (db.z > 0.0),
-                _ => false,
-            };
-            if o || !same_bounce {
+            if o || !same_bounce(smp, dsmp) {
                 return None;
             }
             let surf = smp.surface.as_mut()?;
@@ -576,7 +634,33 @@ fn level_two(
         })
         .collect();
     add(&c.donor_values, donor.iter().flatten().count());
-    trace_sample_histories(st, cond, &mut fine, |i| own[i], c);
+    // A sample that traces its own history is guided by the four
+    // first-level samples of the square of cell centres around it, when
+    // the square lies in the pixel and all four are on its plane.
+    let cell_of = |v: u32| -> Option<(u32, u32)> {
+        let ci = v / s;
+        let other = if v < cell_centre(ci, s) {
+            ci.checked_sub(1)?
+        } else {
+            ci + 1
+        };
+        (other < m).then_some((ci, other))
+    };
+    let guide = |i: usize, surf: &Surface| -> Option<Guides> {
+        let (px, py) = (pos[i].0 - x * n, pos[i].1 - y * n);
+        let ((a, b), (c, d)) = (cell_of(px)?, cell_of(py)?);
+        let g = [(a, c), (b, c), (a, d), (b, d)].map(|(i, j)| {
+            l1[(j * m + i) as usize]
+                .surface
+                .as_ref()
+                .filter(|o| same_plane(surf, o))
+        });
+        let [Some(p), Some(q), Some(r), Some(t)] = g else {
+            return None;
+        };
+        Some([&p.history, &q.history, &r.history, &t.history])
+    };
+    trace_sample_histories_guided(st, cond, &mut fine, |i| own[i], guide, recent, c);
     Level2 { fine, slots, donor }
 }
 
@@ -593,11 +677,20 @@ struct Level2 {
 }
 
 /// The position whose radiometry each of a refined pixel's grid positions
-/// uses: the first position of its slot's sample, or, for a second-level
-/// sample that takes its donor's values ([`Level2::donor`]), the donor's
-/// first position (each owner is its own owner).
-fn grid_owners(slots: &[Slot], donor: &[Option<Slot>], first_fine: Slot) -> Vec<usize> {
-    let mut first = vec![usize::MAX; first_fine as usize + donor.len()];
+/// uses: the first position of its slot's sample, or, for a sample that
+/// takes its donor's values (a first-level one the coarse sample's,
+/// `l1_donated`; a second-level one its [`Level2::donor`]'s), the donor's
+/// (each owner is its own owner).
+fn grid_owners(slots: &[Slot], l1_donated: &[bool], donor: &[Option<Slot>]) -> Vec<usize> {
+    let first_fine = 1 + l1_donated.len();
+    let alias = |sl: Slot| -> Slot {
+        match (sl as usize).checked_sub(first_fine) {
+            Some(j) => donor[j].unwrap_or(sl),
+            None if sl > 0 && l1_donated[sl as usize - 1] => 0,
+            None => sl,
+        }
+    };
+    let mut first = vec![usize::MAX; first_fine + donor.len()];
     for (q, &sl) in slots.iter().enumerate() {
         let f = &mut first[sl as usize];
         if *f == usize::MAX {
@@ -606,13 +699,7 @@ fn grid_owners(slots: &[Slot], donor: &[Option<Slot>], first_fine: Slot) -> Vec<
     }
     slots
         .iter()
-        .map(|&sl| {
-            let d = sl
-                .checked_sub(first_fine)
-                .and_then(|j| donor[j as usize])
-                .unwrap_or(sl);
-            first[d as usize]
-        })
+        .map(|&sl| first[alias(alias(sl)) as usize])
         .collect()
 }
 
@@ -718,11 +805,11 @@ pub fn render_adaptive(
         let xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
         for chunk in refined.chunks(chunk_pixels) {
             let t0 = Instant::now();
-            let l1: Vec<Vec<Sample>> = chunk
+            let l1: Vec<(Vec<Sample>, Vec<bool>)> = chunk
                 .par_iter()
                 .map(|&i| {
                     if cancel::cancelled() {
-                        return Vec::new();
+                        return (Vec::new(), Vec::new());
                     }
                     let (x, y) = xy(i);
                     let hood = hood_of(&cur[i], |dx, dy| at(x as i64 + dx, y as i64 + dy));
@@ -730,10 +817,12 @@ pub fn render_adaptive(
                 })
                 .collect();
             cancel::check()?;
+            let (l1, l1_donated): (Vec<Vec<Sample>>, Vec<Vec<bool>>) = l1.into_iter().unzip();
             let mut l1: Vec<Sample> = l1.into_iter().flatten().collect();
+            let l1_donated: Vec<bool> = l1_donated.into_iter().flatten().collect();
             stats.seconds.trace += t0.elapsed().as_secs_f64();
             stats.samples += l1.len() as u64;
-            solve_temperatures(st, cond, &mut l1, &mut stats, &quiet)?;
+            solve_temperatures_except(st, cond, &mut l1, &l1_donated, &mut stats, &quiet)?;
             let t1 = Instant::now();
             let two: Vec<Level2> = chunk
                 .par_iter()
@@ -769,7 +858,10 @@ pub fn render_adaptive(
             }
             let owners: Vec<Vec<usize>> = two
                 .iter()
-                .map(|t| grid_owners(&t.slots, &t.donor, 1 + per1 as Slot))
+                .enumerate()
+                .map(|(k, t)| {
+                    grid_owners(&t.slots, &l1_donated[k * per1..(k + 1) * per1], &t.donor)
+                })
                 .collect();
             let solved: Vec<bool> = two
                 .iter()
@@ -889,8 +981,8 @@ pub fn pixel_samples(
         let k = NEIGHBOURS.iter().position(|&q| q == (dx, dy))?;
         nb[k]
     });
-    let mut l1 = level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &c);
-    solve_temperatures(st, cond, &mut l1, stats, &quiet)?;
+    let (mut l1, l1_donated) = level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &c);
+    solve_temperatures_except(st, cond, &mut l1, &l1_donated, stats, &quiet)?;
     let cells = refined_cells(
         &l1,
         &me,
@@ -899,7 +991,7 @@ pub fn pixel_samples(
         (threshold_k * CELL_THRESHOLD_FACTOR, &recent),
     );
     let two = level_two(st, cond, &cam, (x, y), n, (&me, &l1, &cells), &recent, &c);
-    let owners = grid_owners(&two.slots, &two.donor, 1 + l1.len() as Slot);
+    let owners = grid_owners(&two.slots, &l1_donated, &two.donor);
     let skip: Vec<bool> = two.donor.iter().map(|d| d.is_some()).collect();
     let mut fine = two.fine;
     solve_temperatures_except(st, cond, &mut fine, &skip, stats, &quiet)?;

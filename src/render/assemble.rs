@@ -332,7 +332,27 @@ impl PixelMaker<'_> {
         for axis in 0..3 {
             v[8 + axis] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
         }
-        v[11] = wmean(&|r| r.view_angle_deg);
+        // (the view angle is geometry: each position's own sample's, as the
+        // range and ground point, also where a donor's radiometry stands
+        // for it; a repeated sample's angle is computed once)
+        v[11] = if uniform {
+            wmean(&|r| r.view_angle_deg)
+        } else {
+            let mut last: Option<(*const Sample, f64)> = None;
+            let angles: SmallVec<[f64; 1]> = (px.iter())
+                .map(|&smp| match last {
+                    Some((p, a)) if std::ptr::eq(p, smp) => a,
+                    _ => {
+                        let a = smp.surface.as_ref().map_or(f64::NAN, |surf| {
+                            crate::render::sample::angle_deg(-smp.dir, surf.normal)
+                        });
+                        last = Some((smp, a));
+                        a
+                    }
+                })
+                .collect();
+            mean_of(np, |k| angles[k])
+        };
         v[12] = results[centre].case as f32;
         for (t, f) in TERMS.iter().enumerate() {
             v[FIRST_TERM + t] = wmean(&|r| f(&r.terms));

@@ -232,6 +232,20 @@ struct TempMemo {
     /// nodes (a point between two nodes asks for both, alternately).
     therm: [ThermMemo; 2],
     keys: KeyMemo,
+    /// The last surface's temperature under what it is a function of
+    /// (material, facet side, blocked sky, height, history): neighbouring
+    /// samples mostly repeat all five, and a repeat skips the key.
+    last: Option<(LastSurface, f64)>,
+}
+
+/// What [`temperature`] is a function of, for [`TempMemo::last`].
+#[derive(PartialEq)]
+struct LastSurface {
+    material: u32,
+    side: (u32, [u32; 3]),
+    blocked_bits: u64,
+    z_bits: u32,
+    history: SunFlags,
 }
 
 /// Step 4: the temperature of a surface at the image time, K (through
@@ -244,6 +258,23 @@ fn temperature(
     s: &Surface,
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
+    let key = LastSurface {
+        material: s.material,
+        side: s.side(),
+        blocked_bits: st.blocked_sky(s.prim, s.normal, s.point).to_bits(),
+        z_bits: s.point.z.to_bits(),
+        history: SunFlags::default(),
+    };
+    if let Some((last, t)) = &memo.last
+        && last.material == key.material
+        && last.side == key.side
+        && last.blocked_bits == key.blocked_bits
+        && last.z_bits == key.z_bits
+        && last.history == s.history
+    {
+        memo.therm[0].hits += 1;
+        return Ok(*t);
+    }
     let slab = &cond.slabs[s.material as usize];
     let therm = &mut memo.therm;
     let (t_lo, hi) = at_nodes(st, cond, s, &mut memo.keys, |q, facet| {
@@ -251,10 +282,18 @@ fn temperature(
         cond.cache
             .surface_temp_k_memo(q, slab, &cond.forcing, node_memo)
     })?;
-    Ok(match hi {
+    let t = match hi {
         None => t_lo,
         Some((t_hi, w)) => t_lo + w * (t_hi - t_lo),
-    })
+    };
+    memo.last = Some((
+        LastSurface {
+            history: s.history.clone(),
+            ..key
+        },
+        t,
+    ));
+    Ok(t)
 }
 
 /// Step 4 for every surface (primary and background) of `samples`.

@@ -69,18 +69,40 @@ pub(super) fn trace_sample_histories(
     pick: impl Fn(usize) -> bool,
     c: &Counters,
 ) {
+    trace_sample_histories_guided(st, cond, samples, pick, |_, _| None, &[], c);
+}
+
+/// [`trace_sample_histories`] with the guides `guide(i, surface)` gives
+/// the surface point of sample `i` (backgrounds unguided) and the traced
+/// samples `force` always traced ([`trace_histories_guided`]).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn trace_sample_histories_guided<'g>(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    pick: impl Fn(usize) -> bool,
+    guide: impl Fn(usize, &Surface) -> Option<Guides<'g>>,
+    force: &[usize],
+    c: &Counters,
+) {
     let mut targets: Vec<&mut Surface> = Vec::with_capacity(samples.len());
+    let mut guides: Vec<Option<Guides>> = Vec::with_capacity(samples.len());
     for (i, s) in samples.iter_mut().enumerate() {
         if pick(i)
             && let Some(surf) = s.surface.as_mut()
         {
+            guides.push(guide(i, surf));
             targets.push(surf);
         }
         if let Some((_, Some(bg))) = s.bounce.as_mut() {
+            guides.push(None);
             targets.push(bg);
         }
     }
-    trace_histories(st, cond, &mut targets, c);
+    if guides.iter().all(Option::is_none) {
+        guides.clear();
+    }
+    trace_histories_guided(st, cond, &mut targets, &guides, force, c);
 }
 
 /// Steps 1-2 for a list of (supersampled) pixels: primary rays and
@@ -231,6 +253,51 @@ fn adaptive_histories(
 
 /// Step 3 for a set of surface points: their sun/shadow histories.
 fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface], c: &Counters) {
+    trace_histories_guided(st, cond, targets, &[], &[], c);
+}
+
+/// The histories of four points around a surface point, on its plane,
+/// whose agreement stands for the point's own flag (see
+/// [`trace_histories_guided`]).
+pub(super) type Guides<'a> = [&'a SunFlags; 4];
+
+/// The flag of traced history sample `k` that a point's `guides` give when
+/// they all agree there (the point lies inside their square, so a straight
+/// shadow edge that leaves all four on one side leaves the point there
+/// too), `None` where they differ.
+fn guided_flag(guides: &Guides, k: usize) -> Option<bool> {
+    let f = guides[0].get(k);
+    guides[1..].iter().all(|g| g.get(k) == f).then_some(f)
+}
+
+/// The one transition index that all `guides` have inside the fine
+/// interval (`lo`, `hi`], if they all have exactly that one there.
+fn guided_switch(guides: &Guides, lo: usize, hi: usize) -> Option<u32> {
+    let one = |g: &SunFlags| -> Option<u32> {
+        let mut inside = (g.switches().iter()).filter(|&&s| s as usize > lo && s as usize <= hi);
+        let s = *inside.next()?;
+        inside.next().is_none().then_some(s)
+    };
+    let s = one(guides[0])?;
+    guides[1..].iter().all(|g| one(g) == Some(s)).then_some(s)
+}
+
+/// Step 3 for surface points, some of them guided: where a point's four
+/// `guides` (same plane and material, the point inside their square) agree
+/// at a traced history sample, that sample is not traced and takes their
+/// flag, and a transition that all four make at one fine sample between
+/// two such samples is theirs; the traced samples in `force` (the last
+/// hour's, whose flags a donated history was checked against) are always
+/// traced. An empty `guides` (or a `None`) traces every sample.
+pub(super) fn trace_histories_guided(
+    st: &Static,
+    cond: &Conditions,
+    targets: &mut [&mut Surface],
+    guides: &[Option<Guides>],
+    force: &[usize],
+    c: &Counters,
+) {
+    let guide = |p: usize| guides.get(p).copied().flatten();
     // Solar-history rays from every surface point (primary and
     // background): groups of 16 points, one packet per group whose origins
     // are written once and traced toward each sun in turn (the points that
@@ -256,21 +323,38 @@ fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface],
     let down = targets.len() * (nsun.div_ceil(every) - up.len());
     let mut active = vec![0u16; up.len()];
     let mut blocked = vec![0u16; up.len()];
+    let mut known = vec![0u16; up.len()];
+    let mut known_lit = vec![0u16; up.len()];
     for start in (0..targets.len()).step_by(16) {
         let chunk = start..(start + 16).min(targets.len());
-        // The points of the group that face each sun (lane bits).
-        for (act, &dir) in active.iter_mut().zip(&dirs) {
-            *act = (normals[chunk.clone()].iter().enumerate())
+        // The points of the group that face each sun (lane bits), less
+        // those whose guides give the flag.
+        for (((act, kn), lit), (&dir, &k)) in (active.iter_mut().zip(&mut known))
+            .zip(&mut known_lit)
+            .zip(dirs.iter().zip(&up))
+        {
+            let facing: u16 = (normals[chunk.clone()].iter().enumerate())
                 .filter(|(_, n)| n.dot(dir) > 0.0)
                 .fold(0, |m, (lane, _)| m | 1 << lane);
-            let facing = act.count_ones() as usize;
-            solar += facing;
-            away += chunk.len() - facing;
+            (*kn, *lit) = (0, 0);
+            if !guides.is_empty() && !force.contains(&k) {
+                for lane in 0..chunk.len() {
+                    if let Some(f) = guide(start + lane).and_then(|g| guided_flag(&g, k)) {
+                        *kn |= 1 << lane;
+                        *lit |= (f as u16) << lane;
+                    }
+                }
+            }
+            *lit &= facing;
+            *act = facing & !*kn;
+            let traced = act.count_ones() as usize;
+            solar += traced;
+            away += chunk.len() - facing.count_ones() as usize;
         }
         tracer.occluded_fan(&origins[chunk.clone()], &dirs, &active, &mut blocked);
-        for ((&k, &act), &b) in up.iter().zip(&active).zip(&blocked) {
+        for (((&k, &act), &b), &lit) in up.iter().zip(&active).zip(&blocked).zip(&known_lit) {
             let (word, bit) = (k / 64, 1u64 << (k % 64));
-            let mut open = act & !b;
+            let mut open = (act & !b) | lit;
             while open != 0 {
                 let lane = open.trailing_zeros() as usize;
                 words[(start + lane) * nw + word] |= bit;
@@ -291,12 +375,23 @@ fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface],
         // at some index in (lo, hi].
         let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
         let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
+        // (a transition that the guides make at one sample, between two
+        // samples whose flags they gave, is theirs)
+        let given = |p: usize, k: usize| {
+            !force.contains(&k) && guide(p).is_some_and(|g| guided_flag(&g, k).is_some())
+        };
         for p in 0..targets.len() {
             let mut k = 0;
             while k + every < nsun {
                 let (a, b) = (bit(p, k), bit(p, k + every));
                 if a != b {
-                    pending.push((k, k + every, a, p));
+                    let theirs = (given(p, k) && given(p, k + every))
+                        .then(|| guide(p).and_then(|g| guided_switch(&g, k, k + every)))
+                        .flatten();
+                    match theirs {
+                        Some(s) => pending.push((s as usize - 1, s as usize, a, p)),
+                        None => pending.push((k, k + every, a, p)),
+                    }
                 }
                 k += every;
             }
