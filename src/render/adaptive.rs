@@ -620,20 +620,6 @@ fn level_two(
                 .map(|&(_, sl, smp, d)| (sl, smp, d))
         })
         .collect();
-    let given: Vec<Option<&Surface>> = nearest.iter().map(|d| d.map(|(_, _, s)| s)).collect();
-    let own = check_recent(st, cond, &mut fine, &given, recent, c);
-    let donor: Vec<Option<Slot>> = (fine.iter_mut().zip(&nearest).zip(&own))
-        .map(|((smp, d), &o)| {
-            let (sl, dsmp, dsurf) = (*d)?;
-            if o || !same_bounce(smp, dsmp) {
-                return None;
-            }
-            let surf = smp.surface.as_mut()?;
-            surf.temp_k = dsurf.temp_k;
-            Some(sl)
-        })
-        .collect();
-    add(&c.donor_values, donor.iter().flatten().count());
     // A sample that traces its own history is guided by the four
     // first-level samples of the square of cell centres around it, when
     // the square lies in the pixel and all four are on its plane.
@@ -660,6 +646,45 @@ fn level_two(
         };
         Some([&p.history, &q.history, &r.history, &t.history])
     };
+    let given: Vec<Option<&Surface>> = nearest.iter().map(|d| d.map(|(_, _, s)| s)).collect();
+    // A sample whose guide square's four histories all have its donor's
+    // flags at the last hour's samples takes the donor's history without
+    // its own check (a shadow edge of the last hour that leaves all four
+    // on one side leaves it there too).
+    let free: Vec<bool> = (fine.iter().enumerate().zip(&given))
+        .map(|((i, smp), g)| {
+            let (Some(surf), Some(d)) = (smp.surface.as_ref(), g) else {
+                return false;
+            };
+            guide(i, surf).is_some_and(|gs| {
+                gs.iter()
+                    .all(|h| recent.iter().all(|&k| h.get(k) == d.history.get(k)))
+            })
+        })
+        .collect();
+    let checked: Vec<Option<&Surface>> = (given.iter().zip(&free))
+        .map(|(g, &f)| if f { None } else { *g })
+        .collect();
+    let mut own = check_recent(st, cond, &mut fine, &checked, recent, c);
+    for ((smp, g), (&f, o)) in (fine.iter_mut().zip(&given)).zip(free.iter().zip(&mut own)) {
+        if let (true, Some(d), Some(surf)) = (f, g, smp.surface.as_mut()) {
+            surf.history = d.history.clone();
+            *o = false;
+        }
+    }
+    add(&c.donated, free.iter().filter(|&&f| f).count());
+    let donor: Vec<Option<Slot>> = (fine.iter_mut().zip(&nearest).zip(&own))
+        .map(|((smp, d), &o)| {
+            let (sl, dsmp, dsurf) = (*d)?;
+            if o || !same_bounce(smp, dsmp) {
+                return None;
+            }
+            let surf = smp.surface.as_mut()?;
+            surf.temp_k = dsurf.temp_k;
+            Some(sl)
+        })
+        .collect();
+    add(&c.donor_values, donor.iter().flatten().count());
     trace_sample_histories_guided(st, cond, &mut fine, |i| own[i], guide, recent, c);
     Level2 { fine, slots, donor }
 }
