@@ -44,7 +44,7 @@
 //!    history is that of the nearest first-level or coarse sample on its
 //!    plane and material — if the sample's own sun rays at the traced
 //!    history samples of the last hour ([`RECENT_CHECK_S`]: the image time
-//!    and e.g. 20, 40 and 60 min before it) give the same flags. Otherwise
+//!    and, at the default 60-min sampling, 60 min before it) give the same flags. Otherwise
 //!    (a shadow edge of now or of the last hour between the two, or no
 //!    donor) and for every specular background it traces its own. An
 //!    older shadow edge inside a cell is left at the first level's

@@ -343,9 +343,7 @@ impl PixelMaker<'_> {
                 .map(|&smp| match last {
                     Some((p, a)) if std::ptr::eq(p, smp) => a,
                     _ => {
-                        let a = smp.surface.as_ref().map_or(f64::NAN, |surf| {
-                            crate::render::sample::angle_deg(-smp.dir, surf.normal)
-                        });
+                        let a = smp.view_angle_deg();
                         last = Some((smp, a));
                         a
                     }

@@ -89,9 +89,10 @@ pub struct Stats {
     pub adaptive_cells_coarse: u64,
     /// Samples that took a neighbour's sun/shadow history.
     pub adaptive_histories_shared: u64,
-    /// Second-level samples that also took their donor's temperature and
-    /// radiometry (same plane and material, same recent history, no
-    /// specular background): their own geometry, the donor's values.
+    /// Refined samples (first and second level) that also took their
+    /// donor's temperature and radiometry (same plane and material, the
+    /// donor's history, no specular background surface): their own
+    /// geometry, the donor's values.
     pub adaptive_values_shared: u64,
     /// Distinct thermal solves (cache misses).
     pub thermal_solves: u64,

@@ -431,7 +431,7 @@ impl<'a> RadiometryContext<'a> {
         // F_sky varies over a side where its sky is partly hidden.
         let f_sky = self.sky_view(surf);
         let terms = c.terms(&self.planck, surf.temp_k, sun, f_sky);
-        let view_angle = angle_deg(-s.dir, surf.normal);
+        let view_angle = s.view_angle_deg();
         Ok(result(1, terms, view_angle, c.emissivity))
     }
 
@@ -466,7 +466,7 @@ impl<'a> RadiometryContext<'a> {
         let spec = st.specularity[m].clamp(0.0, 1.0);
         let path_arc = self.path(surf.point.as_dvec3())?;
         let path: &PathSpectra = &path_arc;
-        let view_angle = angle_deg(-s.dir, surf.normal);
+        let view_angle = s.view_angle_deg();
         let lt = |i: usize, t: f64| planck_radiance_w_m2_sr_um(wl[i], t);
         // The hemisphere a diffuse facet reflects: sky F_sky = (1 + cos β)/2
         // (the sky dome), ground F_gnd = 1 − F_sky (a black body at the

@@ -345,7 +345,7 @@ impl Ctx<'_> {
     ) -> anyhow::Result<SampleReport> {
         let sun_dir = Vec3::from(self.cond.sun_now.sun_dir_enu.map(|v| v as f32));
         let angles = s.surface.as_ref().map(|surf| Angles {
-            view_angle_deg: angle_deg(-s.dir, surf.normal),
+            view_angle_deg: s.view_angle_deg(),
             view_zenith_deg: crate::scene::frame::path_geometry(
                 self.st.scene.local_camera.position_m,
                 surf.point.as_dvec3().into(),

@@ -77,6 +77,16 @@ pub struct Sample {
     pub bounce: Option<(Vec3, Option<Surface>)>,
 }
 
+impl Sample {
+    /// The view angle of the surface the primary ray hit: between the ray
+    /// (reversed) and the surface normal, degrees (NaN for no surface).
+    pub fn view_angle_deg(&self) -> f64 {
+        self.surface
+            .as_ref()
+            .map_or(f64::NAN, |surf| angle_deg(-self.dir, surf.normal))
+    }
+}
+
 /// Angle between two unit vectors, degrees.
 pub fn angle_deg(a: Vec3, b: Vec3) -> f64 {
     (a.as_dvec3().dot(b.as_dvec3()))

@@ -31,7 +31,8 @@ pub fn thermal_solution(
     cond: &Conditions,
     s: &Surface,
 ) -> anyhow::Result<Arc<ThermSolution>> {
-    let (a, hi) = at_nodes(st, cond, s, &mut KeyMemo::default(), |q, _| {
+    let blocked = st.blocked_sky(s.prim, s.normal, s.point);
+    let (a, hi) = at_nodes(st, cond, (s, blocked), &mut KeyMemo::default(), |q, _| {
         cond.cache
             .solve_query(q, &cond.slabs[s.material as usize], &cond.forcing)
     })?;
@@ -41,21 +42,22 @@ pub fn thermal_solution(
     }
 }
 
-/// `f` applied to the thermal key of surface `s` at its sky-view node, or
-/// at the two nodes around its blocked sky fraction (the upper one's
+/// `f` applied to the thermal key of surface `s` (whose blocked sky
+/// fraction is `blocked`: [`Static::blocked_sky`]) at its sky-view node, or
+/// at the two nodes around that fraction (the upper one's
 /// result with its weight): the one place a render builds a key (its
 /// keyed history [`key_history`], its nodes [`ThermCache::sky_nodes`]).
 fn at_nodes<R>(
     st: &Static,
     cond: &Conditions,
-    s: &Surface,
+    (s, blocked): (&Surface, f64),
     keys: &mut KeyMemo,
     mut f: impl FnMut(&ThermQuery, FacetParts) -> Result<R, ThermError>,
 ) -> anyhow::Result<(R, Option<(R, f64)>)> {
     let m = s.material as usize;
     let keyed = key_history(&s.history, cond.key_recent);
     let history = keyed.as_ref().unwrap_or(&s.history);
-    let (lo, hi, w) = facet_nodes(st, cond, s, keys);
+    let (lo, hi, w) = facet_nodes(cond, s, blocked, keys);
     let mut at = |facet: FacetParts| {
         let q = therm_query(cond, s, history, facet, keys);
         f(&q, facet).map_err(|e| therm_error(st, m, e))
@@ -179,10 +181,10 @@ pub fn key_history(h: &SunFlags, recent: usize) -> Option<SunFlags> {
     Some(SunFlags::from_switches(first, &out, len))
 }
 
-/// The sky-view nodes of a surface's facet side and point
-/// ([`ThermCache::sky_nodes`]: lower and upper node and the upper's weight).
-fn facet_nodes(st: &Static, cond: &Conditions, s: &Surface, memo: &mut KeyMemo) -> SkyNodes {
-    let blocked = st.blocked_sky(s.prim, s.normal, s.point);
+/// The sky-view nodes of a surface's facet side and its point's blocked
+/// sky fraction ([`ThermCache::sky_nodes`]: lower and upper node and the
+/// upper's weight).
+fn facet_nodes(cond: &Conditions, s: &Surface, blocked: f64, memo: &mut KeyMemo) -> SkyNodes {
     memo.facet.get_or((s.side(), blocked.to_bits()), || {
         cond.cache.sky_nodes(
             Orientation::from_normal_enu(s.normal.as_dvec3().to_array()),
@@ -233,19 +235,20 @@ struct TempMemo {
     therm: [ThermMemo; 2],
     keys: KeyMemo,
     /// The last surface's temperature under what it is a function of
-    /// (material, facet side, blocked sky, height, history): neighbouring
-    /// samples mostly repeat all five, and a repeat skips the key.
-    last: Option<(LastSurface, f64)>,
+    /// (material, facet side, blocked sky and height; history):
+    /// neighbouring samples mostly repeat all five, and a repeat skips the
+    /// key.
+    last: Option<(LastSurface, SunFlags, f64)>,
 }
 
-/// What [`temperature`] is a function of, for [`TempMemo::last`].
+/// What [`temperature`] is a function of besides the history, for
+/// [`TempMemo::last`].
 #[derive(PartialEq)]
 struct LastSurface {
     material: u32,
     side: (u32, [u32; 3]),
     blocked_bits: u64,
     z_bits: u32,
-    history: SunFlags,
 }
 
 /// Step 4: the temperature of a surface at the image time, K (through
@@ -258,26 +261,23 @@ fn temperature(
     s: &Surface,
     memo: &mut TempMemo,
 ) -> anyhow::Result<f64> {
+    let blocked = st.blocked_sky(s.prim, s.normal, s.point);
     let key = LastSurface {
         material: s.material,
         side: s.side(),
-        blocked_bits: st.blocked_sky(s.prim, s.normal, s.point).to_bits(),
+        blocked_bits: blocked.to_bits(),
         z_bits: s.point.z.to_bits(),
-        history: SunFlags::default(),
     };
-    if let Some((last, t)) = &memo.last
-        && last.material == key.material
-        && last.side == key.side
-        && last.blocked_bits == key.blocked_bits
-        && last.z_bits == key.z_bits
-        && last.history == s.history
+    if let Some((last, history, t)) = &memo.last
+        && *last == key
+        && *history == s.history
     {
         memo.therm[0].hits += 1;
         return Ok(*t);
     }
     let slab = &cond.slabs[s.material as usize];
     let therm = &mut memo.therm;
-    let (t_lo, hi) = at_nodes(st, cond, s, &mut memo.keys, |q, facet| {
+    let (t_lo, hi) = at_nodes(st, cond, (s, blocked), &mut memo.keys, |q, facet| {
         let node_memo = &mut therm[((facet.blocked_q() / SKY_NODE_QUANTA) & 1) as usize];
         cond.cache
             .surface_temp_k_memo(q, slab, &cond.forcing, node_memo)
@@ -286,13 +286,7 @@ fn temperature(
         None => t_lo,
         Some((t_hi, w)) => t_lo + w * (t_hi - t_lo),
     };
-    memo.last = Some((
-        LastSurface {
-            history: s.history.clone(),
-            ..key
-        },
-        t,
-    ));
+    memo.last = Some((key, s.history.clone(), t));
     Ok(t)
 }
 
