@@ -199,6 +199,15 @@ fn therm_bad_surface_parameters_give_clear_errors() {
         e.contains("m.toml:21") && e.contains("min_stomatal_resistance_s_m"),
         "{e}"
     );
+    // z_oh above z_om (kB⁻¹ < 0), line 21.
+    let e = run(
+        &format!("{grass}lai = 2.0\nsoil_moisture = 1.0\nheat_roughness_ratio = 2.0\n"),
+        &[],
+    );
+    assert!(
+        e.contains("m.toml:21") && e.contains("heat_roughness_ratio") && e.contains("<= 1"),
+        "{e}"
+    );
     // A parameter the kind needs is missing.
     let e = run(&format!("{grass}lai = 2.0\n"), &[]);
     assert!(

@@ -348,10 +348,25 @@ impl Roughness {
     /// A canopy of height `h` (FAO-56 eq. 4 box): `d = 2/3·h`,
     /// `z_om = 0.123·h`, `z_oh = 0.1·z_om`.
     pub fn canopy(height_m: f64) -> Roughness {
+        Roughness::canopy_with_heat_ratio(height_m, HEAT_ROUGHNESS_RATIO)
+    }
+
+    /// A canopy of height `h` with `z_oh = ratio·z_om` (the material key
+    /// `heat_roughness_ratio`): `d = 2/3·h`, `z_om = 0.123·h` (FAO-56 eq. 4
+    /// box). FAO-56's ratio is 0.1 (kB⁻¹ = ln 10 ≈ 2.3, crops and grass);
+    /// the ECMWF land surface scheme takes `z_oh = z_om` (ratio 1, kB⁻¹ =
+    /// 0) for every tree type (ecLand/IFS `SUSVEG`: `RVZ0H = RVZ0M` for
+    /// needleleaf, broadleaf and mixed forest; `RVZ0M/10` for low
+    /// vegetation): over tall, rough canopies the exchange of heat is about
+    /// as efficient as that of momentum (Garratt 1992, *The Atmospheric
+    /// Boundary Layer*, §4.2: kB⁻¹ ≈ 0-2 over forests against ≈ 2 over
+    /// crops). Written as `0.0123·h·(ratio/0.1)` so the default ratio gives
+    /// FAO-56's `0.0123·h` bit for bit.
+    pub fn canopy_with_heat_ratio(height_m: f64, ratio: f64) -> Roughness {
         Roughness {
             displacement_m: 2.0 / 3.0 * height_m,
             momentum_m: 0.123 * height_m,
-            heat_m: 0.0123 * height_m,
+            heat_m: 0.0123 * height_m * (ratio / HEAT_ROUGHNESS_RATIO),
         }
     }
 
@@ -492,7 +507,8 @@ impl Exchange {
 /// The result is capped at `r_s,max`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Canopy {
-    /// Canopy height, m (sets d, z_om, z_oh by [`Roughness::canopy`]).
+    /// Canopy height, m (sets d, z_om, z_oh by
+    /// [`Roughness::canopy_with_heat_ratio`]).
     pub height_m: f64,
     /// Leaf area index, m²/m².
     pub lai: f64,
@@ -522,6 +538,16 @@ pub struct Canopy {
     /// through the canopy (ecLand SUSVEG `RVTRSR`: 0.05 for crops and
     /// grass, 0.03 for forests).
     pub soil_shortwave_fraction: f64,
+    /// Ratio of the roughness length for heat and vapour to that for
+    /// momentum, `z_oh/z_om` ([`Roughness::canopy_with_heat_ratio`]):
+    /// [`HEAT_ROUGHNESS_RATIO`] (0.1, FAO-56) by default, 1 for trees in the
+    /// ECMWF scheme.
+    #[serde(default = "default_heat_roughness_ratio")]
+    pub heat_roughness_ratio: f64,
+}
+
+fn default_heat_roughness_ratio() -> f64 {
+    HEAT_ROUGHNESS_RATIO
 }
 
 /// Heat capacity of a canopy per unit leaf area index, J m⁻² K⁻¹: fresh
@@ -943,6 +969,33 @@ mod tests {
         assert_eq!(seen, code.len(), "every constant has a row");
     }
 
+    /// `z_oh = ratio·z_om` for a canopy: the default ratio gives FAO-56's
+    /// `0.0123·h` bit for bit (existing materials unchanged); ratio 1 (the
+    /// ECMWF trees) gives `z_oh = z_om` and the neutral resistance of
+    /// FAO-56 eq. 4 with both logarithms equal, `ln((z − d)/z_om)²/(k²u)`,
+    /// evaluated by hand for a 27 m canopy, 24 m above d, 3 m/s: d = 18 m,
+    /// z_om = 3.321 m, ln(24/3.321) = 1.97779, r_a = 3.91164/(0.1681·3) =
+    /// 7.7566 s/m (to 1e-4 relative); with the default ratio the heat
+    /// logarithm is ln(240/3.321) = 4.28038 and r_a = 16.787 s/m.
+    #[test]
+    fn canopy_heat_roughness_ratio() {
+        for h in [0.12, 1.0, 27.0] {
+            let a = Roughness::canopy(h);
+            let b = Roughness::canopy_with_heat_ratio(h, HEAT_ROUGHNESS_RATIO);
+            assert_eq!(a.heat_m.to_bits(), (0.0123 * h).to_bits());
+            assert_eq!(a, b);
+        }
+        let r = Roughness::canopy_with_heat_ratio(27.0, 1.0);
+        assert!((r.heat_m - r.momentum_m).abs() < 1e-12 * r.momentum_m);
+        assert_eq!(r.displacement_m, 18.0);
+        let ra = |r: Roughness| {
+            neutral_resistance_s_m(3.0, 42.0, r.displacement_m, r.momentum_m, r.heat_m)
+        };
+        assert!((ra(r) - 7.7566).abs() < 1e-4 * 7.7566, "{}", ra(r));
+        let fao = ra(Roughness::canopy(27.0));
+        assert!((fao - 16.787).abs() < 1e-4 * 16.787, "{fao}");
+    }
+
     /// Jarvis canopy resistance: unstressed midday grass near FAO-56's
     /// 70 s/m; rises with vapour deficit, darkness and drought.
     #[test]
@@ -958,6 +1011,7 @@ mod tests {
             skin_conductance_w_m2k: 10.0,
             heat_capacity_j_m2k: 2880.0,
             soil_shortwave_fraction: 0.05,
+            heat_roughness_ratio: HEAT_ROUGHNESS_RATIO,
         };
         let ea = 0.6 * saturation_vapour_pressure_pa(300.0);
         let day = c.resistance_s_m(800.0, 300.0, ea, 101_325.0);

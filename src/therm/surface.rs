@@ -43,7 +43,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::aero::{CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K, Canopy, Roughness};
+use super::aero::{CANOPY_HEAT_CAPACITY_PER_LAI_J_M2K, Canopy, HEAT_ROUGHNESS_RATIO, Roughness};
 use crate::bounds::{Bound, KeyError};
 
 /// Surface type and its parameters (see the module docs).
@@ -152,7 +152,9 @@ impl SurfaceKind {
     pub fn roughness(&self) -> Roughness {
         match self {
             SurfaceKind::Solid { roughness_m, .. } => Roughness::bare(*roughness_m),
-            SurfaceKind::Vegetation(c) => Roughness::canopy(c.height_m),
+            SurfaceKind::Vegetation(c) => {
+                Roughness::canopy_with_heat_ratio(c.height_m, c.heat_roughness_ratio)
+            }
             SurfaceKind::Water(w) => Roughness::bare(w.roughness_m),
             SurfaceKind::Snow { roughness_m } => Roughness::bare(*roughness_m),
         }
@@ -225,7 +227,8 @@ impl SurfaceKind {
                     c.soil_shortwave_fraction,
                     0.0,
                     0.9,
-                )
+                )?;
+                check("heat_roughness_ratio", c.heat_roughness_ratio, 1e-4, 1.0)
             }
             SurfaceKind::Water(w) => {
                 check("surface_fraction", w.surface_fraction, 0.0, 1.0)?;
@@ -405,6 +408,8 @@ pub mod keys {
         Bound::new("canopy_heat_capacity_j_m2k", 10.0, 1.0e6, "J/(m²·K)");
     /// `soil_shortwave_fraction`: share of the absorbed sunlight that reaches the soil.
     pub const SOIL_SHORTWAVE_FRACTION: Bound = Bound::new("soil_shortwave_fraction", 0.0, 0.9, "");
+    /// `heat_roughness_ratio`: a canopy's `z_oh/z_om` (kB⁻¹ = −ln ratio ≥ 0).
+    pub const HEAT_ROUGHNESS_RATIO: Bound = Bound::new("heat_roughness_ratio", 1e-4, 1.0, "");
     /// `extinction_per_m`: shortwave extinction of water.
     pub const EXTINCTION: Bound = Bound::new("extinction_per_m", 0.01, 100.0, "1/m");
     /// `shortwave_surface_fraction`: share of absorbed sunlight taken by the water's skin.
@@ -516,6 +521,12 @@ pub mod keys {
             "vegetation: share of absorbed sunlight reaching the soil",
         ),
         row(
+            &["heat_roughness_ratio"],
+            "0.1",
+            HEAT_ROUGHNESS_RATIO,
+            "vegetation: z_oh/z_om (FAO-56 0.1; ECMWF 1 for trees)",
+        ),
+        row(
             &["extinction_per_m"],
             "required (water)",
             EXTINCTION,
@@ -578,6 +589,8 @@ pub struct SurfaceSpec {
     pub canopy_heat_capacity_j_m2k: Option<f64>,
     /// Vegetation: fraction of the absorbed shortwave reaching the soil.
     pub soil_shortwave_fraction: Option<f64>,
+    /// Vegetation: roughness length for heat over that for momentum, z_oh/z_om.
+    pub heat_roughness_ratio: Option<f64>,
     /// Water: Beer-Lambert extinction coefficient, 1/m (required).
     pub extinction_per_m: Option<f64>,
     /// Water: fraction of absorbed shortwave absorbed at the surface.
@@ -598,7 +611,7 @@ impl SurfaceSpec {
         use surface_defaults as d;
         let m = self;
         let kind_name = m.kind.name();
-        let all: [(&'static str, Option<f64>, &[KindSpec]); 17] = [
+        let all: [(&'static str, Option<f64>, &[KindSpec]); 18] = [
             ("water_capacity_mm", m.water_capacity_mm, &[Solid]),
             ("soil_wetness", m.soil_wetness, &[Solid]),
             ("roughness_m", m.roughness_m, &[Solid, Water, Snow]),
@@ -636,6 +649,7 @@ impl SurfaceSpec {
                 m.soil_shortwave_fraction,
                 &[Vegetation],
             ),
+            ("heat_roughness_ratio", m.heat_roughness_ratio, &[Vegetation]),
             ("extinction_per_m", m.extinction_per_m, &[Water]),
             (
                 "shortwave_surface_fraction",
@@ -726,6 +740,8 @@ impl SurfaceSpec {
                     .soil_shortwave_fraction
                     .unwrap_or(d::SOIL_SHORTWAVE_FRACTION);
                 range(K::SOIL_SHORTWAVE_FRACTION, tau)?;
+                let ratio = m.heat_roughness_ratio.unwrap_or(HEAT_ROUGHNESS_RATIO);
+                range(K::HEAT_ROUGHNESS_RATIO, ratio)?;
                 SurfaceKind::Vegetation(Canopy {
                     height_m,
                     lai,
@@ -737,6 +753,7 @@ impl SurfaceSpec {
                     skin_conductance_w_m2k: skin,
                     heat_capacity_j_m2k: cap,
                     soil_shortwave_fraction: tau,
+                    heat_roughness_ratio: ratio,
                 })
             }
             Snow => {

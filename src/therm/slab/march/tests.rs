@@ -236,6 +236,7 @@ fn canopy_skin_over_soil_is_a_series_conductance() {
         skin_conductance_w_m2k: 10.0,
         heat_capacity_j_m2k: 3000.0,
         soil_shortwave_fraction: 0.05,
+        heat_roughness_ratio: crate::therm::aero::HEAT_ROUGHNESS_RATIO,
     };
     let mat = SlabMaterial {
         back: BackBoundary::DeepGround {
