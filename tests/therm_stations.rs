@@ -492,7 +492,15 @@ fn station_bnd_19980801_transpiration_against_closure_corrected_latent_heat() {
 /// largest half-hour excess of the model over λE_c), W/m², evaporation
 /// positive.
 fn latent_against_closure(name: &str, material: &str) -> (usize, f64, f64, f64) {
-    let (_, rows) = run_model(name, material);
+    latent_against_closure_of(name, material, run_model(name, material).1)
+}
+
+/// As [`latent_against_closure`], for the model rows `rows` of a run.
+fn latent_against_closure_of(
+    name: &str,
+    material: &str,
+    rows: HashMap<String, HashMap<String, f64>>,
+) -> (usize, f64, f64, f64) {
     let path = format!("{STATIONS}{name}.csv");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
@@ -531,6 +539,30 @@ fn latent_against_closure(name: &str, material: &str) -> (usize, f64, f64, f64) 
          closure-corrected {c:.0}, eddy covariance {e:.0}; largest excess over corrected {worst:.0}"
     );
     (n, m, c, worst)
+}
+
+/// Transpiration of `forest_needleleaf` against the closure-corrected
+/// latent heat of DE-Tha 2014-06-07 (Twine et al. 2000, as for the crop
+/// above; measured closure (H + λE)/(R_n − G) 0.77 over the daytime
+/// half-hours): the daytime mean within 25 % of the corrected measurement.
+#[test]
+#[ignore = "misses: model 332 W/m2 against 194 closure-corrected (152 measured) over 24 daytime \
+            half-hours (H 49 against 278): the Jarvis resistance with the needleleaf r_s,min/LAI 50 s/m and \
+            Noah's vapour-deficit factor keeps the spruce canopy open at 1.5-2 kPa; the skin temperature \
+            passes anyway (h_c 110-260 W/(m2 K): 140 W/m2 of misplaced flux is 0.6 K); \
+            docs/validation-stations.md"]
+fn station_tha_20140607_transpiration_against_closure_corrected_latent_heat() {
+    let (_, rows) = run_model_at(
+        "de-tha-20140607",
+        THA_MATERIAL,
+        THA_AIR_ABOVE_DISPLACEMENT_M,
+    );
+    let (n, m, c, _) = latent_against_closure_of("de-tha-20140607", THA_MATERIAL, rows);
+    assert!(n >= 18, "{n} daytime rows");
+    assert!(
+        (m - c).abs() <= 0.25 * c,
+        "model {m:.0} against corrected {c:.0} W/m²"
+    );
 }
 
 /// Bare-soil evaporation (Sellers et al. 1992 soil resistance) against the
@@ -590,8 +622,6 @@ fn station_cdp_20020219_snow_clearest_of_february() {
 #[test]
 fn station_excerpts_are_consistent() {
     const SIGMA: f64 = 5.670_374_419e-8;
-    // de-tha-20140607 (FLUXNET DE-Tha, spruce forest) has no test of its
-    // own: the library has no forest material (docs/validation-stations.md).
     for name in [
         "bon-19950510",
         "slv-20160101",

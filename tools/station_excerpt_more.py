@@ -155,7 +155,7 @@ def read_bigleaf(path):
     """Rows of a bigleaf FLUXNET2015 excerpt (half-hourly; `hour` = START of
     the half hour in local standard time, CET = UTC+1 for DE-Tha; Tair degC,
     VPD kPa, pressure kPa, wind m/s, PPFD umol/m2/s, LW_up/LW_down, LE, H,
-    G W/m2). RH from VPD and the FAO-56 saturation vapour pressure."""
+    G, Rn W/m2). RH from VPD and the FAO-56 saturation vapour pressure."""
     import math
 
     lines = [ln for ln in se.check_raw(path).read_text().splitlines() if not ln.startswith("#")]
@@ -171,7 +171,7 @@ def read_bigleaf(path):
                      "lw_dn": v["LW_down"], "lw_up": v["LW_up"], "t_air_c": v["Tair"],
                      "rh": 100.0 * max(es - v["VPD"], 0.0) / es, "wind": v["wind"],
                      "p_hpa": 10.0 * v["pressure"], "precip": 2.0 * v["precip"],
-                     "le": v["LE"], "h": v["H"], "g": v["G"]})
+                     "le": v["LE"], "h": v["H"], "g": v["G"], "rnet": v["Rn"]})
     return recs
 
 
