@@ -649,7 +649,11 @@ impl SurfaceSpec {
                 m.soil_shortwave_fraction,
                 &[Vegetation],
             ),
-            ("heat_roughness_ratio", m.heat_roughness_ratio, &[Vegetation]),
+            (
+                "heat_roughness_ratio",
+                m.heat_roughness_ratio,
+                &[Vegetation],
+            ),
             ("extinction_per_m", m.extinction_per_m, &[Water]),
             (
                 "shortwave_surface_fraction",

@@ -281,6 +281,81 @@ fn canopy_skin_over_soil_is_a_series_conductance() {
     assert!((t0 - t1).abs() > 0.1, "{t0} {t1}");
 }
 
+/// A heavy canopy skin (`canopy_heat_capacity_j_m2k`, a forest's biomass
+/// heat capacity C = 1e5 J m⁻² K⁻¹) is a lumped capacitance: after a step
+/// of the air from 270 to 280 K, with a constant exchange h = 50 W m⁻² K⁻¹,
+/// no longwave (ε = 0), no sun, dry air (no dew) and the weakest skin
+/// coupling to the soil (Λ = 0.5 W m⁻² K⁻¹, the soil held near 270 K by
+/// its own heat capacity), the skin follows `C dT/dt = h(T_a − T) − Λ(T −
+/// 270)`: `T(t) = T_∞ + (270 − T_∞)·e^(−t/τ)`, `T_∞ = (h·280 + Λ·270)/(h +
+/// Λ)`, `τ = C/(h + Λ)` = 1980 s — to 0.01 K over 0.15τ-3.6τ with the
+/// default adaptive march. Left out of the lumped form and inside the
+/// tolerance: transpiration through r_s,max = 1e5 s/m in the dark (about
+/// 0.2 W m⁻², 0.004 K) and the soil surface warming under Λ·10 K (~0.2 K in
+/// two hours: Λ·0.2/(h + Λ) = 0.002 K).
+#[test]
+fn heavy_canopy_skin_is_a_lumped_capacitance() {
+    use crate::therm::aero::{Canopy, HEAT_ROUGHNESS_RATIO};
+    let cap = 1.0e5;
+    let (h, lam) = (50.0, 0.5);
+    let canopy = Canopy {
+        height_m: 27.0,
+        lai: 5.0,
+        min_resistance_s_m: 250.0,
+        max_resistance_s_m: 1.0e5,
+        radiation_limit_w_m2: 30.0,
+        vpd_coeff: 200.0,
+        soil_moisture: 1.0,
+        skin_conductance_w_m2k: lam,
+        heat_capacity_j_m2k: cap,
+        soil_shortwave_fraction: 0.03,
+        heat_roughness_ratio: HEAT_ROUGHNESS_RATIO,
+    };
+    let mat = SlabMaterial {
+        back: BackBoundary::DeepGround {
+            temp_k: Some(270.0),
+        },
+        surface: SurfaceKind::Vegetation(canopy),
+        ..SlabMaterial::with_defaults(2050.0, 1840.0, 0.52, 0.5, 0.9, 0.0)
+    };
+    let forcing: Vec<Forcing> = (0..=24)
+        .map(|i| {
+            let mut x = f(300.0 * i as f64, 280.0);
+            x.sky_temp_k = 280.0;
+            x
+        })
+        .collect();
+    let t_inf = (h * 280.0 + lam * 270.0) / (h + lam);
+    let tau = cap / (h + lam);
+    assert!((tau - 1980.2).abs() < 0.1);
+    let run = |tol_k: f64| {
+        let s = ThermSettings {
+            convection: balance::Convection::constant(h),
+            tol_k: Some(tol_k),
+            ..ThermSettings::default()
+        };
+        let model = SlabModel::new(&mat, Orientation::HORIZONTAL, &s).unwrap();
+        let sol = model
+            .march(vec![270.0; model.nodes()], &forcing, None, true)
+            .unwrap();
+        let worst = (sol.series.iter().skip(1))
+            .map(|r| (r.surface_temp_k - (t_inf + (270.0 - t_inf) * (-r.t_s / tau).exp())).abs())
+            .fold(0.0f64, f64::max);
+        (sol, worst)
+    };
+    let default_tol = ThermSettings::default().tol_k.unwrap();
+    let (sol, worst) = run(default_tol);
+    assert!(
+        worst < 0.03,
+        "default tolerance: max |T − lumped| = {worst} K"
+    );
+    let (_, fine) = run(default_tol / 50.0);
+    assert!(fine < 0.01, "tolerance / 50: max |T − lumped| = {fine} K");
+    // Not the soil's response: at t ≈ τ the skin has gone 63 % of the way.
+    let at_tau = sol.series.iter().find(|r| r.t_s == 2100.0).unwrap();
+    assert!((at_tau.surface_temp_k - 270.0) / (t_inf - 270.0) > 0.6);
+}
+
 /// Snow (`kind = "snow"`) under a warm sunny sky, in the steady state over
 /// a frozen deep ground: the surface is held at 0 °C and the surplus of
 /// its balance melts it. Analytically (a uniform slab conducts
