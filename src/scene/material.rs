@@ -324,7 +324,7 @@ pub struct Material {
     pub name: String,
     /// Its `description`, if given.
     pub description: Option<String>,
-    /// The thermal construction (today one homogeneous slab): what
+    /// The thermal construction (one homogeneous or layered slab): what
     /// `therm` solves, exactly as the scene gave it (a deep-ground back face
     /// without `temp_c` takes the site's deep-ground temperature at render time).
     pub construction: SlabMaterial,
@@ -492,6 +492,7 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
             };
             c.bound(&at(row.path), &b, v)?;
         }
+        check_layers(&c, &at(&["layers"]), table.and_then(|t| t.get("layers")))?;
         let emissivity = match &o.emissivity {
             EmissivitySpec::Constant => Emissivity::Constant,
             EmissivitySpec::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
@@ -522,6 +523,45 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
         });
     }
     Ok(out)
+}
+
+/// Checks every key of every `layers` entry (at `at`) as written against
+/// its range ([`keys::LAYER`]), and the layers' total thickness against the
+/// slab's (`thickness_m`).
+fn check_layers(c: &Check, at: &[Seg], layers: Option<&toml::Value>) -> Result<(), SceneError> {
+    let Some(toml::Value::Array(layers)) = layers else {
+        return Ok(());
+    };
+    let mut total_m = 0.0;
+    for (i, entry) in layers.iter().enumerate() {
+        for b in keys::LAYER {
+            let v = match entry.get(b.key) {
+                Some(toml::Value::Float(x)) => *x,
+                Some(toml::Value::Integer(n)) => *n as f64,
+                _ => continue,
+            };
+            let path: Vec<Seg> = at
+                .iter()
+                .cloned()
+                .chain([Seg::Index(i), Seg::Key(b.key.into())])
+                .collect();
+            c.bound(&path, &b, v)?;
+            if b.key == keys::THICKNESS.key {
+                total_m += v;
+            }
+        }
+    }
+    let b = keys::THICKNESS;
+    if total_m > b.hi {
+        return Err(c.src.invalid(
+            at,
+            format!(
+                "the layers are {total_m} m thick in all: a slab is at most {} m ({})",
+                b.hi, b.key
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The number at `row`'s path in a material table as written (an integer
