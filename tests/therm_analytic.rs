@@ -428,7 +428,8 @@ fn layered_slab_steady_state_series_resistance() {
         let sol = model
             .march(vec![250.0; model.nodes()], &forcing, None, false)
             .unwrap();
-        let resistance = l1.thickness_m / l1.conductivity_w_mk + l2.thickness_m / l2.conductivity_w_mk;
+        let resistance =
+            l1.thickness_m / l1.conductivity_w_mk + l2.thickness_m / l2.conductivity_w_mk;
         assert!((mat.conductance_w_m2k() - 1.0 / resistance).abs() < 1e-12);
         let sig = STEFAN_BOLTZMANN_W_M2K4;
         let h = 5.7 + 3.8 * 3.0;
@@ -445,8 +446,9 @@ fn layered_slab_steady_state_series_resistance() {
             if z <= l1.thickness_m {
                 ts - q * z / l1.conductivity_w_mk
             } else {
-                ts - q * (l1.thickness_m / l1.conductivity_w_mk
-                    + (z - l1.thickness_m) / l2.conductivity_w_mk)
+                ts - q
+                    * (l1.thickness_m / l1.conductivity_w_mk
+                        + (z - l1.thickness_m) / l2.conductivity_w_mk)
             }
         };
         let (z, p) = (&model.mesh.z_m, &sol.profile_k);
@@ -476,7 +478,10 @@ impl C {
     }
     fn div(self, o: C) -> C {
         let d = o.0 * o.0 + o.1 * o.1;
-        C((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
+        C(
+            (self.0 * o.0 + self.1 * o.1) / d,
+            (self.1 * o.0 - self.0 * o.1) / d,
+        )
     }
     fn scale(self, s: f64) -> C {
         C(self.0 * s, self.1 * s)
@@ -526,7 +531,10 @@ fn layered_slab_periodic_state_quadrupoles() {
             let (a, b) = carry(&l1, th, f, l1.thickness_m);
             carry(&l2, a, b, l2.thickness_m).1
         };
-        let (f10, f01) = (back(C(1.0, 0.0), C(0.0, 0.0)), back(C(0.0, 0.0), C(1.0, 0.0)));
+        let (f10, f01) = (
+            back(C(1.0, 0.0), C(0.0, 0.0)),
+            back(C(0.0, 0.0), C(1.0, 0.0)),
+        );
         let y = f10.div(f01).scale(-1.0);
         let th_s = C(h * amp, 0.0).div(C(h, 0.0).add(y));
         let f_s = y.mul(th_s);

@@ -29,6 +29,7 @@ use crate::bounds::{Bound, Key, KeyError};
 pub use crate::radiometry::EmissivityTable;
 pub use crate::therm::slab::BackBoundary;
 use crate::therm::slab::SlabMaterial;
+use crate::therm::surface::SurfaceKind;
 pub use crate::therm::surface::{KindSpec, SurfaceSpec, surface_defaults};
 
 /// The keys of a `[material.NAME]` table that the scene reads itself: the
@@ -493,6 +494,7 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
             c.bound(&at(row.path), &b, v)?;
         }
         check_layers(&c, &at(&["layers"]), table.and_then(|t| t.get("layers")))?;
+        let slab = slab_or_layers(&c, &at, table, slab)?;
         let emissivity = match &o.emissivity {
             EmissivitySpec::Constant => Emissivity::Constant,
             EmissivitySpec::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
@@ -513,6 +515,12 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
             }
         };
         let surface = surface.build().map_err(key_err)?;
+        if !slab.layers.is_empty() && matches!(surface, SurfaceKind::Water(_)) {
+            return Err(c.src.invalid(
+                &at(&["layers"]),
+                "a water body is one mixed column: `layers` are not for kind = \"water\"".into(),
+            ));
+        }
         out.push(Material {
             name: name.clone(),
             description: o.description,
@@ -523,6 +531,46 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
         });
     }
     Ok(out)
+}
+
+/// A construction gives the four keys of one slab or `layers`, not both;
+/// a layered one takes its ρ, c, k (the top layer's) and L (the total)
+/// from its layers. `at(&[])` is the material's table.
+fn slab_or_layers(
+    c: &Check,
+    at: &dyn Fn(&[&str]) -> Vec<Seg>,
+    table: Option<&toml::Value>,
+    slab: SlabMaterial,
+) -> Result<SlabMaterial, SceneError> {
+    let given = |k: &str| table.and_then(|t| t.get(k)).is_some();
+    let four = [
+        keys::DENSITY.key,
+        keys::SPECIFIC_HEAT.key,
+        keys::CONDUCTIVITY.key,
+        keys::THICKNESS.key,
+    ];
+    if !given("layers") {
+        return match four.iter().find(|k| !given(k)) {
+            Some(k) => Err(c.src.invalid(
+                &at(&[]),
+                format!("missing field `{k}` (or give the slab as `layers`)"),
+            )),
+            None => Ok(slab),
+        };
+    }
+    if slab.layers.is_empty() {
+        return Err(c.src.invalid(
+            &at(&["layers"]),
+            "`layers` is empty: give at least one layer".into(),
+        ));
+    }
+    if let Some(k) = four.iter().find(|k| given(k)) {
+        return Err(c.src.invalid(
+            &at(&[k]),
+            format!("`{k}` and `layers` both given: a layered slab gives its layers only"),
+        ));
+    }
+    Ok(slab.filled_from_layers())
 }
 
 /// Checks every key of every `layers` entry (at `at`) as written against

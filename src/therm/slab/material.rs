@@ -224,7 +224,8 @@ impl Layer {
 pub const MAX_LAYERS: usize = 4;
 
 /// The layers of a layered slab, top first (empty: one homogeneous slab).
-/// A fixed array, so that a material stays `Copy`.
+/// A fixed array, so that a material stays `Copy`; written and read as the
+/// list `layers = [{ ... }, ...]`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Layers {
     len: usize,
@@ -241,7 +242,10 @@ impl Layers {
         for (slot, l) in items.iter_mut().zip(v) {
             *slot = Some(*l);
         }
-        Some(Layers { len: v.len(), items })
+        Some(Layers {
+            len: v.len(),
+            items,
+        })
     }
 
     /// Whether the slab is homogeneous (no layers given).
@@ -251,111 +255,27 @@ impl Layers {
 
     /// The layers, top first.
     pub fn iter(&self) -> impl Iterator<Item = Layer> + '_ {
-        self.items[..self.len].iter().map(|l| l.expect("set below len"))
+        self.items[..self.len]
+            .iter()
+            .map(|l| l.expect("set below len"))
     }
 }
 
-/// A material table as written: the homogeneous slab's four keys, or
-/// `layers` instead; [`SlabMaterial`] reads itself through it.
-#[derive(Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SlabTable {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    density_kg_m3: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    specific_heat_j_kgk: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    conductivity_w_mk: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    thickness_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    layers: Option<Vec<Layer>>,
-    solar_absorptivity: f64,
-    thermal_emissivity: f64,
-    #[serde(default)]
-    back: BackBoundary,
-    #[serde(default)]
-    internal_power_w_m2: f64,
-    #[serde(default)]
-    ground_albedo: Option<f64>,
-    #[serde(default)]
-    surface: SurfaceKind,
+impl Serialize for Layers {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.iter())
+    }
 }
 
-impl TryFrom<SlabTable> for SlabMaterial {
-    type Error = String;
-    fn try_from(t: SlabTable) -> Result<SlabMaterial, String> {
-        let four = [
-            ("density_kg_m3", t.density_kg_m3),
-            ("specific_heat_j_kgk", t.specific_heat_j_kgk),
-            ("conductivity_w_mk", t.conductivity_w_mk),
-            ("thickness_m", t.thickness_m),
-        ];
-        let (top, thickness_m, layers) = match &t.layers {
-            None => {
-                let mut v = [0.0; 4];
-                for (x, (key, given)) in v.iter_mut().zip(four) {
-                    *x = given.ok_or_else(|| {
-                        format!("missing field `{key}` (or give the slab as `layers`)")
-                    })?;
-                }
-                let [rho, c, k, l] = v;
-                let top = Layer {
-                    thickness_m: l,
-                    conductivity_w_mk: k,
-                    density_kg_m3: rho,
-                    specific_heat_j_kgk: c,
-                };
-                (top, l, Layers::default())
-            }
-            Some(v) => {
-                if let Some((key, _)) = four.iter().find(|(_, g)| g.is_some()) {
-                    return Err(format!(
-                        "`{key}` and `layers` both given: a layered slab gives its layers only"
-                    ));
-                }
-                let Some(&top) = v.first() else {
-                    return Err("`layers` is empty: give at least one layer".into());
-                };
-                let layers = Layers::new(v).ok_or_else(|| {
-                    format!("`layers` has {} layers: at most {MAX_LAYERS}", v.len())
-                })?;
-                (top, v.iter().map(|l| l.thickness_m).sum(), layers)
-            }
-        };
-        Ok(SlabMaterial {
-            density_kg_m3: top.density_kg_m3,
-            specific_heat_j_kgk: top.specific_heat_j_kgk,
-            conductivity_w_mk: top.conductivity_w_mk,
-            thickness_m,
-            layers,
-            solar_absorptivity: t.solar_absorptivity,
-            thermal_emissivity: t.thermal_emissivity,
-            back: t.back,
-            internal_power_w_m2: t.internal_power_w_m2,
-            ground_albedo: t.ground_albedo,
-            surface: t.surface,
+impl<'de> Deserialize<'de> for Layers {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<Layer>::deserialize(d)?;
+        Layers::new(&v).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "`layers` has {} layers: at most {MAX_LAYERS}",
+                v.len()
+            ))
         })
-    }
-}
-
-impl From<SlabMaterial> for SlabTable {
-    fn from(m: SlabMaterial) -> SlabTable {
-        let homogeneous = m.layers.is_empty();
-        let one = |v: f64| homogeneous.then_some(v);
-        SlabTable {
-            density_kg_m3: one(m.density_kg_m3),
-            specific_heat_j_kgk: one(m.specific_heat_j_kgk),
-            conductivity_w_mk: one(m.conductivity_w_mk),
-            thickness_m: one(m.thickness_m),
-            layers: (!homogeneous).then(|| m.layers.iter().collect()),
-            solar_absorptivity: m.solar_absorptivity,
-            thermal_emissivity: m.thermal_emissivity,
-            back: m.back,
-            internal_power_w_m2: m.internal_power_w_m2,
-            ground_albedo: m.ground_albedo,
-            surface: m.surface,
-        }
     }
 }
 
@@ -370,20 +290,28 @@ impl From<SlabMaterial> for SlabTable {
 ///
 /// A layered slab (`layers`) keeps its layers in [`SlabMaterial::layers`];
 /// its ρ, c and k fields are then its top layer's and `thickness_m` the
-/// whole slab's (the sum of the layers).
+/// whole slab's (the sum of the layers): the library reader checks that a
+/// table gives the four keys or `layers`, not both, and fills them
+/// ([`SlabMaterial::filled_from_layers`]); read alone, an absent key is 0 and
+/// [`SlabMaterial::validate`] refuses it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "SlabTable", into = "SlabTable")]
+#[serde(deny_unknown_fields)]
 pub struct SlabMaterial {
     /// Density ρ, kg/m³ (a layered slab: its top layer's).
+    #[serde(default)]
     pub density_kg_m3: f64,
     /// Specific heat c, J kg⁻¹ K⁻¹ (a layered slab: its top layer's).
+    #[serde(default)]
     pub specific_heat_j_kgk: f64,
     /// Thermal conductivity k, W m⁻¹ K⁻¹ (a layered slab: its top layer's).
+    #[serde(default)]
     pub conductivity_w_mk: f64,
     /// Thickness L, m (a layered slab: the sum of its layers).
+    #[serde(default)]
     pub thickness_m: f64,
     /// The layers of a layered slab, top first; empty for one homogeneous
     /// slab of the four fields above.
+    #[serde(default, skip_serializing_if = "Layers::is_empty")]
     pub layers: Layers,
     /// Absorptivity α for sunlight (DIRSIG's VISIBLE_EMISSIVITY), 0-1.
     pub solar_absorptivity: f64,
@@ -439,19 +367,35 @@ impl SlabMaterial {
         solar_absorptivity: f64,
         thermal_emissivity: f64,
     ) -> Result<SlabMaterial, String> {
-        SlabMaterial::try_from(SlabTable {
-            density_kg_m3: None,
-            specific_heat_j_kgk: None,
-            conductivity_w_mk: None,
-            thickness_m: None,
-            layers: Some(layers.to_vec()),
+        let top = layers
+            .first()
+            .ok_or("`layers` is empty: give at least one layer")?;
+        let base = SlabMaterial::with_defaults(
+            top.density_kg_m3,
+            top.specific_heat_j_kgk,
+            top.conductivity_w_mk,
+            top.thickness_m,
             solar_absorptivity,
             thermal_emissivity,
-            back: BackBoundary::default(),
-            internal_power_w_m2: 0.0,
-            ground_albedo: None,
-            surface: SurfaceKind::default(),
-        })
+        );
+        let layers = Layers::new(layers)
+            .ok_or_else(|| format!("{} layers: at most {MAX_LAYERS}", layers.len()))?;
+        Ok(SlabMaterial { layers, ..base }.filled_from_layers())
+    }
+
+    /// This material with its ρ, c and k its top layer's and its thickness
+    /// the sum of its layers (unchanged when it has none).
+    pub fn filled_from_layers(self) -> SlabMaterial {
+        let Some(top) = self.layers.iter().next() else {
+            return self;
+        };
+        SlabMaterial {
+            density_kg_m3: top.density_kg_m3,
+            specific_heat_j_kgk: top.specific_heat_j_kgk,
+            conductivity_w_mk: top.conductivity_w_mk,
+            thickness_m: self.layers.iter().map(|l| l.thickness_m).sum(),
+            ..self
+        }
     }
 
     /// Fields that are not keys of a material library: the ground albedo
