@@ -251,6 +251,25 @@ fn bad_layers_are_refused_at_their_line_and_key() {
             "want {want} at line {line}: {e}"
         );
     }
+    let five = format!("[material.s]\nlayers = [{}]\n", [good; 5].join(", "));
+    for (text, line, want) in [
+        (
+            "[material.s]\nlayers = []\n".to_string(),
+            2,
+            "`layers` is empty",
+        ),
+        (five, 2, "`layers` has 5 layers: at most 4"),
+    ] {
+        let e = load(&format!(
+            "{text}solar_absorptivity = 0.7\nthermal_emissivity = 0.9\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(&format!("m.toml:{line}:")) && e.contains(want),
+            "want {want} at line {line}: {e}"
+        );
+    }
     let e = load("[material.s]\nsolar_absorptivity = 0.7\nthermal_emissivity = 0.9\n")
         .unwrap_err()
         .to_string();
