@@ -177,6 +177,109 @@ fn huge_responses_cannot_overflow_the_band_normalisation() {
     );
 }
 
+/// A layered slab's bad entries (issue 30): each refused naming the file,
+/// the line of the entry (or of the material) and the key.
+#[test]
+fn bad_layers_are_refused_at_their_line_and_key() {
+    let lib = |layer2: &str, extra: &str| {
+        format!(
+            "[material.s]\n\
+             layers = [\n  \
+             {{ thickness_m = 0.015, conductivity_w_mk = 0.24, density_kg_m3 = 1600.0, \
+             specific_heat_j_kgk = 800.0 }},\n  \
+             {layer2},\n]\n\
+             solar_absorptivity = 0.7\n\
+             thermal_emissivity = 0.94\n{extra}"
+        )
+    };
+    let good = "{ thickness_m = 0.485, conductivity_w_mk = 1.03, density_kg_m3 = 1645.0, \
+                specific_heat_j_kgk = 892.0 }";
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("m.toml");
+    let load = |text: &str| {
+        std::fs::write(&path, text).unwrap();
+        irsig::scene::material::load_library(&path)
+    };
+    let m = load(&lib(good, "")).unwrap();
+    let c = m[0].construction;
+    assert_eq!(c.layer_list().len(), 2);
+    assert!((c.thickness_m - 0.5).abs() < 1e-12 && c.conductivity_w_mk == 0.24);
+    for (layer2, extra, line, want) in [
+        (
+            "{ thickness_m = 0.485, conductivity_w_mk = 1.03, density_kg_m3 = 1645.0 }",
+            "",
+            4,
+            "missing field `specific_heat_j_kgk`",
+        ),
+        (
+            "{ thickness_m = 0.485, conductivity_w_mk = -1.0, density_kg_m3 = 1645.0, \
+             specific_heat_j_kgk = 892.0 }",
+            "",
+            4,
+            "`conductivity_w_mk` = -1 is out of range",
+        ),
+        (
+            "{ thickness_m = 0.0, conductivity_w_mk = 1.03, density_kg_m3 = 1645.0, \
+             specific_heat_j_kgk = 892.0 }",
+            "",
+            4,
+            "`thickness_m` = 0 is out of range",
+        ),
+        (
+            "{ thicknes_m = 0.485, conductivity_w_mk = 1.03, density_kg_m3 = 1645.0, \
+             specific_heat_j_kgk = 892.0 }",
+            "",
+            4,
+            "unknown field `thicknes_m`",
+        ),
+        (
+            good,
+            "thickness_m = 0.5\n",
+            8,
+            "`thickness_m` and `layers` both given",
+        ),
+        (
+            good,
+            "kind = \"water\"\nextinction_per_m = 1.0\n",
+            2,
+            "`layers` are not for kind = \"water\"",
+        ),
+    ] {
+        let e = load(&lib(layer2, extra)).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("m.toml:{line}:")) && e.contains(want),
+            "want {want} at line {line}: {e}"
+        );
+    }
+    let five = format!("[material.s]\nlayers = [{}]\n", [good; 5].join(", "));
+    for (text, line, want) in [
+        (
+            "[material.s]\nlayers = []\n".to_string(),
+            2,
+            "`layers` is empty",
+        ),
+        (five, 2, "`layers` has 5 layers: at most 4"),
+    ] {
+        let e = load(&format!(
+            "{text}solar_absorptivity = 0.7\nthermal_emissivity = 0.9\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(&format!("m.toml:{line}:")) && e.contains(want),
+            "want {want} at line {line}: {e}"
+        );
+    }
+    let e = load("[material.s]\nsolar_absorptivity = 0.7\nthermal_emissivity = 0.9\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("m.toml:1:")
+            && e.contains("missing field `density_kg_m3` (or give the slab as `layers`)"),
+        "{e}"
+    );
+}
+
 #[test]
 fn absurd_materials_are_refused_with_key_value_and_range() {
     // Mutated libraries that rendered thousands of kelvin (one key each).

@@ -29,6 +29,7 @@ use crate::bounds::{Bound, Key, KeyError};
 pub use crate::radiometry::EmissivityTable;
 pub use crate::therm::slab::BackBoundary;
 use crate::therm::slab::SlabMaterial;
+use crate::therm::surface::SurfaceKind;
 pub use crate::therm::surface::{KindSpec, SurfaceSpec, surface_defaults};
 
 /// The keys of a `[material.NAME]` table that the scene reads itself: the
@@ -324,7 +325,7 @@ pub struct Material {
     pub name: String,
     /// Its `description`, if given.
     pub description: Option<String>,
-    /// The thermal construction (today one homogeneous slab): what
+    /// The thermal construction (one homogeneous or layered slab): what
     /// `therm` solves, exactly as the scene gave it (a deep-ground back face
     /// without `temp_c` takes the site's deep-ground temperature at render time).
     pub construction: SlabMaterial,
@@ -492,6 +493,8 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
             };
             c.bound(&at(row.path), &b, v)?;
         }
+        check_layers(&c, &at(&["layers"]), table.and_then(|t| t.get("layers")))?;
+        let slab = slab_or_layers(&c, &at, table, slab)?;
         let emissivity = match &o.emissivity {
             EmissivitySpec::Constant => Emissivity::Constant,
             EmissivitySpec::Fresnel { n, k } => Emissivity::Fresnel { n: *n, k: *k },
@@ -512,6 +515,12 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
             }
         };
         let surface = surface.build().map_err(key_err)?;
+        if !slab.layers.is_empty() && matches!(surface, SurfaceKind::Water(_)) {
+            return Err(c.src.invalid(
+                &at(&["layers"]),
+                "a water body is one mixed column: `layers` are not for kind = \"water\"".into(),
+            ));
+        }
         out.push(Material {
             name: name.clone(),
             description: o.description,
@@ -522,6 +531,85 @@ fn load_library_source(path: &Path, src: TomlSource) -> Result<Vec<Material>, Sc
         });
     }
     Ok(out)
+}
+
+/// A construction gives the four keys of one slab or `layers`, not both;
+/// a layered one takes its ρ, c, k (the top layer's) and L (the total)
+/// from its layers. `at(&[])` is the material's table.
+fn slab_or_layers(
+    c: &Check,
+    at: &dyn Fn(&[&str]) -> Vec<Seg>,
+    table: Option<&toml::Value>,
+    slab: SlabMaterial,
+) -> Result<SlabMaterial, SceneError> {
+    let given = |k: &str| table.and_then(|t| t.get(k)).is_some();
+    let four = [
+        keys::DENSITY.key,
+        keys::SPECIFIC_HEAT.key,
+        keys::CONDUCTIVITY.key,
+        keys::THICKNESS.key,
+    ];
+    if !given("layers") {
+        return match four.iter().find(|k| !given(k)) {
+            Some(k) => Err(c.src.invalid(
+                &at(&[]),
+                format!("missing field `{k}` (or give the slab as `layers`)"),
+            )),
+            None => Ok(slab),
+        };
+    }
+    if slab.layers.is_empty() {
+        return Err(c.src.invalid(
+            &at(&["layers"]),
+            "`layers` is empty: give at least one layer".into(),
+        ));
+    }
+    if let Some(k) = four.iter().find(|k| given(k)) {
+        return Err(c.src.invalid(
+            &at(&[k]),
+            format!("`{k}` and `layers` both given: a layered slab gives its layers only"),
+        ));
+    }
+    Ok(slab.filled_from_layers())
+}
+
+/// Checks every key of every `layers` entry (at `at`) as written against
+/// its range ([`keys::LAYER`]), and the layers' total thickness against the
+/// slab's (`thickness_m`).
+fn check_layers(c: &Check, at: &[Seg], layers: Option<&toml::Value>) -> Result<(), SceneError> {
+    let Some(toml::Value::Array(layers)) = layers else {
+        return Ok(());
+    };
+    let mut total_m = 0.0;
+    for (i, entry) in layers.iter().enumerate() {
+        for b in keys::LAYER {
+            let v = match entry.get(b.key) {
+                Some(toml::Value::Float(x)) => *x,
+                Some(toml::Value::Integer(n)) => *n as f64,
+                _ => continue,
+            };
+            let path: Vec<Seg> = at
+                .iter()
+                .cloned()
+                .chain([Seg::Index(i), Seg::Key(b.key.into())])
+                .collect();
+            c.bound(&path, &b, v)?;
+            if b.key == keys::THICKNESS.key {
+                total_m += v;
+            }
+        }
+    }
+    let b = keys::THICKNESS;
+    if total_m > b.hi {
+        return Err(c.src.invalid(
+            at,
+            format!(
+                "the layers are {total_m} m thick in all: a slab is at most {} m ({})",
+                b.hi, b.key
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The number at `row`'s path in a material table as written (an integer

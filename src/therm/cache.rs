@@ -540,8 +540,9 @@ pub struct CacheStats {
 
 type Slot = Arc<OnceLock<Result<Arc<ThermSolution>, ThermError>>>;
 
-/// What the graded mesh depends on in a material: ρ, c, k, L (bit patterns).
-type MeshKey = [u64; 4];
+/// What the graded mesh depends on in a material: ρ, c, k, L and each
+/// layer's L, k, ρ, c (bit patterns).
+type MeshKey = Vec<u64>;
 
 /// Concurrent memoising cache of [`ThermSolution`]s for one set of
 /// [`ThermSettings`].
@@ -835,15 +836,26 @@ impl ThermCache {
     }
 
     /// The graded mesh of `material` under this cache's settings (built
-    /// once per distinct ρ, c, k, L).
+    /// once per distinct ρ, c, k, L and layers).
     fn mesh(&self, material: &SlabMaterial) -> Arc<Mesh> {
-        let key = [
+        let layers = material.layers.iter().flat_map(|l| {
+            [
+                l.thickness_m,
+                l.conductivity_w_mk,
+                l.density_kg_m3,
+                l.specific_heat_j_kgk,
+            ]
+        });
+        let key: MeshKey = [
             material.density_kg_m3,
             material.specific_heat_j_kgk,
             material.conductivity_w_mk,
             material.thickness_m,
         ]
-        .map(f64::to_bits);
+        .into_iter()
+        .chain(layers)
+        .map(f64::to_bits)
+        .collect();
         let mut meshes = self.meshes.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((_, m)) = meshes.iter().find(|(k, _)| *k == key) {
             return m.clone();

@@ -109,32 +109,45 @@ pub mod keys {
     pub const EXPOSED_AREA: Bound = Bound::new("exposed_area", 1e-6, 10.0, "");
     /// `temp_c` of a deep-ground back.
     pub const DEEP_GROUND_TEMP: Bound = Bound::new("temp_c", -90.0, 100.0, "°C");
+    /// The keys of one `layers` entry, top first (each with the range of
+    /// the slab key of the same name; checked as written by the library
+    /// reader, at the entry).
+    pub const LAYER: [Bound; 4] = [THICKNESS, CONDUCTIVITY, DENSITY, SPECIFIC_HEAT];
 
     /// Every key of the construction, in the order the docs list them.
     pub const CONSTRUCTION: &[Key] = &[
         Key::number(
             &["density_kg_m3"],
-            "required",
+            "required or `layers`",
             DENSITY,
             "ρ (aerogels ~1 to osmium 22 590)",
         ),
         Key::number(
             &["specific_heat_j_kgk"],
-            "required",
+            "required or `layers`",
             SPECIFIC_HEAT,
             "c (lead/gold ~129 to water 4 180, with margin)",
         ),
         Key::number(
             &["conductivity_w_mk"],
-            "required",
+            "required or `layers`",
             CONDUCTIVITY,
             "k (aerogel/still air ~0.013-0.026 to diamond 2 200)",
         ),
         Key::number(
             &["thickness_m"],
-            "required",
+            "required or `layers`",
             THICKNESS,
             "slab thickness L (a 10 µm foil to a 10 m ground column)",
+        ),
+        Key::text(
+            &["layers"],
+            "",
+            "none",
+            "a layered slab instead of the four keys above: `layers = [{ thickness_m, \
+             conductivity_w_mk, density_kg_m3, specific_heat_j_kgk }, ...]`, top first, each \
+             key in the range of the slab key of its name, at most 4 layers; a node on every \
+             interface (not for `kind = \"water\"`)",
         ),
         Key::number(
             &["solar_absorptivity"],
@@ -181,6 +194,91 @@ pub mod keys {
     ];
 }
 
+/// One layer of a layered slab (`layers = [{ ... }, ...]`, top first).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Layer {
+    /// Thickness, m.
+    pub thickness_m: f64,
+    /// Thermal conductivity k, W m⁻¹ K⁻¹.
+    pub conductivity_w_mk: f64,
+    /// Density ρ, kg/m³.
+    pub density_kg_m3: f64,
+    /// Specific heat c, J kg⁻¹ K⁻¹.
+    pub specific_heat_j_kgk: f64,
+}
+
+impl Layer {
+    /// Volumetric heat capacity ρc, J m⁻³ K⁻¹.
+    pub fn heat_capacity_j_m3k(&self) -> f64 {
+        self.density_kg_m3 * self.specific_heat_j_kgk
+    }
+
+    /// Thermal diffusivity κ = k/(ρc), m²/s.
+    pub fn diffusivity_m2_s(&self) -> f64 {
+        self.conductivity_w_mk / self.heat_capacity_j_m3k()
+    }
+}
+
+/// The most layers a slab may have.
+pub const MAX_LAYERS: usize = 4;
+
+/// The layers of a layered slab, top first (empty: one homogeneous slab).
+/// A fixed array, so that a material stays `Copy`; written and read as the
+/// list `layers = [{ ... }, ...]`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Layers {
+    len: usize,
+    items: [Option<Layer>; MAX_LAYERS],
+}
+
+impl Layers {
+    /// The layers `v` (top first); `None` when there are more than [`MAX_LAYERS`].
+    pub fn new(v: &[Layer]) -> Option<Layers> {
+        if v.len() > MAX_LAYERS {
+            return None;
+        }
+        let mut items = [None; MAX_LAYERS];
+        for (slot, l) in items.iter_mut().zip(v) {
+            *slot = Some(*l);
+        }
+        Some(Layers {
+            len: v.len(),
+            items,
+        })
+    }
+
+    /// Whether the slab is homogeneous (no layers given).
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The layers, top first.
+    pub fn iter(&self) -> impl Iterator<Item = Layer> + '_ {
+        self.items[..self.len]
+            .iter()
+            .map(|l| l.expect("set below len"))
+    }
+}
+
+impl Serialize for Layers {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.iter())
+    }
+}
+
+impl<'de> Deserialize<'de> for Layers {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<Layer>::deserialize(d)?;
+        Layers::new(&v).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "`layers` has {} layers: at most {MAX_LAYERS}",
+                v.len()
+            ))
+        })
+    }
+}
+
 /// One material's slab: thermal and surface properties (DIRSIG's
 /// MASS_DENSITY, SPECIFIC_HEAT, THERMAL_CONDUCTIVITY, thickness,
 /// VISIBLE_EMISSIVITY → `solar_absorptivity`, THERMAL_EMISSIVITY,
@@ -189,17 +287,32 @@ pub mod keys {
 /// their rows in [`keys`]); [`SlabMaterial::NOT_LIBRARY_KEYS`] are set by
 /// the model, and `surface` is built from the table's surface keys
 /// (`therm::surface::SurfaceSpec`).
+///
+/// A layered slab (`layers`) keeps its layers in [`SlabMaterial::layers`];
+/// its ρ, c and k fields are then its top layer's and `thickness_m` the
+/// whole slab's (the sum of the layers): the library reader checks that a
+/// table gives the four keys or `layers`, not both, and fills them
+/// ([`SlabMaterial::filled_from_layers`]); read alone, an absent key is 0 and
+/// [`SlabMaterial::validate`] refuses it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlabMaterial {
-    /// Density ρ, kg/m³.
+    /// Density ρ, kg/m³ (a layered slab: its top layer's).
+    #[serde(default)]
     pub density_kg_m3: f64,
-    /// Specific heat c, J kg⁻¹ K⁻¹.
+    /// Specific heat c, J kg⁻¹ K⁻¹ (a layered slab: its top layer's).
+    #[serde(default)]
     pub specific_heat_j_kgk: f64,
-    /// Thermal conductivity k, W m⁻¹ K⁻¹.
+    /// Thermal conductivity k, W m⁻¹ K⁻¹ (a layered slab: its top layer's).
+    #[serde(default)]
     pub conductivity_w_mk: f64,
-    /// Thickness L, m.
+    /// Thickness L, m (a layered slab: the sum of its layers).
+    #[serde(default)]
     pub thickness_m: f64,
+    /// The layers of a layered slab, top first; empty for one homogeneous
+    /// slab of the four fields above.
+    #[serde(default, skip_serializing_if = "Layers::is_empty")]
+    pub layers: Layers,
     /// Absorptivity α for sunlight (DIRSIG's VISIBLE_EMISSIVITY), 0-1.
     pub solar_absorptivity: f64,
     /// Thermal emissivity ε, 0-1.
@@ -246,19 +359,88 @@ impl SlabMaterial {
             .expect("the six required keys are every field without a default")
     }
 
+    /// As [`SlabMaterial::with_defaults`], a layered slab: `layers` top
+    /// first (as the library key `layers` gives them); an error for no
+    /// layers or more than [`MAX_LAYERS`].
+    pub fn with_layers(
+        layers: &[Layer],
+        solar_absorptivity: f64,
+        thermal_emissivity: f64,
+    ) -> Result<SlabMaterial, String> {
+        let top = layers
+            .first()
+            .ok_or("`layers` is empty: give at least one layer")?;
+        let base = SlabMaterial::with_defaults(
+            top.density_kg_m3,
+            top.specific_heat_j_kgk,
+            top.conductivity_w_mk,
+            top.thickness_m,
+            solar_absorptivity,
+            thermal_emissivity,
+        );
+        let layers = Layers::new(layers)
+            .ok_or_else(|| format!("{} layers: at most {MAX_LAYERS}", layers.len()))?;
+        Ok(SlabMaterial { layers, ..base }.filled_from_layers())
+    }
+
+    /// This material with its ρ, c and k its top layer's and its thickness
+    /// the sum of its layers (unchanged when it has none).
+    pub fn filled_from_layers(self) -> SlabMaterial {
+        let Some(top) = self.layers.iter().next() else {
+            return self;
+        };
+        SlabMaterial {
+            density_kg_m3: top.density_kg_m3,
+            specific_heat_j_kgk: top.specific_heat_j_kgk,
+            conductivity_w_mk: top.conductivity_w_mk,
+            thickness_m: self.layers.iter().map(|l| l.thickness_m).sum(),
+            ..self
+        }
+    }
+
     /// Fields that are not keys of a material library: the ground albedo
     /// (the scene's, set at render time) and the surface kind (built from
     /// the table's `kind` and surface keys).
     pub const NOT_LIBRARY_KEYS: &[&str] = &["ground_albedo", "surface"];
 
-    /// Thermal diffusivity κ = k/(ρc), m²/s.
+    /// Thermal diffusivity κ = k/(ρc), m²/s (a layered slab: its top layer's).
     pub fn diffusivity_m2_s(&self) -> f64 {
         self.conductivity_w_mk / (self.density_kg_m3 * self.specific_heat_j_kgk)
     }
 
-    /// Heat capacity per unit area ρ·c·L, J m⁻² K⁻¹.
+    /// The slab's layers, top first: the layers given, or the one layer of
+    /// a homogeneous slab.
+    pub fn layer_list(&self) -> Vec<Layer> {
+        if self.layers.is_empty() {
+            return vec![Layer {
+                thickness_m: self.thickness_m,
+                conductivity_w_mk: self.conductivity_w_mk,
+                density_kg_m3: self.density_kg_m3,
+                specific_heat_j_kgk: self.specific_heat_j_kgk,
+            }];
+        }
+        self.layers.iter().collect()
+    }
+
+    /// Heat capacity per unit area Σ ρ·c·L over the layers, J m⁻² K⁻¹.
     pub fn areal_heat_capacity_j_m2k(&self) -> f64 {
-        self.density_kg_m3 * self.specific_heat_j_kgk * self.thickness_m
+        if self.layers.is_empty() {
+            return self.density_kg_m3 * self.specific_heat_j_kgk * self.thickness_m;
+        }
+        self.layers
+            .iter()
+            .map(|l| l.heat_capacity_j_m3k() * l.thickness_m)
+            .sum()
+    }
+
+    /// Steady conductance of the whole slab, front face to back face,
+    /// `1 / Σ L_j/k_j` (the layers' thermal resistances in series), W m⁻² K⁻¹.
+    pub fn conductance_w_m2k(&self) -> f64 {
+        1.0 / self
+            .layer_list()
+            .iter()
+            .map(|l| l.thickness_m / l.conductivity_w_mk)
+            .sum::<f64>()
     }
 
     /// Checks every field is finite and in its physical range.
@@ -275,6 +457,26 @@ impl SlabMaterial {
                     "{name} must be finite and > 0, got {v}"
                 )));
             }
+        }
+        for (i, l) in self.layers.iter().enumerate() {
+            let pos = [
+                ("thickness_m", l.thickness_m),
+                ("conductivity_w_mk", l.conductivity_w_mk),
+                ("density_kg_m3", l.density_kg_m3),
+                ("specific_heat_j_kgk", l.specific_heat_j_kgk),
+            ];
+            for (name, v) in pos {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(ThermError::BadMaterial(format!(
+                        "layers[{i}].{name} must be finite and > 0, got {v}"
+                    )));
+                }
+            }
+        }
+        if !self.layers.is_empty() && matches!(self.surface, SurfaceKind::Water(_)) {
+            return Err(ThermError::BadMaterial(
+                "a water body is one mixed column: `layers` are not for kind = \"water\"".into(),
+            ));
         }
         let unit = [
             ("solar_absorptivity", self.solar_absorptivity),

@@ -71,7 +71,7 @@ pub use interp::{forcing_at, validate_forcing};
 pub use march::{
     MarchState, SPIN_UP_MEAN_WINDOW_S, SlabModel, StepRecord, ThermSolution, solve_surface,
 };
-pub use material::{BackBoundary, SlabMaterial, keys};
+pub use material::{BackBoundary, Layer, Layers, MAX_LAYERS, SlabMaterial, keys};
 pub use settings::{SpinUpStart, ThermError, ThermSettings};
 pub use store::update_store_mm;
 pub(crate) use store::wet_drive;

@@ -110,6 +110,64 @@ fn graded_mesh_is_geometric_from_the_surface() {
     assert_eq!(m.z_m.len(), s.nodes);
 }
 
+/// A layered slab's mesh (issue 30): a node on every interface, every
+/// cell inside one layer with conductance k_j/Δz, the layers' heat
+/// capacity Σ ρc_j·L_j in the nodes, the series resistance Σ L_j/k_j
+/// between the faces (all to rounding), and each layer graded from its top
+/// by at most `max_growth`.
+#[test]
+fn layered_mesh_puts_a_node_on_each_interface() {
+    let layer = |thickness_m, conductivity_w_mk, density_kg_m3, specific_heat_j_kgk| Layer {
+        thickness_m,
+        conductivity_w_mk,
+        density_kg_m3,
+        specific_heat_j_kgk,
+    };
+    let layers = [
+        layer(0.015, 0.24, 1600.0, 800.0),
+        layer(0.1, 1.03, 1645.0, 892.0),
+        layer(0.385, 0.04, 30.0, 1400.0),
+    ];
+    let mat = SlabMaterial::with_layers(&layers, 0.7, 0.94).unwrap();
+    assert_eq!(
+        (mat.thickness_m, mat.conductivity_w_mk),
+        (0.5, 0.24),
+        "the top layer's k, the total L"
+    );
+    let s = ThermSettings::default();
+    let m = Mesh::graded(&mat, &s);
+    let mut top = 0.0;
+    let mut resistance = 0.0;
+    for l in &layers {
+        let bottom = top + l.thickness_m;
+        let i0 = m
+            .z_m
+            .iter()
+            .position(|&z| z == top)
+            .expect("a node at the top");
+        let i1 = m
+            .z_m
+            .iter()
+            .position(|&z| z == bottom)
+            .expect("a node at the bottom");
+        assert!(i1 >= i0 + 2, "at least two cells a layer");
+        let d: Vec<f64> = m.z_m[i0..=i1].windows(2).map(|w| w[1] - w[0]).collect();
+        for (j, dz) in d.iter().enumerate() {
+            let g = m.cond_w_m2k[i0 + j];
+            assert!((g * dz / l.conductivity_w_mk - 1.0).abs() < 1e-12);
+            resistance += 1.0 / g;
+        }
+        for w in d.windows(2) {
+            assert!(w[1] / w[0] <= s.max_growth + 1e-9, "{w:?}");
+        }
+        top = bottom;
+    }
+    assert!((resistance * mat.conductance_w_m2k() - 1.0).abs() < 1e-12);
+    let total: f64 = m.cap_j_m2k.iter().sum();
+    assert!((total / mat.areal_heat_capacity_j_m2k() - 1.0).abs() < 1e-12);
+    assert!(m.z_m.len() <= s.max_nodes);
+}
+
 /// The surface-only Newton (issue 12) against the full-system Newton
 /// it replaced (kept above as the reference). Cases: tools/ref_therm.py's
 /// four (72 h of TMY3 forcing; insulated, deep-ground and air-exposed
