@@ -261,13 +261,39 @@ fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface],
 /// [`trace_histories_guided`]).
 pub(super) type Guides<'a> = [&'a SunFlags; 4];
 
-/// The flag of traced history sample `k` that a point's `guides` give when
-/// they all agree there (the point lies inside their square, so a straight
-/// shadow edge that leaves all four on one side leaves the point there
-/// too), `None` where they differ.
-fn guided_flag(guides: &Guides, k: usize) -> Option<bool> {
-    let f = guides[0].get(k);
-    guides[1..].iter().all(|g| g.get(k) == f).then_some(f)
+/// For each of `n` points, packed `nw` words to a point: the history
+/// samples at which the point's guides all agree (the point lies inside
+/// their square, so a straight shadow edge that leaves all four on one side
+/// leaves the point there too), and their flag there; both empty when no
+/// point is guided.
+fn guide_words<'g>(
+    n: usize,
+    nw: usize,
+    guide: impl Fn(usize) -> Option<Guides<'g>>,
+) -> (Vec<u64>, Vec<u64>) {
+    let mut agree = Vec::new();
+    let mut flag = Vec::new();
+    for p in 0..n {
+        let Some(g) = guide(p) else { continue };
+        if agree.is_empty() {
+            agree = vec![0u64; n * nw];
+            flag = vec![0u64; n * nw];
+        }
+        let (a, f) = (
+            &mut agree[p * nw..(p + 1) * nw],
+            &mut flag[p * nw..(p + 1) * nw],
+        );
+        for (w, x) in g[0].flags().words().enumerate() {
+            f[w] = x;
+            a[w] = !0;
+        }
+        for other in &g[1..] {
+            for (w, x) in other.flags().words().enumerate() {
+                a[w] &= !(f[w] ^ x);
+            }
+        }
+    }
+    (agree, flag)
 }
 
 /// The one transition index that all `guides` have inside the fine
@@ -319,6 +345,14 @@ pub(super) fn trace_histories_guided(
         .unzip();
     let nw = nsun.div_ceil(64);
     let mut words = vec![0u64; targets.len() * nw];
+    // Per guided point, packed as its history's words: the samples whose
+    // flag its four guides agree on, and their flag there (a bit test per
+    // sample instead of four searches of the guides' transitions).
+    let (agree, given_flag) = guide_words(targets.len(), nw, guide);
+    let agreed = |p: usize, k: usize| -> Option<bool> {
+        let (w, b) = (p * nw + k / 64, k % 64);
+        (agree.get(w).is_some_and(|a| a >> b & 1 == 1)).then(|| given_flag[w] >> b & 1 == 1)
+    };
     let (mut away, mut solar) = (0, 0);
     let down = targets.len() * (nsun.div_ceil(every) - up.len());
     let mut active = vec![0u16; up.len()];
@@ -339,7 +373,7 @@ pub(super) fn trace_histories_guided(
             (*kn, *lit) = (0, 0);
             if !guides.is_empty() && !force.contains(&k) {
                 for lane in 0..chunk.len() {
-                    if let Some(f) = guide(start + lane).and_then(|g| guided_flag(&g, k)) {
+                    if let Some(f) = agreed(start + lane, k) {
                         *kn |= 1 << lane;
                         *lit |= (f as u16) << lane;
                     }
@@ -377,9 +411,7 @@ pub(super) fn trace_histories_guided(
         let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
         // (a transition that the guides make at one sample, between two
         // samples whose flags they gave, is theirs)
-        let given = |p: usize, k: usize| {
-            !force.contains(&k) && guide(p).is_some_and(|g| guided_flag(&g, k).is_some())
-        };
+        let given = |p: usize, k: usize| !force.contains(&k) && agreed(p, k).is_some();
         for p in 0..targets.len() {
             let mut k = 0;
             while k + every < nsun {
