@@ -408,25 +408,21 @@ pub(super) fn trace_histories_guided(
         // (lo, hi, flag at lo, target): flag(lo) != flag(hi), the switch is
         // at some index in (lo, hi].
         let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
-        let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
         // (a transition that the guides make at one sample, between two
         // samples whose flags they gave, is theirs)
         let given = |p: usize, k: usize| !force.contains(&k) && agreed(p, k).is_some();
+        let coarse = CoarsePairs::new(nsun, every);
         for p in 0..targets.len() {
-            let mut k = 0;
-            while k + every < nsun {
-                let (a, b) = (bit(p, k), bit(p, k + every));
-                if a != b {
-                    let theirs = (given(p, k) && given(p, k + every))
-                        .then(|| guide(p).and_then(|g| guided_switch(&g, k, k + every)))
-                        .flatten();
-                    match theirs {
-                        Some(s) => pending.push((s as usize - 1, s as usize, a, p)),
-                        None => pending.push((k, k + every, a, p)),
-                    }
+            coarse.changes(&words[p * nw..(p + 1) * nw], |k| {
+                let a = bit(p, k);
+                let theirs = (given(p, k) && given(p, k + every))
+                    .then(|| guide(p).and_then(|g| guided_switch(&g, k, k + every)))
+                    .flatten();
+                match theirs {
+                    Some(s) => pending.push((s as usize - 1, s as usize, a, p)),
+                    None => pending.push((k, k + every, a, p)),
                 }
-                k += every;
-            }
+            });
         }
         let mut rays = Vec::new();
         let mut ray_of = Vec::new();
@@ -466,17 +462,68 @@ pub(super) fn trace_histories_guided(
                 }
             }
         }
-        // Pending intervals were pushed in sample order per target.
-        for &(_, hi, _, p) in &pending {
-            switches[p].push(hi as u32);
-        }
+        // Pending intervals were pushed in sample order per target, the
+        // targets in order.
+        let mut rest = &pending[..];
+        let mut sw: Vec<u32> = Vec::new();
         for (p, t) in targets.iter_mut().enumerate() {
-            t.history = SunFlags::from_switches(bit(p, 0), &switches[p], nsun);
+            let mine = rest.iter().take_while(|e| e.3 == p).count();
+            sw.clear();
+            sw.extend(rest[..mine].iter().map(|e| e.1 as u32));
+            rest = &rest[mine..];
+            t.history = SunFlags::from_switches(bit(p, 0), &sw, nsun);
         }
     }
     add(&c.sun_down, down);
     add(&c.away, away);
     add(&c.solar, solar);
+}
+
+/// The pairs of traced history samples (`k`, `k + every`), `k` a multiple
+/// of `every` and `k + every` < `nsun`, as bit masks over a point's packed
+/// words: [`CoarsePairs::changes`] finds those whose two flags differ with
+/// a few word operations instead of two bit tests per pair.
+struct CoarsePairs {
+    every: usize,
+    /// Per word: the bits of the pairs' first samples.
+    firsts: Vec<u64>,
+}
+
+impl CoarsePairs {
+    fn new(nsun: usize, every: usize) -> Self {
+        let nw = nsun.div_ceil(64);
+        let mut firsts = vec![0u64; nw];
+        let mut k = 0;
+        while k + every < nsun {
+            firsts[k / 64] |= 1 << (k % 64);
+            k += every;
+        }
+        CoarsePairs { every, firsts }
+    }
+
+    /// Calls `f(k)` for each pair whose flags differ in `words` (bits set
+    /// at traced samples only), in ascending `k`.
+    fn changes(&self, words: &[u64], mut f: impl FnMut(usize)) {
+        let e = self.every;
+        let bit = |k: usize| words.get(k / 64).is_some_and(|w| w >> (k % 64) & 1 == 1);
+        for (w, &first) in self.firsts.iter().enumerate() {
+            if first == 0 {
+                continue;
+            }
+            let x = words[w];
+            // The flags `every` samples later, moved onto their pair's first.
+            let later = if e < 64 {
+                x >> e | words.get(w + 1).map_or(0, |n| n << (64 - e))
+            } else {
+                (0..64).fold(0u64, |m, b| m | u64::from(bit(64 * w + b + e)) << b)
+            };
+            let mut d = (x ^ later) & first;
+            while d != 0 {
+                f(64 * w + d.trailing_zeros() as usize);
+                d &= d - 1;
+            }
+        }
+    }
 }
 
 /// Steps 1-3 over blocks of sample pixels (rayon over blocks), each
@@ -549,4 +596,51 @@ pub(super) fn trace_band(
                 }
             });
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The word-parallel search finds exactly the pairs whose two flags
+    /// differ, in order, against a bit-by-bit scan (lengths across word
+    /// boundaries, intervals below and above 64).
+    #[test]
+    fn coarse_pairs_match_a_bit_by_bit_scan() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for nsun in [2usize, 3, 63, 64, 65, 145, 200, 433] {
+            for every in [1usize, 2, 3, 6, 12, 63, 64, 70] {
+                let nw = nsun.div_ceil(64);
+                for _ in 0..20 {
+                    // Bits at traced samples only, as the tracer leaves them.
+                    let mut words = vec![0u64; nw];
+                    let mut k = 0;
+                    while k < nsun {
+                        if next() % 3 == 0 {
+                            words[k / 64] |= 1 << (k % 64);
+                        }
+                        k += every;
+                    }
+                    let bit = |k: usize| words[k / 64] >> (k % 64) & 1 == 1;
+                    let mut want = Vec::new();
+                    let mut k = 0;
+                    while k + every < nsun {
+                        if bit(k) != bit(k + every) {
+                            want.push(k);
+                        }
+                        k += every;
+                    }
+                    let mut got = Vec::new();
+                    CoarsePairs::new(nsun, every).changes(&words, |k| got.push(k));
+                    assert_eq!(got, want, "nsun {nsun}, every {every}");
+                }
+            }
+        }
+    }
 }
