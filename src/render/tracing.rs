@@ -407,7 +407,8 @@ pub(super) fn trace_histories_guided(
         // block are halved together, one batch of shadow rays per round.
         // (lo, hi, flag at lo, target): flag(lo) != flag(hi), the switch is
         // at some index in (lo, hi].
-        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
+        // (about four transitions a point: sunrise and sunset on two days)
+        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::with_capacity(4 * targets.len());
         // (a transition that the guides make at one sample, between two
         // samples whose flags they gave, is theirs)
         let given = |p: usize, k: usize| !force.contains(&k) && agreed(p, k).is_some();
@@ -424,9 +425,10 @@ pub(super) fn trace_histories_guided(
                 }
             });
         }
-        let mut rays = Vec::new();
-        let mut ray_of = Vec::new();
-        let mut blocked = Vec::new();
+        let mut rays = Vec::with_capacity(pending.len());
+        let mut ray_of = Vec::with_capacity(pending.len());
+        let mut blocked = Vec::with_capacity(pending.len());
+        let mut lit = vec![false; pending.len()];
         while pending.iter().any(|&(lo, hi, _, _)| hi - lo > 1) {
             rays.clear();
             ray_of.clear();
@@ -446,7 +448,7 @@ pub(super) fn trace_histories_guided(
             blocked.resize(rays.len(), false);
             tracer.occluded(&rays, &mut blocked);
             solar += rays.len();
-            let mut lit = vec![false; pending.len()];
+            lit.fill(false);
             for (&j, &b) in ray_of.iter().zip(&blocked) {
                 lit[j] = !b;
             }
