@@ -14,11 +14,17 @@
 //!    background, steps), sunlit flag (shadow edges now), kind or surface
 //!    of a specular background, or surface temperature by more than
 //!    `render.refine_threshold_k` (shadow edges of the past, which the
-//!    history leaves in the temperature; the per-point sky view). Both
-//!    pixels of a differing pair are refined, so an edge between two
-//!    coarse samples is refined in whichever pixel it crosses. The
-//!    image's border pixels are always refined (an edge between a border
-//!    pixel's centre and the image's edge has no neighbour to show it).
+//!    history leaves in the temperature; the per-point sky view). Where
+//!    the pair differs in anything but the temperature, the sample halfway
+//!    between their centres (on their shared edge or corner; [`Midpoints`],
+//!    geometry and the sun flag now only) tells which half the edge
+//!    crosses, and only that pixel is refined ([`edge_in`]: a straight
+//!    edge that crosses a pixel crosses one of the 8 segments from its
+//!    centre to its neighbours' midpoints); where the midpoint differs from
+//!    neither, and for a difference in temperature alone, both pixels are
+//!    refined. The image's border pixels are always refined (an edge
+//!    between a border pixel's centre and the image's edge has no
+//!    neighbour to show it).
 //! 3. **Refinement, in two levels.** A refined pixel's `n`×`n` grid is
 //!    cut into 4×4 cells (of (`n`/4)² samples; single samples when `n` is
 //!    not a multiple of 4). First level: the sample nearest each cell's
@@ -97,8 +103,9 @@ const PLANE_TOL_M: f32 = 0.05;
 const PLANE_TOL_REL: f32 = 1e-4;
 
 /// Whether two surfaces (or their absence) may differ in value between
-/// them: see the module docs, step 2.
-fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: f64) -> bool {
+/// them: see the module docs, step 2. `threshold_k` `None` leaves the
+/// temperatures out (geometry and sun state only).
+fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: Option<f64>) -> bool {
     match (a, b) {
         (None, None) => false,
         (Some(a), Some(b)) => {
@@ -108,16 +115,17 @@ fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: f64) -
                 || offset_m > PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
                 || a.sun_now() != b.sun_now()
                 // (NaN-safe: a NaN temperature differs)
-                || (a.temp_k - b.temp_k).abs().partial_cmp(&threshold_k)
-                    != Some(std::cmp::Ordering::Less)
+                || threshold_k.is_some_and(|t| {
+                    (a.temp_k - b.temp_k).abs().partial_cmp(&t) != Some(std::cmp::Ordering::Less)
+                })
         }
         _ => true,
     }
 }
 
-/// The refinement criterion between the coarse samples of two
-/// neighbouring pixels (module docs, step 2).
-pub fn differ(a: &Sample, b: &Sample, threshold_k: f64) -> bool {
+/// [`differ`], the temperatures compared against `threshold_k` or (`None`)
+/// left out.
+fn differ_by(a: &Sample, b: &Sample, threshold_k: Option<f64>) -> bool {
     surfaces_differ(a.surface.as_ref(), b.surface.as_ref(), threshold_k)
         || match (&a.bounce, &b.bounce) {
             (None, None) => false,
@@ -129,6 +137,12 @@ pub fn differ(a: &Sample, b: &Sample, threshold_k: f64) -> bool {
             }
             _ => true,
         }
+}
+
+/// The refinement criterion between the coarse samples of two
+/// neighbouring pixels (module docs, step 2).
+pub fn differ(a: &Sample, b: &Sample, threshold_k: f64) -> bool {
+    differ_by(a, b, Some(threshold_k))
 }
 
 /// The 8 neighbours of a pixel.
@@ -153,6 +167,95 @@ fn coarse_rows(width: u32) -> u32 {
 /// centre, in sample-image coordinates.
 fn centre(x: u32, y: u32, n: u32) -> (u32, u32) {
     (x * n + n / 2, y * n + n / 2)
+}
+
+/// The grid position halfway between the centre samples of pixel (`x`,
+/// `y`) and its neighbour (`x + dx`, `y + dy`) (the pixels' shared edge
+/// midpoint or corner), in sample-image coordinates; `None` for an odd `n`
+/// (no grid position lies there).
+fn midpoint(x: u32, y: u32, (dx, dy): (i64, i64), n: u32) -> Option<(u32, u32)> {
+    if n % 2 == 1 {
+        return None;
+    }
+    let (cx, cy) = centre(x, y, n);
+    let half = i64::from(n / 2);
+    let mx = u32::try_from(i64::from(cx) + dx * half).ok()?;
+    let my = u32::try_from(i64::from(cy) + dy * half).ok()?;
+    Some((mx, my))
+}
+
+/// Whether the coarse samples of two neighbouring pixels differ in what a
+/// sample halfway between them can place on one side (module docs, step
+/// 2): the surface, its plane or material, the sun state now, a specular
+/// background — everything but the temperature.
+fn differ_in_geometry(a: &Sample, b: &Sample) -> bool {
+    differ_by(a, b, None)
+}
+
+/// The samples halfway between neighbouring pixels (sorted by grid
+/// position) for the side test ([`edge_in`]): primary and specular rays
+/// and the sun flag now of each surface (a one-sample history), no
+/// temperature.
+struct Midpoints {
+    at: Vec<(u32, u32)>,
+    samples: Vec<Sample>,
+}
+
+impl Midpoints {
+    fn trace(
+        st: &Static,
+        cond: &Conditions,
+        cam: &Camera,
+        mut at: Vec<(u32, u32)>,
+        c: &Counters,
+    ) -> Self {
+        at.sort_unstable();
+        at.dedup();
+        let mut samples = trace_geometry(st, cam, &at, c);
+        let now = cond.suns.len().saturating_sub(1);
+        let lit = {
+            let points: Vec<&Surface> = samples
+                .iter()
+                .flat_map(|s| {
+                    let bg = s.bounce.as_ref().and_then(|(_, b)| b.as_ref());
+                    s.surface.iter().chain(bg)
+                })
+                .collect();
+            sun_flags_at(st, cond, &points, &[now], c)
+        };
+        let mut lit = lit.into_iter();
+        for s in &mut samples {
+            let bg = s.bounce.as_mut().and_then(|(_, b)| b.as_mut());
+            for surf in s.surface.iter_mut().chain(bg) {
+                let flag = lit.next().unwrap_or(false);
+                surf.history = super::sunflags::SunFlags::from_switches(flag, &[], 1);
+            }
+        }
+        Midpoints { at, samples }
+    }
+
+    fn get(&self, pos: (u32, u32)) -> Option<&Sample> {
+        self.at.binary_search(&pos).ok().map(|k| &self.samples[k])
+    }
+}
+
+/// The refinement criterion for pixel `me` against one neighbour `other`
+/// (module docs, step 2): their coarse samples [`differ`], and the edge
+/// between them may cross `me`'s half. Where they differ in geometry or sun
+/// state and the sample `mid` halfway between them is known, the edge lies
+/// on the side whose centre `mid` differs from; when `mid` differs from
+/// neither (or from both), both pixels are refined, as they are for a
+/// difference in temperature alone.
+fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, threshold_k: f64) -> bool {
+    if !differ(me, other, threshold_k) {
+        return false;
+    }
+    match mid {
+        Some(m) if differ_in_geometry(me, other) => {
+            differ_in_geometry(me, m) || !differ_in_geometry(m, other)
+        }
+        _ => true,
+    }
 }
 
 /// Steps 1-4 for the coarse samples of output rows `y0..y1` (`y0` a
@@ -808,16 +911,36 @@ pub fn render_adaptive(
                 cur.get((y - y0) as usize * wu + x)
             }
         };
+        let pixel_xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
+        // The samples halfway between pixels whose coarse samples differ in
+        // geometry or sun state: which side the edge lies on.
+        let t_mid = Instant::now();
+        let wanted: Vec<(u32, u32)> = (0..band_rows * wu)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let (x, y) = pixel_xy(i);
+                let me = &cur[i];
+                NEIGHBOURS.iter().filter_map(move |&d| {
+                    let o = at(x as i64 + d.0, y as i64 + d.1)?;
+                    (differ_in_geometry(me, o)).then(|| midpoint(x, y, d, n))?
+                })
+            })
+            .collect();
+        let mids = Midpoints::trace(st, cond, &cam, wanted, &counters);
+        stats.seconds.trace += t_mid.elapsed().as_secs_f64();
         let refined: Vec<usize> = (0..band_rows * wu)
             .into_par_iter()
             .filter(|&i| {
-                let (x, y) = ((i % wu) as i64, (y0 as usize + i / wu) as i64);
+                let (x, y) = pixel_xy(i);
                 // (the image's border pixels: no neighbour sees the part
                 // of the pixel between its centre and the border)
-                let border = x == 0 || y == 0 || x + 1 == w as i64 || y + 1 == h as i64;
+                let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
                 border
-                    || NEIGHBOURS.iter().any(|&(dx, dy)| {
-                        at(x + dx, y + dy).is_some_and(|o| differ(&cur[i], o, threshold_k))
+                    || NEIGHBOURS.iter().any(|&d| {
+                        at(x as i64 + d.0, y as i64 + d.1).is_some_and(|o| {
+                            let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
+                            edge_in(&cur[i], o, mid, threshold_k)
+                        })
                     })
             })
             .collect();
@@ -997,7 +1120,19 @@ pub fn pixel_samples(
     let me = coarse[0].clone().expect("the pixel is in the image");
     let nb: [Option<&Sample>; 8] = std::array::from_fn(|k| coarse[k + 1].as_ref());
     let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
-    if !border && !nb.iter().flatten().any(|o| differ(&me, o, threshold_k)) {
+    // (the render's side test: the same midpoints, traced the same way)
+    let wanted: Vec<(u32, u32)> = (NEIGHBOURS.iter().zip(&nb))
+        .filter(|(_, o)| o.is_some_and(|o| differ_in_geometry(&me, o)))
+        .filter_map(|(&d, _)| midpoint(x, y, d, n))
+        .collect();
+    let mids = Midpoints::trace(st, cond, &cam, wanted, &c);
+    let crossed = (NEIGHBOURS.iter().zip(&nb)).any(|(&d, o)| {
+        o.is_some_and(|o| {
+            let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
+            edge_in(&me, o, mid, threshold_k)
+        })
+    });
+    if !border && !crossed {
         c.flush(stats);
         return Ok((vec![me], 1, None));
     }
@@ -1025,4 +1160,73 @@ pub fn pixel_samples(
         .collect();
     c.flush(stats);
     Ok((out, n, Some(owners)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::sunflags::SunFlags;
+
+    fn ground(material: u32, x: f32, lit: bool, temp_k: f64) -> Sample {
+        Sample {
+            dir: Vec3::new(0.0, 0.0, -1.0),
+            surface: Some(Surface {
+                material,
+                point: Vec3::new(x, 0.0, 0.0),
+                normal: Vec3::Z,
+                range_m: 1000.0,
+                history: SunFlags::from_switches(lit, &[], 4),
+                temp_k,
+                ..Default::default()
+            }),
+            bounce: None,
+        }
+    }
+
+    /// The sample halfway between two pixel centres is their shared edge
+    /// midpoint or corner on the n-grid (none for an odd n or off the
+    /// sample image).
+    #[test]
+    fn midpoint_lies_on_the_shared_edge_or_corner() {
+        assert_eq!(centre(3, 5, 16), (56, 88));
+        assert_eq!(midpoint(3, 5, (1, 0), 16), Some((64, 88)));
+        assert_eq!(midpoint(3, 5, (-1, 0), 16), Some((48, 88)));
+        assert_eq!(midpoint(3, 5, (1, 1), 16), Some((64, 96)));
+        assert_eq!(midpoint(3, 5, (-1, -1), 16), Some((48, 80)));
+        assert_eq!(midpoint(0, 0, (-1, 0), 16), Some((0, 8)));
+        assert_eq!(midpoint(3, 5, (1, 0), 3), None);
+    }
+
+    /// An edge between two pixels refines the pixel whose half it crosses
+    /// (the midpoint differs from that pixel's centre); a midpoint like
+    /// neither side, an unknown midpoint and a temperature difference alone
+    /// refine both; equal samples refine neither.
+    #[test]
+    fn edge_in_refines_the_half_the_edge_crosses() {
+        let grass = ground(1, 0.0, true, 300.0);
+        let asphalt = ground(2, 1.0, true, 310.0);
+        let (mid_grass, mid_asphalt) = (ground(1, 0.5, true, 0.0), ground(2, 0.5, true, 0.0));
+        // Edge between the midpoint and the asphalt centre: the asphalt
+        // pixel's half.
+        assert!(!edge_in(&grass, &asphalt, Some(&mid_grass), 0.05));
+        assert!(edge_in(&asphalt, &grass, Some(&mid_grass), 0.05));
+        assert!(edge_in(&grass, &asphalt, Some(&mid_asphalt), 0.05));
+        assert!(!edge_in(&asphalt, &grass, Some(&mid_asphalt), 0.05));
+        // A shadow edge (sun flag now) is placed the same way.
+        let shaded = ground(1, 1.0, false, 300.0);
+        assert!(!edge_in(&grass, &shaded, Some(&mid_grass), 0.05));
+        assert!(edge_in(&shaded, &grass, Some(&mid_grass), 0.05));
+        // A midpoint like neither side, or none: both.
+        let other = ground(3, 0.5, true, 0.0);
+        assert!(edge_in(&grass, &asphalt, Some(&other), 0.05));
+        assert!(edge_in(&asphalt, &grass, Some(&other), 0.05));
+        assert!(edge_in(&grass, &asphalt, None, 0.05));
+        // Temperature alone: both, whatever the midpoint.
+        let warm = ground(1, 1.0, true, 301.0);
+        assert!(edge_in(&grass, &warm, Some(&mid_grass), 0.05));
+        assert!(edge_in(&warm, &grass, Some(&mid_grass), 0.05));
+        // Alike: neither.
+        let near = ground(1, 1.0, true, 300.01);
+        assert!(!edge_in(&grass, &near, Some(&mid_asphalt), 0.05));
+    }
 }

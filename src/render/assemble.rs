@@ -287,14 +287,25 @@ impl PixelMaker<'_> {
                 f32::NAN
             }
         };
+        // The positions in runs of one sample (an unrefined cell's sample
+        // stands for its row of positions, a pixel's for all): each plane's
+        // mean over the positions is a mean over the runs weighted by their
+        // lengths, each sample's value computed once per run.
+        let mut runs: SmallVec<[(usize, u32); 16]> = SmallVec::new();
+        for k in 0..np {
+            match runs.last_mut() {
+                Some((first, len)) if std::ptr::eq(px[*first], px[k]) => *len += 1,
+                _ => runs.push((k, 1)),
+            }
+        }
         // (generic, not `&dyn Fn`: each plane's closure is inlined)
-        fn mean_of(count: usize, f: impl Fn(usize) -> f64) -> f32 {
+        fn mean_runs(runs: &[(usize, u32)], px: &[&Sample], f: impl Fn(&Sample) -> f64) -> f32 {
             let (mut s, mut finite) = (0.0, 0u32);
-            for k in 0..count {
-                let v = f(k);
+            for &(k, len) in runs {
+                let v = f(px[k]);
                 if v.is_finite() {
-                    s += v;
-                    finite += 1;
+                    s += v * len as f64;
+                    finite += len;
                 }
             }
             if finite > 0 {
@@ -314,42 +325,41 @@ impl PixelMaker<'_> {
         let mut v = [0f32; NP];
         v[0] = radiance;
         v[1] = t_app;
-        v[2] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.temp_k));
+        v[2] = mean_runs(&runs, px, |p| {
+            p.surface.as_ref().map_or(f64::NAN, |s| s.temp_k)
+        });
         v[3] = surf(c).map_or(-1.0, |s| s.material as f64) as f32;
         v[4] = surf(c).map_or(-1.0, |s| s.prim as f64) as f32;
-        v[5] = mean_of(np, |k| {
-            surf(k).map_or(f64::NAN, |s| s.sun_now() as u8 as f64)
+        v[5] = mean_runs(&runs, px, |p| {
+            p.surface
+                .as_ref()
+                .map_or(f64::NAN, |s| s.sun_now() as u8 as f64)
         });
-        v[6] = mean_of(np, |k| {
-            surf(k).map_or(f64::NAN, |s| {
+        v[6] = mean_runs(&runs, px, |p| {
+            p.surface.as_ref().map_or(f64::NAN, |s| {
                 s.history.count_sunlit() as f64 * self.interval_h
             })
         });
-        v[7] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.range_m as f64));
+        v[7] = mean_runs(&runs, px, |p| {
+            p.surface.as_ref().map_or(f64::NAN, |s| s.range_m as f64)
+        });
         // The hit point in the tracer's local frame: world coordinates minus
         // the frame's origin (`scene::frame`), which the georeferencing
         // states as its ground origin (f32 keeps 0.5 mm within 16 km of it).
         for axis in 0..3 {
-            v[8 + axis] = mean_of(np, |k| surf(k).map_or(f64::NAN, |s| s.point[axis] as f64));
+            v[8 + axis] = mean_runs(&runs, px, |p| {
+                p.surface
+                    .as_ref()
+                    .map_or(f64::NAN, |s| s.point[axis] as f64)
+            });
         }
         // (the view angle is geometry: each position's own sample's, as the
         // range and ground point, also where a donor's radiometry stands
-        // for it; a repeated sample's angle is computed once)
+        // for it)
         v[11] = if uniform {
             wmean(&|r| r.view_angle_deg)
         } else {
-            let mut last: Option<(*const Sample, f64)> = None;
-            let angles: SmallVec<[f64; 1]> = (px.iter())
-                .map(|&smp| match last {
-                    Some((p, a)) if std::ptr::eq(p, smp) => a,
-                    _ => {
-                        let a = smp.view_angle_deg();
-                        last = Some((smp, a));
-                        a
-                    }
-                })
-                .collect();
-            mean_of(np, |k| angles[k])
+            mean_runs(&runs, px, |p| p.view_angle_deg())
         };
         v[12] = results[centre].case as f32;
         for (t, f) in TERMS.iter().enumerate() {

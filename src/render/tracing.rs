@@ -261,13 +261,39 @@ fn trace_histories(st: &Static, cond: &Conditions, targets: &mut [&mut Surface],
 /// [`trace_histories_guided`]).
 pub(super) type Guides<'a> = [&'a SunFlags; 4];
 
-/// The flag of traced history sample `k` that a point's `guides` give when
-/// they all agree there (the point lies inside their square, so a straight
-/// shadow edge that leaves all four on one side leaves the point there
-/// too), `None` where they differ.
-fn guided_flag(guides: &Guides, k: usize) -> Option<bool> {
-    let f = guides[0].get(k);
-    guides[1..].iter().all(|g| g.get(k) == f).then_some(f)
+/// For each of `n` points, packed `nw` words to a point: the history
+/// samples at which the point's guides all agree (the point lies inside
+/// their square, so a straight shadow edge that leaves all four on one side
+/// leaves the point there too), and their flag there; both empty when no
+/// point is guided.
+fn guide_words<'g>(
+    n: usize,
+    nw: usize,
+    guide: impl Fn(usize) -> Option<Guides<'g>>,
+) -> (Vec<u64>, Vec<u64>) {
+    let mut agree = Vec::new();
+    let mut flag = Vec::new();
+    for p in 0..n {
+        let Some(g) = guide(p) else { continue };
+        if agree.is_empty() {
+            agree = vec![0u64; n * nw];
+            flag = vec![0u64; n * nw];
+        }
+        let (a, f) = (
+            &mut agree[p * nw..(p + 1) * nw],
+            &mut flag[p * nw..(p + 1) * nw],
+        );
+        for (w, x) in g[0].flags().words().enumerate() {
+            f[w] = x;
+            a[w] = !0;
+        }
+        for other in &g[1..] {
+            for (w, x) in other.flags().words().enumerate() {
+                a[w] &= !(f[w] ^ x);
+            }
+        }
+    }
+    (agree, flag)
 }
 
 /// The one transition index that all `guides` have inside the fine
@@ -319,6 +345,14 @@ pub(super) fn trace_histories_guided(
         .unzip();
     let nw = nsun.div_ceil(64);
     let mut words = vec![0u64; targets.len() * nw];
+    // Per guided point, packed as its history's words: the samples whose
+    // flag its four guides agree on, and their flag there (a bit test per
+    // sample instead of four searches of the guides' transitions).
+    let (agree, given_flag) = guide_words(targets.len(), nw, guide);
+    let agreed = |p: usize, k: usize| -> Option<bool> {
+        let (w, b) = (p * nw + k / 64, k % 64);
+        (agree.get(w).is_some_and(|a| a >> b & 1 == 1)).then(|| given_flag[w] >> b & 1 == 1)
+    };
     let (mut away, mut solar) = (0, 0);
     let down = targets.len() * (nsun.div_ceil(every) - up.len());
     let mut active = vec![0u16; up.len()];
@@ -339,7 +373,7 @@ pub(super) fn trace_histories_guided(
             (*kn, *lit) = (0, 0);
             if !guides.is_empty() && !force.contains(&k) {
                 for lane in 0..chunk.len() {
-                    if let Some(f) = guide(start + lane).and_then(|g| guided_flag(&g, k)) {
+                    if let Some(f) = agreed(start + lane, k) {
                         *kn |= 1 << lane;
                         *lit |= (f as u16) << lane;
                     }
@@ -373,32 +407,28 @@ pub(super) fn trace_histories_guided(
         // block are halved together, one batch of shadow rays per round.
         // (lo, hi, flag at lo, target): flag(lo) != flag(hi), the switch is
         // at some index in (lo, hi].
-        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::new();
-        let mut switches: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
+        // (about four transitions a point: sunrise and sunset on two days)
+        let mut pending: Vec<(usize, usize, bool, usize)> = Vec::with_capacity(4 * targets.len());
         // (a transition that the guides make at one sample, between two
         // samples whose flags they gave, is theirs)
-        let given = |p: usize, k: usize| {
-            !force.contains(&k) && guide(p).is_some_and(|g| guided_flag(&g, k).is_some())
-        };
+        let given = |p: usize, k: usize| !force.contains(&k) && agreed(p, k).is_some();
+        let coarse = CoarsePairs::new(nsun, every);
         for p in 0..targets.len() {
-            let mut k = 0;
-            while k + every < nsun {
-                let (a, b) = (bit(p, k), bit(p, k + every));
-                if a != b {
-                    let theirs = (given(p, k) && given(p, k + every))
-                        .then(|| guide(p).and_then(|g| guided_switch(&g, k, k + every)))
-                        .flatten();
-                    match theirs {
-                        Some(s) => pending.push((s as usize - 1, s as usize, a, p)),
-                        None => pending.push((k, k + every, a, p)),
-                    }
+            coarse.changes(&words[p * nw..(p + 1) * nw], |k| {
+                let a = bit(p, k);
+                let theirs = (given(p, k) && given(p, k + every))
+                    .then(|| guide(p).and_then(|g| guided_switch(&g, k, k + every)))
+                    .flatten();
+                match theirs {
+                    Some(s) => pending.push((s as usize - 1, s as usize, a, p)),
+                    None => pending.push((k, k + every, a, p)),
                 }
-                k += every;
-            }
+            });
         }
-        let mut rays = Vec::new();
-        let mut ray_of = Vec::new();
-        let mut blocked = Vec::new();
+        let mut rays = Vec::with_capacity(pending.len());
+        let mut ray_of = Vec::with_capacity(pending.len());
+        let mut blocked = Vec::with_capacity(pending.len());
+        let mut lit = vec![false; pending.len()];
         while pending.iter().any(|&(lo, hi, _, _)| hi - lo > 1) {
             rays.clear();
             ray_of.clear();
@@ -418,7 +448,7 @@ pub(super) fn trace_histories_guided(
             blocked.resize(rays.len(), false);
             tracer.occluded(&rays, &mut blocked);
             solar += rays.len();
-            let mut lit = vec![false; pending.len()];
+            lit.fill(false);
             for (&j, &b) in ray_of.iter().zip(&blocked) {
                 lit[j] = !b;
             }
@@ -434,17 +464,68 @@ pub(super) fn trace_histories_guided(
                 }
             }
         }
-        // Pending intervals were pushed in sample order per target.
-        for &(_, hi, _, p) in &pending {
-            switches[p].push(hi as u32);
-        }
+        // Pending intervals were pushed in sample order per target, the
+        // targets in order.
+        let mut rest = &pending[..];
+        let mut sw: Vec<u32> = Vec::new();
         for (p, t) in targets.iter_mut().enumerate() {
-            t.history = SunFlags::from_switches(bit(p, 0), &switches[p], nsun);
+            let mine = rest.iter().take_while(|e| e.3 == p).count();
+            sw.clear();
+            sw.extend(rest[..mine].iter().map(|e| e.1 as u32));
+            rest = &rest[mine..];
+            t.history = SunFlags::from_switches(bit(p, 0), &sw, nsun);
         }
     }
     add(&c.sun_down, down);
     add(&c.away, away);
     add(&c.solar, solar);
+}
+
+/// The pairs of traced history samples (`k`, `k + every`), `k` a multiple
+/// of `every` and `k + every` < `nsun`, as bit masks over a point's packed
+/// words: [`CoarsePairs::changes`] finds those whose two flags differ with
+/// a few word operations instead of two bit tests per pair.
+struct CoarsePairs {
+    every: usize,
+    /// Per word: the bits of the pairs' first samples.
+    firsts: Vec<u64>,
+}
+
+impl CoarsePairs {
+    fn new(nsun: usize, every: usize) -> Self {
+        let nw = nsun.div_ceil(64);
+        let mut firsts = vec![0u64; nw];
+        let mut k = 0;
+        while k + every < nsun {
+            firsts[k / 64] |= 1 << (k % 64);
+            k += every;
+        }
+        CoarsePairs { every, firsts }
+    }
+
+    /// Calls `f(k)` for each pair whose flags differ in `words` (bits set
+    /// at traced samples only), in ascending `k`.
+    fn changes(&self, words: &[u64], mut f: impl FnMut(usize)) {
+        let e = self.every;
+        let bit = |k: usize| words.get(k / 64).is_some_and(|w| w >> (k % 64) & 1 == 1);
+        for (w, &first) in self.firsts.iter().enumerate() {
+            if first == 0 {
+                continue;
+            }
+            let x = words[w];
+            // The flags `every` samples later, moved onto their pair's first.
+            let later = if e < 64 {
+                x >> e | words.get(w + 1).map_or(0, |n| n << (64 - e))
+            } else {
+                (0..64).fold(0u64, |m, b| m | u64::from(bit(64 * w + b + e)) << b)
+            };
+            let mut d = (x ^ later) & first;
+            while d != 0 {
+                f(64 * w + d.trailing_zeros() as usize);
+                d &= d - 1;
+            }
+        }
+    }
 }
 
 /// Steps 1-3 over blocks of sample pixels (rayon over blocks), each
@@ -517,4 +598,51 @@ pub(super) fn trace_band(
                 }
             });
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The word-parallel search finds exactly the pairs whose two flags
+    /// differ, in order, against a bit-by-bit scan (lengths across word
+    /// boundaries, intervals below and above 64).
+    #[test]
+    fn coarse_pairs_match_a_bit_by_bit_scan() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for nsun in [2usize, 3, 63, 64, 65, 145, 200, 433] {
+            for every in [1usize, 2, 3, 6, 12, 63, 64, 70] {
+                let nw = nsun.div_ceil(64);
+                for _ in 0..20 {
+                    // Bits at traced samples only, as the tracer leaves them.
+                    let mut words = vec![0u64; nw];
+                    let mut k = 0;
+                    while k < nsun {
+                        if next() % 3 == 0 {
+                            words[k / 64] |= 1 << (k % 64);
+                        }
+                        k += every;
+                    }
+                    let bit = |k: usize| words[k / 64] >> (k % 64) & 1 == 1;
+                    let mut want = Vec::new();
+                    let mut k = 0;
+                    while k + every < nsun {
+                        if bit(k) != bit(k + every) {
+                            want.push(k);
+                        }
+                        k += every;
+                    }
+                    let mut got = Vec::new();
+                    CoarsePairs::new(nsun, every).changes(&words, |k| got.push(k));
+                    assert_eq!(got, want, "nsun {nsun}, every {every}");
+                }
+            }
+        }
+    }
 }

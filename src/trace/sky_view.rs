@@ -59,12 +59,19 @@ pub fn cosine_directions(normal: Vec3) -> Vec<Vec3> {
 /// The stratum centres' directions in the normal's frame (tangent,
 /// bitangent, normal components), computed once: every facet's sky view
 /// uses the same 256 (the trigonometry was a tenth of a render's sky-view
-/// work).
+/// work). They are listed in blocks of 4×4 neighbouring strata (4 rings of
+/// u₁ × 4 neighbouring azimuths), so that each packet of 16 rays the
+/// tracer sends is a compact cone rather than a ring around the normal
+/// (coherent rays traverse the BVH together; the count of blocked rays
+/// does not depend on the order).
 fn local_directions() -> &'static [[f32; 3]; SKY_RAYS] {
     static DIRS: std::sync::OnceLock<[[f32; 3]; SKY_RAYS]> = std::sync::OnceLock::new();
     DIRS.get_or_init(|| {
         std::array::from_fn(|k| {
-            let (i, j) = (k / STRATA, k % STRATA);
+            const B: usize = 4;
+            let (block, r) = (k / (B * B), k % (B * B));
+            let i = (block / (STRATA / B)) * B + r / B;
+            let j = (block % (STRATA / B)) * B + r % B;
             let u1 = (i as f32 + 0.5) / STRATA as f32;
             let u2 = (j as f32 + 0.5) / STRATA as f32;
             let r = u1.sqrt();
