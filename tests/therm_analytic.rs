@@ -207,16 +207,7 @@ fn semi_infinite_sinusoidal_damped_wave() {
         let ph = omega * t - z / delta;
         tm + (-z / delta).exp() * (th_re * ph.sin() + th_im * ph.cos())
     };
-    let dt = 300.0;
-    let forcing: Vec<Forcing> = (0..=(2 * 86400 / 300))
-        .map(|i| {
-            let t = i as f64 * dt;
-            Forcing {
-                t_s: t,
-                ..night(tm + amp * (omega * t).sin())
-            }
-        })
-        .collect();
+    let forcing = sine_air_two_days(tm, amp, omega);
     let init: Vec<f64> = model.mesh.z_m.iter().map(|&z| exact(z, 0.0)).collect();
     let sol = model.march(init, &forcing, None, true).unwrap();
     let err = max_err(
@@ -229,6 +220,21 @@ fn semi_infinite_sinusoidal_damped_wave() {
         (th_re * th_re + th_im * th_im).sqrt()
     );
     assert!(err < TOL_K, "max error {err} K");
+}
+
+/// Two days of night-time forcing every 5 min with the air temperature
+/// `tm + amp·sin(ωt)` (the periodic tests' drive).
+fn sine_air_two_days(tm: f64, amp: f64, omega: f64) -> Vec<Forcing> {
+    let dt = 300.0;
+    (0..=(2 * 86400 / 300))
+        .map(|i| {
+            let t = i as f64 * dt;
+            Forcing {
+                t_s: t,
+                ..night(tm + amp * (omega * t).sin())
+            }
+        })
+        .collect()
 }
 
 /// Bisection for a monotone decreasing function on [lo, hi].
@@ -551,16 +557,7 @@ fn layered_slab_periodic_state_quadrupoles() {
             let th = at(z);
             tm + th.0 * (omega * t).sin() + th.1 * (omega * t).cos()
         };
-        let dt = 300.0;
-        let forcing: Vec<Forcing> = (0..=(2 * 86400 / 300))
-            .map(|i| {
-                let t = i as f64 * dt;
-                Forcing {
-                    t_s: t,
-                    ..night(tm + amp * (omega * t).sin())
-                }
-            })
-            .collect();
+        let forcing = sine_air_two_days(tm, amp, omega);
         let init: Vec<f64> = model.mesh.z_m.iter().map(|&z| exact(z, 0.0)).collect();
         let sol = model.march(init, &forcing, None, true).unwrap();
         let err = max_err(

@@ -293,14 +293,9 @@ fn run_model_in(
     (x, rows)
 }
 
-/// Runs the model on one station-day and returns the errors (model −
-/// measured, K) of the whole day, the day-time (GHI > 10 W/m²) and the
-/// night-time rows.
-fn compare(name: &str, material: &str) -> (Stats, Stats, Stats) {
-    compare_rows(name, run_model(name, material))
-}
-
-/// [`compare`] with the material library `library`.
+/// Runs the model on one station-day with the material library `library`
+/// and returns the errors (model − measured, K) of the whole day, the
+/// day-time (GHI > 10 W/m²) and the night-time rows.
 fn compare_with(name: &str, library: &str, material: &str) -> (Stats, Stats, Stats) {
     compare_rows(name, run_model_with(name, library, material))
 }
