@@ -77,7 +77,6 @@
 
 use std::time::Instant;
 
-use glam::Vec3;
 use rayon::prelude::*;
 
 use super::assemble::{FramePlanes, PixelValues};
@@ -89,61 +88,15 @@ use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
 use super::thermal::{solve_temperatures, solve_temperatures_except};
 use super::tracing::{
-    Guides, sample_camera, trace_block, trace_geometry, trace_sample_histories_guided,
+    Guides, sample_camera, sun_flags_at, trace_block, trace_geometry, trace_sample_histories_guided,
 };
 use crate::sensor::camera::Camera;
-use crate::trace::Ray;
-use crate::trace::offset::offset_origin;
 
-/// Two normals more than about 1° apart are two planes.
-const SAME_PLANE_COS: f32 = 0.99985;
-/// Two parallel planes farther apart than this (m) plus [`PLANE_TOL_REL`]
-/// of the range are two planes.
-const PLANE_TOL_M: f32 = 0.05;
-const PLANE_TOL_REL: f32 = 1e-4;
+mod criterion;
 
-/// Whether two surfaces (or their absence) may differ in value between
-/// them: see the module docs, step 2. `threshold_k` `None` leaves the
-/// temperatures out (geometry and sun state only).
-fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: Option<f64>) -> bool {
-    match (a, b) {
-        (None, None) => false,
-        (Some(a), Some(b)) => {
-            let offset_m = a.normal.dot(b.point - a.point).abs();
-            a.material != b.material
-                || a.normal.dot(b.normal) < SAME_PLANE_COS
-                || offset_m > PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
-                || a.sun_now() != b.sun_now()
-                // (NaN-safe: a NaN temperature differs)
-                || threshold_k.is_some_and(|t| {
-                    (a.temp_k - b.temp_k).abs().partial_cmp(&t) != Some(std::cmp::Ordering::Less)
-                })
-        }
-        _ => true,
-    }
-}
-
-/// [`differ`], the temperatures compared against `threshold_k` or (`None`)
-/// left out.
-fn differ_by(a: &Sample, b: &Sample, threshold_k: Option<f64>) -> bool {
-    surfaces_differ(a.surface.as_ref(), b.surface.as_ref(), threshold_k)
-        || match (&a.bounce, &b.bounce) {
-            (None, None) => false,
-            (Some((da, x)), Some((db, y))) => {
-                // (a mirror ray that leaves the scene: sky above, ground below)
-                let up = |d: &Vec3| d.z > 0.0;
-                (x.is_none() && y.is_none() && up(da) != up(db))
-                    || surfaces_differ(x.as_ref(), y.as_ref(), threshold_k)
-            }
-            _ => true,
-        }
-}
-
-/// The refinement criterion between the coarse samples of two
-/// neighbouring pixels (module docs, step 2).
-pub fn differ(a: &Sample, b: &Sample, threshold_k: f64) -> bool {
-    differ_by(a, b, Some(threshold_k))
-}
+pub use criterion::differ;
+use criterion::{Midpoints, centre, differ_in_geometry, edge_in, midpoint};
+use criterion::{PLANE_TOL_M, PLANE_TOL_REL, SAME_PLANE_COS};
 
 /// The 8 neighbours of a pixel.
 const NEIGHBOURS: [(i64, i64); 8] = [
@@ -161,101 +114,6 @@ const NEIGHBOURS: [(i64, i64); 8] = [
 /// [`band_target`] samples.
 fn coarse_rows(width: u32) -> u32 {
     (band_target() / width.max(1) / BLOCK * BLOCK).max(BLOCK)
-}
-
-/// The sample of output pixel (`x`, `y`)'s `n`×`n` grid nearest its
-/// centre, in sample-image coordinates.
-fn centre(x: u32, y: u32, n: u32) -> (u32, u32) {
-    (x * n + n / 2, y * n + n / 2)
-}
-
-/// The grid position halfway between the centre samples of pixel (`x`,
-/// `y`) and its neighbour (`x + dx`, `y + dy`) (the pixels' shared edge
-/// midpoint or corner), in sample-image coordinates; `None` for an odd `n`
-/// (no grid position lies there).
-fn midpoint(x: u32, y: u32, (dx, dy): (i64, i64), n: u32) -> Option<(u32, u32)> {
-    if n % 2 == 1 {
-        return None;
-    }
-    let (cx, cy) = centre(x, y, n);
-    let half = i64::from(n / 2);
-    let mx = u32::try_from(i64::from(cx) + dx * half).ok()?;
-    let my = u32::try_from(i64::from(cy) + dy * half).ok()?;
-    Some((mx, my))
-}
-
-/// Whether the coarse samples of two neighbouring pixels differ in what a
-/// sample halfway between them can place on one side (module docs, step
-/// 2): the surface, its plane or material, the sun state now, a specular
-/// background — everything but the temperature.
-fn differ_in_geometry(a: &Sample, b: &Sample) -> bool {
-    differ_by(a, b, None)
-}
-
-/// The samples halfway between neighbouring pixels (sorted by grid
-/// position) for the side test ([`edge_in`]): primary and specular rays
-/// and the sun flag now of each surface (a one-sample history), no
-/// temperature.
-struct Midpoints {
-    at: Vec<(u32, u32)>,
-    samples: Vec<Sample>,
-}
-
-impl Midpoints {
-    fn trace(
-        st: &Static,
-        cond: &Conditions,
-        cam: &Camera,
-        mut at: Vec<(u32, u32)>,
-        c: &Counters,
-    ) -> Self {
-        at.sort_unstable();
-        at.dedup();
-        let mut samples = trace_geometry(st, cam, &at, c);
-        let now = cond.suns.len().saturating_sub(1);
-        let lit = {
-            let points: Vec<&Surface> = samples
-                .iter()
-                .flat_map(|s| {
-                    let bg = s.bounce.as_ref().and_then(|(_, b)| b.as_ref());
-                    s.surface.iter().chain(bg)
-                })
-                .collect();
-            sun_flags_at(st, cond, &points, &[now], c)
-        };
-        let mut lit = lit.into_iter();
-        for s in &mut samples {
-            let bg = s.bounce.as_mut().and_then(|(_, b)| b.as_mut());
-            for surf in s.surface.iter_mut().chain(bg) {
-                let flag = lit.next().unwrap_or(false);
-                surf.history = super::sunflags::SunFlags::from_switches(flag, &[], 1);
-            }
-        }
-        Midpoints { at, samples }
-    }
-
-    fn get(&self, pos: (u32, u32)) -> Option<&Sample> {
-        self.at.binary_search(&pos).ok().map(|k| &self.samples[k])
-    }
-}
-
-/// The refinement criterion for pixel `me` against one neighbour `other`
-/// (module docs, step 2): their coarse samples [`differ`], and the edge
-/// between them may cross `me`'s half. Where they differ in geometry or sun
-/// state and the sample `mid` halfway between them is known, the edge lies
-/// on the side whose centre `mid` differs from; when `mid` differs from
-/// neither (or from both), both pixels are refined, as they are for a
-/// difference in temperature alone.
-fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, threshold_k: f64) -> bool {
-    if !differ(me, other, threshold_k) {
-        return false;
-    }
-    match mid {
-        Some(m) if differ_in_geometry(me, other) => {
-            differ_in_geometry(me, m) || !differ_in_geometry(m, other)
-        }
-        _ => true,
-    }
 }
 
 /// Steps 1-4 for the coarse samples of output rows `y0..y1` (`y0` a
@@ -600,38 +458,6 @@ fn refined_cells(
         }
     }
     out
-}
-
-/// The sun flags of surface points at the history samples `idx` (traced
-/// samples: multiples of `coarse_every`), as [`super::trace_histories`] sets
-/// them: sunlit when the sun is up, the point's side faces it and nothing
-/// blocks the ray. Point `p`'s flag at `idx[j]` is `[p * idx.len() + j]`.
-fn sun_flags_at(
-    st: &Static,
-    cond: &Conditions,
-    points: &[&Surface],
-    idx: &[usize],
-    c: &Counters,
-) -> Vec<bool> {
-    let mut flags = vec![false; points.len() * idx.len()];
-    let (mut rays, mut of) = (Vec::new(), Vec::new());
-    for (p, s) in points.iter().enumerate() {
-        let origin = offset_origin(s.point, s.normal);
-        for (j, &k) in idx.iter().enumerate() {
-            let sun = &cond.suns[k];
-            if sun.up && s.normal.dot(sun.dir) > 0.0 {
-                rays.push(Ray::new(origin, sun.dir));
-                of.push(p * idx.len() + j);
-            }
-        }
-    }
-    let mut blocked = vec![false; rays.len()];
-    st.tracer.occluded(&rays, &mut blocked);
-    add(&c.solar, rays.len());
-    for (&i, &b) in of.iter().zip(&blocked) {
-        flags[i] = !b;
-    }
-    flags
 }
 
 /// Where the sample of each grid position of a refined pixel is, in the
@@ -1160,73 +986,4 @@ pub fn pixel_samples(
         .collect();
     c.flush(stats);
     Ok((out, n, Some(owners)))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::render::sunflags::SunFlags;
-
-    fn ground(material: u32, x: f32, lit: bool, temp_k: f64) -> Sample {
-        Sample {
-            dir: Vec3::new(0.0, 0.0, -1.0),
-            surface: Some(Surface {
-                material,
-                point: Vec3::new(x, 0.0, 0.0),
-                normal: Vec3::Z,
-                range_m: 1000.0,
-                history: SunFlags::from_switches(lit, &[], 4),
-                temp_k,
-                ..Default::default()
-            }),
-            bounce: None,
-        }
-    }
-
-    /// The sample halfway between two pixel centres is their shared edge
-    /// midpoint or corner on the n-grid (none for an odd n or off the
-    /// sample image).
-    #[test]
-    fn midpoint_lies_on_the_shared_edge_or_corner() {
-        assert_eq!(centre(3, 5, 16), (56, 88));
-        assert_eq!(midpoint(3, 5, (1, 0), 16), Some((64, 88)));
-        assert_eq!(midpoint(3, 5, (-1, 0), 16), Some((48, 88)));
-        assert_eq!(midpoint(3, 5, (1, 1), 16), Some((64, 96)));
-        assert_eq!(midpoint(3, 5, (-1, -1), 16), Some((48, 80)));
-        assert_eq!(midpoint(0, 0, (-1, 0), 16), Some((0, 8)));
-        assert_eq!(midpoint(3, 5, (1, 0), 3), None);
-    }
-
-    /// An edge between two pixels refines the pixel whose half it crosses
-    /// (the midpoint differs from that pixel's centre); a midpoint like
-    /// neither side, an unknown midpoint and a temperature difference alone
-    /// refine both; equal samples refine neither.
-    #[test]
-    fn edge_in_refines_the_half_the_edge_crosses() {
-        let grass = ground(1, 0.0, true, 300.0);
-        let asphalt = ground(2, 1.0, true, 310.0);
-        let (mid_grass, mid_asphalt) = (ground(1, 0.5, true, 0.0), ground(2, 0.5, true, 0.0));
-        // Edge between the midpoint and the asphalt centre: the asphalt
-        // pixel's half.
-        assert!(!edge_in(&grass, &asphalt, Some(&mid_grass), 0.05));
-        assert!(edge_in(&asphalt, &grass, Some(&mid_grass), 0.05));
-        assert!(edge_in(&grass, &asphalt, Some(&mid_asphalt), 0.05));
-        assert!(!edge_in(&asphalt, &grass, Some(&mid_asphalt), 0.05));
-        // A shadow edge (sun flag now) is placed the same way.
-        let shaded = ground(1, 1.0, false, 300.0);
-        assert!(!edge_in(&grass, &shaded, Some(&mid_grass), 0.05));
-        assert!(edge_in(&shaded, &grass, Some(&mid_grass), 0.05));
-        // A midpoint like neither side, or none: both.
-        let other = ground(3, 0.5, true, 0.0);
-        assert!(edge_in(&grass, &asphalt, Some(&other), 0.05));
-        assert!(edge_in(&asphalt, &grass, Some(&other), 0.05));
-        assert!(edge_in(&grass, &asphalt, None, 0.05));
-        // Temperature alone: both, whatever the midpoint.
-        let warm = ground(1, 1.0, true, 301.0);
-        assert!(edge_in(&grass, &warm, Some(&mid_grass), 0.05));
-        assert!(edge_in(&warm, &grass, Some(&mid_grass), 0.05));
-        // Alike: neither.
-        let near = ground(1, 1.0, true, 300.01);
-        assert!(!edge_in(&grass, &near, Some(&mid_asphalt), 0.05));
-    }
 }

@@ -481,6 +481,38 @@ pub(super) fn trace_histories_guided(
     add(&c.solar, solar);
 }
 
+/// The sun flags of surface points at the history samples `idx` (traced
+/// samples: multiples of `coarse_every`), as [`trace_histories`] sets
+/// them: sunlit when the sun is up, the point's side faces it and nothing
+/// blocks the ray. Point `p`'s flag at `idx[j]` is `[p * idx.len() + j]`.
+pub(super) fn sun_flags_at(
+    st: &Static,
+    cond: &Conditions,
+    points: &[&Surface],
+    idx: &[usize],
+    c: &Counters,
+) -> Vec<bool> {
+    let mut flags = vec![false; points.len() * idx.len()];
+    let (mut rays, mut of) = (Vec::new(), Vec::new());
+    for (p, s) in points.iter().enumerate() {
+        let origin = offset_origin(s.point, s.normal);
+        for (j, &k) in idx.iter().enumerate() {
+            let sun = &cond.suns[k];
+            if sun.up && s.normal.dot(sun.dir) > 0.0 {
+                rays.push(Ray::new(origin, sun.dir));
+                of.push(p * idx.len() + j);
+            }
+        }
+    }
+    let mut blocked = vec![false; rays.len()];
+    st.tracer.occluded(&rays, &mut blocked);
+    add(&c.solar, rays.len());
+    for (&i, &b) in of.iter().zip(&blocked) {
+        flags[i] = !b;
+    }
+    flags
+}
+
 /// The pairs of traced history samples (`k`, `k + every`), `k` a multiple
 /// of `every` and `k + every` < `nsun`, as bit masks over a point's packed
 /// words: [`CoarsePairs::changes`] finds those whose two flags differ with
