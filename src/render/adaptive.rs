@@ -16,9 +16,9 @@
 //!    `render.refine_threshold_k` (shadow edges of the past, which the
 //!    history leaves in the temperature; the per-point sky view). Where
 //!    the pair differs in anything but the temperature, the sample halfway
-//!    between their centres (on their shared edge or corner; [`Midpoints`],
+//!    between their centres (on their shared edge or corner; [`criterion::Midpoints`],
 //!    geometry and the sun flag now only) tells which half the edge
-//!    crosses, and only that pixel is refined ([`edge_in`]: a straight
+//!    crosses, and only that pixel is refined ([`criterion::pixel_refined`]: a straight
 //!    edge that crosses a pixel crosses one of the 8 segments from its
 //!    centre to its neighbours' midpoints); where the midpoint differs from
 //!    neither, and for a difference in temperature alone, both pixels are
@@ -95,20 +95,8 @@ use crate::sensor::camera::Camera;
 mod criterion;
 
 pub use criterion::differ;
-use criterion::{Midpoints, centre, differ_in_geometry, edge_in, midpoint};
+use criterion::{Midpoints, NEIGHBOURS, centre, pixel_refined, wanted_midpoints};
 use criterion::{PLANE_TOL_M, PLANE_TOL_REL, SAME_PLANE_COS};
-
-/// The 8 neighbours of a pixel.
-const NEIGHBOURS: [(i64, i64); 8] = [
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-    (-1, 0),
-    (1, 0),
-    (-1, 1),
-    (0, 1),
-    (1, 1),
-];
 
 /// Output rows per coarse band: a multiple of [`BLOCK`], about
 /// [`band_target`] samples.
@@ -738,36 +726,24 @@ pub fn render_adaptive(
             }
         };
         let pixel_xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
+        let nb_of = |i: usize| {
+            let (x, y) = pixel_xy(i);
+            NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy))
+        };
         // The samples halfway between pixels whose coarse samples differ in
         // geometry or sun state: which side the edge lies on.
         let t_mid = Instant::now();
         let wanted: Vec<(u32, u32)> = (0..band_rows * wu)
             .into_par_iter()
-            .flat_map_iter(|i| {
-                let (x, y) = pixel_xy(i);
-                let me = &cur[i];
-                NEIGHBOURS.iter().filter_map(move |&d| {
-                    let o = at(x as i64 + d.0, y as i64 + d.1)?;
-                    (differ_in_geometry(me, o)).then(|| midpoint(x, y, d, n))?
-                })
-            })
+            .flat_map_iter(|i| wanted_midpoints(pixel_xy(i), n, &cur[i], nb_of(i)))
             .collect();
         let mids = Midpoints::trace(st, cond, &cam, wanted, &counters);
         stats.seconds.trace += t_mid.elapsed().as_secs_f64();
         let refined: Vec<usize> = (0..band_rows * wu)
             .into_par_iter()
             .filter(|&i| {
-                let (x, y) = pixel_xy(i);
-                // (the image's border pixels: no neighbour sees the part
-                // of the pixel between its centre and the border)
-                let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
-                border
-                    || NEIGHBOURS.iter().any(|&d| {
-                        at(x as i64 + d.0, y as i64 + d.1).is_some_and(|o| {
-                            let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
-                            edge_in(&cur[i], o, mid, threshold_k)
-                        })
-                    })
+                let here = (pixel_xy(i), (w, h, n));
+                pixel_refined(here, &cur[i], &nb_of(i), &mids, threshold_k)
             })
             .collect();
         stats.adaptive_pixels_refined += refined.len() as u64;
@@ -945,20 +921,10 @@ pub fn pixel_samples(
     }
     let me = coarse[0].clone().expect("the pixel is in the image");
     let nb: [Option<&Sample>; 8] = std::array::from_fn(|k| coarse[k + 1].as_ref());
-    let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
-    // (the render's side test: the same midpoints, traced the same way)
-    let wanted: Vec<(u32, u32)> = (NEIGHBOURS.iter().zip(&nb))
-        .filter(|(_, o)| o.is_some_and(|o| differ_in_geometry(&me, o)))
-        .filter_map(|(&d, _)| midpoint(x, y, d, n))
-        .collect();
+    // (the render's criterion, its midpoints traced the same way)
+    let wanted = wanted_midpoints((x, y), n, &me, nb).collect();
     let mids = Midpoints::trace(st, cond, &cam, wanted, &c);
-    let crossed = (NEIGHBOURS.iter().zip(&nb)).any(|(&d, o)| {
-        o.is_some_and(|o| {
-            let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
-            edge_in(&me, o, mid, threshold_k)
-        })
-    });
-    if !border && !crossed {
+    if !pixel_refined(((x, y), (w, h, n)), &me, &nb, &mids, threshold_k) {
         c.flush(stats);
         return Ok((vec![me], 1, None));
     }

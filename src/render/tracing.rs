@@ -357,30 +357,29 @@ pub(super) fn trace_histories_guided(
     let down = targets.len() * (nsun.div_ceil(every) - up.len());
     let mut active = vec![0u16; up.len()];
     let mut blocked = vec![0u16; up.len()];
-    let mut known = vec![0u16; up.len()];
     let mut known_lit = vec![0u16; up.len()];
     for start in (0..targets.len()).step_by(16) {
         let chunk = start..(start + 16).min(targets.len());
         // The points of the group that face each sun (lane bits), less
         // those whose guides give the flag.
-        for (((act, kn), lit), (&dir, &k)) in (active.iter_mut().zip(&mut known))
-            .zip(&mut known_lit)
-            .zip(dirs.iter().zip(&up))
+        for ((act, lit), (&dir, &k)) in
+            (active.iter_mut().zip(&mut known_lit)).zip(dirs.iter().zip(&up))
         {
             let facing: u16 = (normals[chunk.clone()].iter().enumerate())
                 .filter(|(_, n)| n.dot(dir) > 0.0)
                 .fold(0, |m, (lane, _)| m | 1 << lane);
-            (*kn, *lit) = (0, 0);
+            let mut known = 0u16;
+            *lit = 0;
             if !guides.is_empty() && !force.contains(&k) {
                 for lane in 0..chunk.len() {
                     if let Some(f) = agreed(start + lane, k) {
-                        *kn |= 1 << lane;
+                        known |= 1 << lane;
                         *lit |= (f as u16) << lane;
                     }
                 }
             }
             *lit &= facing;
-            *act = facing & !*kn;
+            *act = facing & !known;
             let traced = act.count_ones() as usize;
             solar += traced;
             away += chunk.len() - facing.count_ones() as usize;

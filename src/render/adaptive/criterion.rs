@@ -12,6 +12,18 @@ use crate::render::sunflags::SunFlags;
 use crate::render::tracing::{sun_flags_at, trace_geometry};
 use crate::sensor::camera::Camera;
 
+/// The 8 neighbours of a pixel.
+pub(super) const NEIGHBOURS: [(i64, i64); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
 /// Two normals more than about 1° apart are two planes.
 pub(super) const SAME_PLANE_COS: f32 = 0.99985;
 /// Two parallel planes farther apart than this (m) plus [`PLANE_TOL_REL`]
@@ -72,7 +84,7 @@ pub(super) fn centre(x: u32, y: u32, n: u32) -> (u32, u32) {
 /// `y`) and its neighbour (`x + dx`, `y + dy`) (the pixels' shared edge
 /// midpoint or corner), in sample-image coordinates; `None` for an odd `n`
 /// (no grid position lies there).
-pub(super) fn midpoint(x: u32, y: u32, (dx, dy): (i64, i64), n: u32) -> Option<(u32, u32)> {
+fn midpoint(x: u32, y: u32, (dx, dy): (i64, i64), n: u32) -> Option<(u32, u32)> {
     if n % 2 == 1 {
         return None;
     }
@@ -87,7 +99,7 @@ pub(super) fn midpoint(x: u32, y: u32, (dx, dy): (i64, i64), n: u32) -> Option<(
 /// sample halfway between them can place on one side (module docs, step
 /// 2): the surface, its plane or material, the sun state now, a specular
 /// background — everything but the temperature.
-pub(super) fn differ_in_geometry(a: &Sample, b: &Sample) -> bool {
+fn differ_in_geometry(a: &Sample, b: &Sample) -> bool {
     differ_by(a, b, None)
 }
 
@@ -133,7 +145,7 @@ impl Midpoints {
         Midpoints { at, samples }
     }
 
-    pub(super) fn get(&self, pos: (u32, u32)) -> Option<&Sample> {
+    fn get(&self, pos: (u32, u32)) -> Option<&Sample> {
         self.at.binary_search(&pos).ok().map(|k| &self.samples[k])
     }
 }
@@ -145,7 +157,7 @@ impl Midpoints {
 /// on the side whose centre `mid` differs from; when `mid` differs from
 /// neither (or from both), both pixels are refined, as they are for a
 /// difference in temperature alone.
-pub(super) fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, threshold_k: f64) -> bool {
+fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, threshold_k: f64) -> bool {
     if !differ(me, other, threshold_k) {
         return false;
     }
@@ -155,6 +167,43 @@ pub(super) fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, thresho
         }
         _ => true,
     }
+}
+
+/// The midpoints ([`midpoint`]) the side test of pixel (`x`, `y`) needs:
+/// towards each of its [`NEIGHBOURS`] (`nb`, `None` outside the image)
+/// whose coarse sample differs from its own (`me`) in geometry or sun
+/// state.
+pub(super) fn wanted_midpoints<'a>(
+    (x, y): (u32, u32),
+    n: u32,
+    me: &'a Sample,
+    nb: [Option<&'a Sample>; 8],
+) -> impl Iterator<Item = (u32, u32)> + 'a {
+    (NEIGHBOURS.into_iter().zip(nb))
+        .filter_map(move |(d, o)| differ_in_geometry(me, o?).then(|| midpoint(x, y, d, n))?)
+}
+
+/// Whether pixel (`x`, `y`) of a `w`×`h` image (refined grid `n`) is
+/// refined (module docs, step 2): a border pixel (no neighbour sees the
+/// part of the pixel between its centre and the image's edge), or one whose
+/// coarse sample `me` and a neighbour's in `nb` ([`NEIGHBOURS`] order)
+/// differ with the edge in its half ([`edge_in`], the midpoints `mids`
+/// traced from [`wanted_midpoints`]).
+pub(super) fn pixel_refined(
+    ((x, y), (w, h, n)): ((u32, u32), (u32, u32, u32)),
+    me: &Sample,
+    nb: &[Option<&Sample>; 8],
+    mids: &Midpoints,
+    threshold_k: f64,
+) -> bool {
+    let border = x == 0 || y == 0 || x + 1 == w || y + 1 == h;
+    border
+        || (NEIGHBOURS.iter().zip(nb)).any(|(&d, o)| {
+            o.is_some_and(|o| {
+                let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
+                edge_in(me, o, mid, threshold_k)
+            })
+        })
 }
 
 #[cfg(test)]
