@@ -445,33 +445,25 @@ impl SlabMaterial {
 
     /// Checks every field is finite and in its physical range.
     pub fn validate(&self) -> Result<(), ThermError> {
-        let pos = [
-            ("density_kg_m3", self.density_kg_m3),
-            ("specific_heat_j_kgk", self.specific_heat_j_kgk),
-            ("conductivity_w_mk", self.conductivity_w_mk),
-            ("thickness_m", self.thickness_m),
-        ];
-        for (name, v) in pos {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(ThermError::BadMaterial(format!(
+        let positive = |name: &dyn std::fmt::Display, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(ThermError::BadMaterial(format!(
                     "{name} must be finite and > 0, got {v}"
-                )));
+                )))
             }
-        }
+        };
+        positive(&"density_kg_m3", self.density_kg_m3)?;
+        positive(&"specific_heat_j_kgk", self.specific_heat_j_kgk)?;
+        positive(&"conductivity_w_mk", self.conductivity_w_mk)?;
+        positive(&"thickness_m", self.thickness_m)?;
         for (i, l) in self.layers.iter().enumerate() {
-            let pos = [
-                ("thickness_m", l.thickness_m),
-                ("conductivity_w_mk", l.conductivity_w_mk),
-                ("density_kg_m3", l.density_kg_m3),
-                ("specific_heat_j_kgk", l.specific_heat_j_kgk),
-            ];
-            for (name, v) in pos {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(ThermError::BadMaterial(format!(
-                        "layers[{i}].{name} must be finite and > 0, got {v}"
-                    )));
-                }
-            }
+            let at = |key: &str| format!("layers[{i}].{key}");
+            positive(&at("thickness_m"), l.thickness_m)?;
+            positive(&at("conductivity_w_mk"), l.conductivity_w_mk)?;
+            positive(&at("density_kg_m3"), l.density_kg_m3)?;
+            positive(&at("specific_heat_j_kgk"), l.specific_heat_j_kgk)?;
         }
         if !self.layers.is_empty() && matches!(self.surface, SurfaceKind::Water(_)) {
             return Err(ThermError::BadMaterial(
