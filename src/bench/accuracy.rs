@@ -10,7 +10,8 @@
 //! radiance (%) and apparent temperature (K) over all pixels, and the same
 //! for surface and apparent temperature over the reference's shadow-edge
 //! pixels ([`shadow_edge_pixels`]), where shadow sampling errors
-//! concentrate. Writes CSV, JSON and an SVG plot (error vs CPU time, one
+//! concentrate, and over its object-edge pixels ([`object_edge_pixels`]),
+//! where the sub-pixel coverage of supersampling matters. Writes CSV, JSON and an SVG plot (error vs CPU time, one
 //! curve per knob: RMS over all pixels, and max over shadow-edge pixels).
 
 use std::path::PathBuf;
@@ -19,6 +20,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::process_cpu_s;
+use crate::render::adaptive::same_plane;
 use crate::render::planes::Planes;
 use crate::render::prepare::SunSample;
 use crate::render::{Frame, prepare_conditions, prepare_static, render, thread_pool};
@@ -102,7 +104,9 @@ fn knob_named(key: &str, name: &str) -> bool {
 /// One row of the table. Errors are of |test − reference| per output
 /// pixel; `_p99_` is the 99th percentile by the nearest-rank rule
 /// ([`percentile`]); `edge_` columns are over the reference's shadow-edge
-/// pixels only ([`shadow_edge_pixels`]; NaN when there are none).
+/// pixels only ([`shadow_edge_pixels`]; NaN when there are none),
+/// `object_edge_` columns over its object-edge pixels
+/// ([`object_edge_pixels`]).
 #[derive(Debug, Serialize, Clone)]
 pub struct AccuracyRow {
     /// The knob varied ("reference", "default", or a key).
@@ -150,11 +154,26 @@ pub struct AccuracyRow {
     pub edge_apparent_temp_p99_k: f64,
     /// As `apparent_temp_max_k`, over the shadow-edge pixels.
     pub edge_apparent_temp_max_k: f64,
+    /// Number of object-edge pixels (of the reference,
+    /// [`object_edge_pixels`]).
+    pub object_edge_pixels: usize,
+    /// As `surface_temp_rms_k`, over the object-edge pixels.
+    pub object_edge_surface_temp_rms_k: f64,
+    /// As `surface_temp_p99_k`, over the object-edge pixels.
+    pub object_edge_surface_temp_p99_k: f64,
+    /// As `surface_temp_max_k`, over the object-edge pixels.
+    pub object_edge_surface_temp_max_k: f64,
+    /// As `apparent_temp_rms_k`, over the object-edge pixels.
+    pub object_edge_apparent_temp_rms_k: f64,
+    /// As `apparent_temp_p99_k`, over the object-edge pixels.
+    pub object_edge_apparent_temp_p99_k: f64,
+    /// As `apparent_temp_max_k`, over the object-edge pixels.
+    pub object_edge_apparent_temp_max_k: f64,
 }
 
 /// One render of [`accuracy`]: planes, (wall, CPU) s, rays, thermal solves,
-/// shadow-edge pixels.
-type Run = (Planes, (f64, f64), u64, u64, Vec<bool>);
+/// shadow-edge pixels, object-edge pixels.
+type Run = (Planes, (f64, f64), u64, u64, Vec<bool>, Vec<bool>);
 
 /// The `p`-th percentile (0 < p ≤ 100) of `v` by the nearest-rank rule:
 /// the smallest value of the list with at least `p` % of the values at or
@@ -241,6 +260,34 @@ pub fn shadow_edge_pixels(frame: &Frame, suns: &[SunSample]) -> Vec<bool> {
             .map(|&k| k as usize)
             .any(|k| k < suns.len() && facing(k - 1) && facing(k));
         edge[py * w + px] = crossed;
+    }
+    edge
+}
+
+/// The object-edge pixels of a frame (row-major, as
+/// [`shadow_edge_pixels`]): a pixel is one when its samples do not all see
+/// one plane of one material ([`same_plane`]: the same material, normals
+/// within 1°, points within 5 cm + 10⁻⁴ of the range of one plane) or do
+/// not all see a surface: silhouettes against the sky or a background,
+/// steps, creases and material boundaries, where sub-pixel coverage is
+/// what the supersampling buys. Each sample is compared with the pixel's
+/// first.
+pub fn object_edge_pixels(frame: &Frame) -> Vec<bool> {
+    let (w, h) = (frame.planes.width as usize, frame.planes.height as usize);
+    let sw = frame.sample_width as usize;
+    let n = (sw / w.max(1)).max(1);
+    let mut edge = vec![false; w * h];
+    for (i, s) in frame.samples.iter().enumerate() {
+        let (px, py) = ((i % sw) / n, (i / sw) / n);
+        if px >= w || py >= h || edge[py * w + px] {
+            continue;
+        }
+        let first = &frame.samples[(py * n) * sw + px * n];
+        edge[py * w + px] = match (&first.surface, &s.surface) {
+            (None, None) => false,
+            (Some(a), Some(b)) => !same_plane(a, b),
+            _ => true,
+        };
     }
     edge
 }
@@ -344,7 +391,8 @@ pub fn accuracy(
                 s.thermal_solves,
             );
             let edge = shadow_edge_pixels(&f, &cond.suns);
-            Ok((f.planes, wall, rays, solves, edge))
+            let objects = object_edge_pixels(&f);
+            Ok((f.planes, wall, rays, solves, edge, objects))
         })
     };
     // (the reference and the ladders sample uniformly: every pixel at the
@@ -353,7 +401,7 @@ pub fn accuracy(
     reference.insert(0, ("render.sampling".into(), "\"uniform\"".into()));
     reference.extend(a.reference.iter().cloned());
     progress("reference");
-    let (rp, rt, rr, rs, edge) = run_one(with(&reference))?;
+    let (rp, rt, rr, rs, edge, objects) = run_one(with(&reference))?;
     let row = |knob: &str, value: f64, p: &Planes, wall: (f64, f64), rays: u64, solves: u64| {
         let ts = |m| {
             err(
@@ -379,6 +427,7 @@ pub fn accuracy(
         );
         let (ts_all, ta_all) = (ts(None), ta(None));
         let (ts_edge, ta_edge) = (ts(Some(&edge)), ta(Some(&edge)));
+        let (ts_obj, ta_obj) = (ts(Some(&objects)), ta(Some(&objects)));
         AccuracyRow {
             knob: knob.into(),
             value,
@@ -402,6 +451,13 @@ pub fn accuracy(
             edge_apparent_temp_rms_k: ta_edge.rms,
             edge_apparent_temp_p99_k: ta_edge.p99,
             edge_apparent_temp_max_k: ta_edge.max,
+            object_edge_pixels: objects.iter().filter(|e| **e).count(),
+            object_edge_surface_temp_rms_k: ts_obj.rms,
+            object_edge_surface_temp_p99_k: ts_obj.p99,
+            object_edge_surface_temp_max_k: ts_obj.max,
+            object_edge_apparent_temp_rms_k: ta_obj.rms,
+            object_edge_apparent_temp_p99_k: ta_obj.p99,
+            object_edge_apparent_temp_max_k: ta_obj.max,
         }
     };
     let mut rows = vec![row("reference", 0.0, &rp, rt, rr, rs)];
@@ -419,18 +475,18 @@ pub fn accuracy(
             let mut ov = reference.clone();
             ov.retain(|(k, _)| k != knob);
             ov.push((knob.to_string(), v.to_string()));
-            let (p, t, r, s, _) = run_one(with(&ov))?;
+            let (p, t, r, s, ..) = run_one(with(&ov))?;
             rows.push(row(knob, v, &p, t, r, s));
         }
     }
     progress("irsig defaults");
-    let (p, t, r, s, _) = run_one(with(&defaults))?;
+    let (p, t, r, s, ..) = run_one(with(&defaults))?;
     rows.push(row("default", 0.0, &p, t, r, s));
     if !a.candidate.is_empty() {
         let mut cand = defaults.clone();
         cand.extend(a.candidate.iter().cloned());
         progress("candidate set");
-        let (p, t, r, s, _) = run_one(with(&cand))?;
+        let (p, t, r, s, ..) = run_one(with(&cand))?;
         rows.push(row("candidate", 0.0, &p, t, r, s));
     }
     for (k, set) in a.also.iter().enumerate() {
@@ -438,7 +494,7 @@ pub fn accuracy(
         cand.extend(set.iter().cloned());
         let name = format!("also{}", k + 1);
         progress(&name);
-        let (p, t, r, s, _) = run_one(with(&cand))?;
+        let (p, t, r, s, ..) = run_one(with(&cand))?;
         rows.push(row(&name, 0.0, &p, t, r, s));
     }
 
@@ -454,7 +510,10 @@ pub fn to_csv(rows: &[AccuracyRow]) -> String {
          radiance_rms_pct,radiance_p99_pct,radiance_max_pct,\
          apparent_temp_rms_k,apparent_temp_p99_k,apparent_temp_max_k,edge_pixels,\
          edge_surface_temp_rms_k,edge_surface_temp_p99_k,edge_surface_temp_max_k,\
-         edge_apparent_temp_rms_k,edge_apparent_temp_p99_k,edge_apparent_temp_max_k\n",
+         edge_apparent_temp_rms_k,edge_apparent_temp_p99_k,edge_apparent_temp_max_k,\
+         object_edge_pixels,object_edge_surface_temp_rms_k,object_edge_surface_temp_p99_k,\
+         object_edge_surface_temp_max_k,object_edge_apparent_temp_rms_k,\
+         object_edge_apparent_temp_p99_k,object_edge_apparent_temp_max_k\n",
     );
     for r in rows {
         csv += &format!(
@@ -485,6 +544,17 @@ pub fn to_csv(rows: &[AccuracyRow]) -> String {
         ] {
             csv += &format!(",{v:.5}");
         }
+        csv += &format!(",{}", r.object_edge_pixels);
+        for v in [
+            r.object_edge_surface_temp_rms_k,
+            r.object_edge_surface_temp_p99_k,
+            r.object_edge_surface_temp_max_k,
+            r.object_edge_apparent_temp_rms_k,
+            r.object_edge_apparent_temp_p99_k,
+            r.object_edge_apparent_temp_max_k,
+        ] {
+            csv += &format!(",{v:.5}");
+        }
         csv += "\n";
     }
     csv
@@ -507,6 +577,34 @@ mod tests {
         assert_eq!(percentile(&mut w, 99.0), 5.0);
         assert_eq!(percentile(&mut w, 40.0), 2.0);
         assert!(percentile(&mut [], 99.0).is_nan());
+    }
+
+    #[test]
+    fn object_edges_are_pixels_whose_samples_leave_one_plane() {
+        use crate::render::sample::{Sample, Surface};
+        use glam::Vec3;
+        // Three pixels of 2×2 samples (a 6×2 sample grid): the first sees
+        // one plane throughout (its points 1 m apart on it), the second
+        // a step of 10 cm in one sample, the third the sky in one sample.
+        let on = |x: f32, z: f32| Sample {
+            surface: Some(Surface {
+                point: Vec3::new(x, 0.0, z),
+                normal: Vec3::Z,
+                range_m: 10.0,
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let mut samples: Vec<Sample> = (0..12).map(|i| on((i % 6) as f32, 0.0)).collect();
+        samples[9] = on(3.0, 0.1); // pixel 1, lower right
+        samples[4].surface = None; // pixel 2, upper left
+        let frame = Frame {
+            planes: Planes::new(3, 1),
+            stats: Default::default(),
+            samples,
+            sample_width: 6,
+        };
+        assert_eq!(object_edge_pixels(&frame), vec![false, true, true]);
     }
 
     #[test]

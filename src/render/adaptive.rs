@@ -94,9 +94,8 @@ use crate::sensor::camera::Camera;
 
 mod criterion;
 
-pub use criterion::differ;
 use criterion::{Midpoints, NEIGHBOURS, centre, pixel_refined, wanted_midpoints};
-use criterion::{PLANE_TOL_M, PLANE_TOL_REL, SAME_PLANE_COS};
+pub use criterion::{differ, same_plane};
 
 /// Output rows per coarse band: a multiple of [`BLOCK`], about
 /// [`band_target`] samples.
@@ -146,15 +145,6 @@ fn coarse_band(
     stats.samples += out.len() as u64;
     solve_temperatures(st, cond, &mut out, stats, progress)?;
     Ok(out)
-}
-
-/// Whether two surfaces lie on one plane of one material (a sample may
-/// take the other's sun/shadow history: module docs, step 4).
-fn same_plane(a: &Surface, b: &Surface) -> bool {
-    a.material == b.material
-        && a.normal.dot(b.normal) >= SAME_PLANE_COS
-        && a.normal.dot(b.point - a.point).abs()
-            <= PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
 }
 
 /// Cells per axis of a refined pixel's first level (module docs, step 3).

@@ -31,6 +31,19 @@ pub(super) const SAME_PLANE_COS: f32 = 0.99985;
 pub(super) const PLANE_TOL_M: f32 = 0.05;
 pub(super) const PLANE_TOL_REL: f32 = 1e-4;
 
+/// Whether two surfaces lie on one plane of one material: the same
+/// material, normals within 1° ([`SAME_PLANE_COS`]) and each point within
+/// [`PLANE_TOL_M`] + [`PLANE_TOL_REL`] of the range of the other's plane
+/// (module docs of `adaptive`, step 2). What is not is an object edge: a
+/// silhouette against a background, a step, a crease or a change of
+/// material.
+pub fn same_plane(a: &Surface, b: &Surface) -> bool {
+    a.material == b.material
+        && a.normal.dot(b.normal) >= SAME_PLANE_COS
+        && a.normal.dot(b.point - a.point).abs()
+            <= PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
+}
+
 /// Whether two surfaces (or their absence) may differ in value between
 /// them: see the module docs, step 2. `threshold_k` `None` leaves the
 /// temperatures out (geometry and sun state only).
@@ -38,10 +51,7 @@ fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: Option
     match (a, b) {
         (None, None) => false,
         (Some(a), Some(b)) => {
-            let offset_m = a.normal.dot(b.point - a.point).abs();
-            a.material != b.material
-                || a.normal.dot(b.normal) < SAME_PLANE_COS
-                || offset_m > PLANE_TOL_M + PLANE_TOL_REL * a.range_m.max(b.range_m)
+            !same_plane(a, b)
                 || a.sun_now() != b.sun_now()
                 // (NaN-safe: a NaN temperature differs)
                 || threshold_k.is_some_and(|t| {
