@@ -75,6 +75,7 @@
 //! and the thermal and radiometric memos are functions of the pixel and
 //! the key alone, never of the thread count.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -86,7 +87,9 @@ use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, Stats, add
 use super::pixel::{EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
-use super::thermal::{solve_temperatures, solve_temperatures_except};
+use super::thermal::{
+    SampleMemo, add_cache_stats, solve_samples, solve_temperatures, solve_temperatures_except,
+};
 use super::tracing::{
     Guides, sample_camera, sun_flags_at, trace_block, trace_geometry, trace_sample_histories_guided,
 };
@@ -117,34 +120,93 @@ fn coarse_band(
     progress: &StageProgress,
 ) -> anyhow::Result<Vec<Sample>> {
     let t0 = Instant::now();
+    let before = cond.cache.stats();
     let blocks: Vec<(u32, u32)> = (y0..y1)
         .step_by(BLOCK as usize)
         .flat_map(|by| (0..w).step_by(BLOCK as usize).map(move |bx| (bx, by)))
         .collect();
+    // Each block traced and solved by one worker (its samples stay in the
+    // worker's cache); the stage times split the wall time in the
+    // proportions of the workers' time in each.
+    let stage_ns: [AtomicU64; 3] = Default::default();
     type Traced = (Vec<(u32, u32)>, Vec<Sample>);
     let traced: Vec<Traced> = blocks
         .par_iter()
-        .map(|&(bx, by)| {
+        .map_init(SampleMemo::default, |memo, &(bx, by)| {
             let px = block_pixels(bx, by, w, h);
-            if cancel::cancelled() {
-                return (px, Vec::new());
-            }
+            cancel::check()?;
+            let mut clock = StageClock::new(&stage_ns);
             let fine: Vec<(u32, u32)> = px.iter().map(|&(x, y)| centre(x, y, n)).collect();
-            let s = trace_block(st, cond, cam, &fine, c);
-            (px, s)
+            let mut s = trace_block(st, cond, cam, &fine, c);
+            clock.lap(TRACE);
+            solve_samples(st, cond, &mut s, &[], memo)?;
+            memo.absorb(cond);
+            clock.lap(THERMAL);
+            progress.add(s.len() as u64);
+            Ok((px, s))
         })
-        .collect();
-    cancel::check()?;
+        .collect::<anyhow::Result<_>>()?;
+    // The blocks' samples into rows, a row of blocks (BLOCK output rows)
+    // per task: `blocks` runs along each row of blocks, then down.
+    let per_row = w.div_ceil(BLOCK) as usize;
+    let mut rows_of_blocks: Vec<Vec<Traced>> = Vec::with_capacity(traced.len() / per_row + 1);
+    let mut traced = traced.into_iter();
+    loop {
+        let row: Vec<Traced> = traced.by_ref().take(per_row).collect();
+        if row.is_empty() {
+            break;
+        }
+        rows_of_blocks.push(row);
+    }
     let mut out = vec![Sample::default(); ((y1 - y0) * w) as usize];
-    for (px, s) in traced {
-        for (&(x, y), s) in px.iter().zip(s) {
-            out[((y - y0) * w + x) as usize] = s;
+    out.par_chunks_mut((BLOCK * w) as usize)
+        .zip(rows_of_blocks)
+        .enumerate()
+        .for_each(|(k, (dst, row))| {
+            let top = y0 + k as u32 * BLOCK;
+            for (px, s) in row {
+                for (&(x, y), s) in px.iter().zip(s) {
+                    dst[((y - top) * w + x) as usize] = s;
+                }
+            }
+        });
+    let wall = t0.elapsed().as_secs_f64();
+    let ns = stage_ns.map(|a| a.into_inner() as f64);
+    let total = (ns[TRACE] + ns[THERMAL]).max(1.0);
+    stats.seconds.trace += wall * ns[TRACE] / total;
+    stats.seconds.thermal += wall * ns[THERMAL] / total;
+    add_cache_stats(stats, &before, &cond.cache.stats());
+    stats.samples += out.len() as u64;
+    Ok(out)
+}
+
+/// The stages a refined pixel's worker time is split into ([`StageClock`]).
+const TRACE: usize = 0;
+const THERMAL: usize = 1;
+const RADIOMETRY: usize = 2;
+
+/// A worker's clock over one refined pixel: each lap's time (ns) is added
+/// to its stage's counter.
+struct StageClock<'a> {
+    ns: &'a [AtomicU64; 3],
+    last: Instant,
+}
+
+impl<'a> StageClock<'a> {
+    fn new(ns: &'a [AtomicU64; 3]) -> Self {
+        StageClock {
+            ns,
+            last: Instant::now(),
         }
     }
-    stats.seconds.trace += t0.elapsed().as_secs_f64();
-    stats.samples += out.len() as u64;
-    solve_temperatures(st, cond, &mut out, stats, progress)?;
-    Ok(out)
+
+    /// Adds the time since the last lap to `stage`.
+    fn lap(&mut self, stage: usize) {
+        let now = Instant::now();
+        let d = now.duration_since(self.last).as_nanos() as u64;
+        self.ns[stage].fetch_add(d, Ordering::Relaxed);
+        self.last = now;
+    }
 }
 
 /// Cells per axis of a refined pixel's first level (module docs, step 3).
@@ -664,9 +726,7 @@ pub fn render_adaptive(
     let trace_progress = StageProgress::new(progress, Stage::Trace, bands.len() as u64);
     let therm_progress = StageProgress::new(progress, Stage::Thermal, (w * h) as u64);
     let radiometry = StageProgress::new(progress, Stage::Radiometry, (w * h) as u64);
-    let quiet = StageProgress::new(None, Stage::Thermal, 0);
     let counters = Counters::default();
-    let per1 = (layout(n).0 * layout(n).0) as usize;
     let recent = recent_samples(cond);
     let cell_threshold_k = threshold_k * CELL_THRESHOLD_FACTOR;
     let chunk_pixels = (band_target() as usize / (n * n) as usize).max(1);
@@ -686,6 +746,8 @@ pub fn render_adaptive(
     };
     let mut prev_row: Vec<Sample> = Vec::new();
     let mut kept: Vec<Sample> = Vec::new();
+    let mut stage_ns: [AtomicU64; 3] = Default::default();
+    let samples_refined = AtomicU64::new(0);
     for (b, &(y0, y1)) in bands.iter().enumerate() {
         let next = match bands.get(b + 1) {
             Some(&nb) => Some(coarse_band(
@@ -739,96 +801,66 @@ pub fn render_adaptive(
         stats.adaptive_pixels_refined += refined.len() as u64;
         stats.adaptive_pixels_coarse += (band_rows * wu - refined.len()) as u64;
         // The refined pixels' values, a chunk of pixels (about a band of
-        // samples) at a time: first level, its temperatures, second level,
-        // its temperatures, radiometry.
+        // samples) at a time, each pixel by one worker from its first level
+        // to its radiometry (its samples stay in the worker's cache): first
+        // level, its temperatures, second level, its temperatures,
+        // radiometry. The stage times split the chunk's wall time in the
+        // proportions of the workers' time in each stage.
         let mut values: Vec<PixelValues> = Vec::with_capacity(refined.len());
         let xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
+        let before = cond.cache.stats();
         for chunk in refined.chunks(chunk_pixels) {
             let t0 = Instant::now();
-            let l1: Vec<(Vec<Sample>, Vec<bool>)> = chunk
-                .par_iter()
-                .map(|&i| {
-                    if cancel::cancelled() {
-                        return (Vec::new(), Vec::new());
-                    }
-                    let (x, y) = xy(i);
-                    let hood = hood_of(&cur[i], |dx, dy| at(x as i64 + dx, y as i64 + dy));
-                    level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &counters)
-                })
-                .collect();
-            cancel::check()?;
-            let (l1, l1_donated): (Vec<Vec<Sample>>, Vec<Vec<bool>>) = l1.into_iter().unzip();
-            let mut l1: Vec<Sample> = l1.into_iter().flatten().collect();
-            let l1_donated: Vec<bool> = l1_donated.into_iter().flatten().collect();
-            stats.seconds.trace += t0.elapsed().as_secs_f64();
-            stats.samples += l1.len() as u64;
-            solve_temperatures_except(st, cond, &mut l1, &l1_donated, &mut stats, &quiet)?;
-            let t1 = Instant::now();
-            let two: Vec<Level2> = chunk
-                .par_iter()
-                .enumerate()
-                .map(|(k, &i)| {
-                    if cancel::cancelled() {
-                        return Level2::default();
-                    }
-                    let (x, y) = xy(i);
-                    let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
-                    let mine = &l1[k * per1..(k + 1) * per1];
-                    let cells = refined_cells(mine, &cur[i], &nb, n, (cell_threshold_k, &recent));
-                    let refined_here = cells.iter().filter(|&&r| r).count();
-                    add(&counters.cells_refined, refined_here);
-                    add(&counters.cells_coarse, cells.len() - refined_here);
-                    level_two(
-                        st,
-                        cond,
-                        &cam,
-                        (x, y),
-                        n,
-                        (&cur[i], mine, &cells),
-                        &recent,
-                        &counters,
-                    )
-                })
-                .collect();
-            cancel::check()?;
-            let mut offsets = Vec::with_capacity(two.len() + 1);
-            offsets.push(0);
-            for t in &two {
-                offsets.push(offsets.last().copied().unwrap_or(0) + t.fine.len());
-            }
-            let owners: Vec<Vec<usize>> = two
-                .iter()
-                .enumerate()
-                .map(|(k, t)| {
-                    grid_owners(&t.slots, &l1_donated[k * per1..(k + 1) * per1], &t.donor)
-                })
-                .collect();
-            let solved: Vec<bool> = two
-                .iter()
-                .flat_map(|t| t.donor.iter().map(|d| d.is_some()))
-                .collect();
-            let slots: Vec<Vec<Slot>> = two.iter().map(|t| t.slots.clone()).collect();
-            let mut fine: Vec<Sample> = two.into_iter().flat_map(|t| t.fine).collect();
-            stats.seconds.trace += t1.elapsed().as_secs_f64();
-            stats.samples += fine.len() as u64;
-            solve_temperatures_except(st, cond, &mut fine, &solved, &mut stats, &quiet)?;
-            let t2 = Instant::now();
             let maker = planes.maker();
             let vals: Vec<PixelValues> = chunk
                 .par_iter()
-                .enumerate()
-                .map_init(EvalMemo::default, |memo, (k, &i)| {
-                    let mine = &l1[k * per1..(k + 1) * per1];
-                    let two = &fine[offsets[k]..offsets[k + 1]];
-                    let px: Vec<&Sample> = (slots[k].iter())
-                        .map(|&sl| slot_sample(sl, &cur[i], mine, two))
-                        .collect();
-                    maker.pixel_shared(&ctx, &px, Some(&owners[k]), n as usize, memo)
-                })
+                .map_init(
+                    || (SampleMemo::default(), EvalMemo::default()),
+                    |(tm, memo), &i| {
+                        cancel::check()?;
+                        let (x, y) = xy(i);
+                        let mut clock = StageClock::new(&stage_ns);
+                        let hood = hood_of(&cur[i], |dx, dy| at(x as i64 + dx, y as i64 + dy));
+                        let (mut l1, l1_donated) =
+                            level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &counters);
+                        clock.lap(TRACE);
+                        solve_samples(st, cond, &mut l1, &l1_donated, tm)?;
+                        clock.lap(THERMAL);
+                        let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
+                        let cells =
+                            refined_cells(&l1, &cur[i], &nb, n, (cell_threshold_k, &recent));
+                        let refined_here = cells.iter().filter(|&&r| r).count();
+                        add(&counters.cells_refined, refined_here);
+                        add(&counters.cells_coarse, cells.len() - refined_here);
+                        let cx = (&cur[i], &l1[..], &cells[..]);
+                        let mut two = level_two(st, cond, &cam, (x, y), n, cx, &recent, &counters);
+                        let solved: Vec<bool> = two.donor.iter().map(|d| d.is_some()).collect();
+                        clock.lap(TRACE);
+                        solve_samples(st, cond, &mut two.fine, &solved, tm)?;
+                        tm.absorb(cond);
+                        clock.lap(THERMAL);
+                        add(&samples_refined, l1.len() + two.fine.len());
+                        let owners = grid_owners(&two.slots, &l1_donated, &two.donor);
+                        let px: Vec<&Sample> = (two.slots.iter())
+                            .map(|&sl| slot_sample(sl, &cur[i], &l1, &two.fine))
+                            .collect();
+                        let v = maker.pixel_shared(&ctx, &px, Some(&owners), n as usize, memo);
+                        clock.lap(RADIOMETRY);
+                        v
+                    },
+                )
                 .collect::<anyhow::Result<_>>()?;
             values.extend(vals);
-            stats.seconds.radiometry += t2.elapsed().as_secs_f64();
+            let wall = t0.elapsed().as_secs_f64();
+            let ns = stage_ns
+                .each_mut()
+                .map(|a| std::mem::take(a.get_mut()) as f64);
+            let total = ns.iter().sum::<f64>().max(1.0);
+            stats.seconds.trace += wall * ns[TRACE] / total;
+            stats.seconds.thermal += wall * ns[THERMAL] / total;
+            stats.seconds.radiometry += wall * ns[RADIOMETRY] / total;
         }
+        add_cache_stats(&mut stats, &before, &cond.cache.stats());
         let mut slot = vec![u32::MAX; band_rows * wu];
         for (k, &i) in refined.iter().enumerate() {
             slot[i] = k as u32;
@@ -853,6 +885,7 @@ pub fn render_adaptive(
         cur = next.unwrap_or_default();
     }
     counters.flush(&mut stats);
+    stats.samples += samples_refined.into_inner();
     stats.adaptive_refined_density = n;
     planes.into_frame(stats, kept, if st.keep_samples { w } else { sw })
 }

@@ -13,7 +13,8 @@ use super::sample::{LastKey, Sample, Surface};
 use super::sunflags::{self, SunFlags};
 use crate::therm::balance::Orientation;
 use crate::therm::cache::{
-    FacetParts, HistoryRef, SKY_NODE_QUANTA, SkyNodes, ThermCache, ThermMemo, ThermQuery,
+    CacheStats, FacetParts, HistoryRef, SKY_NODE_QUANTA, SkyNodes, ThermCache, ThermMemo,
+    ThermQuery,
 };
 use crate::therm::slab::{ThermError, ThermSolution};
 
@@ -319,27 +320,64 @@ pub(super) fn solve_temperatures_except(
         .enumerate()
         .try_for_each(|(c, chunk)| -> anyhow::Result<()> {
             cancel::check()?;
-            let mut memo = TempMemo::default();
-            let skipped = |k: usize| skip.get(c * PROGRESS_CHUNK + k).copied().unwrap_or(false);
-            let solved = (chunk.iter_mut().enumerate())
-                .filter(|(k, _)| !skipped(*k))
-                .try_for_each(|(_, s)| -> anyhow::Result<()> {
-                    if let Some(surf) = s.surface.as_mut() {
-                        surf.temp_k = temperature(st, cond, surf, &mut memo)?;
-                    }
-                    if let Some((_, Some(bg))) = s.bounce.as_mut() {
-                        bg.temp_k = temperature(st, cond, bg, &mut memo)?;
-                    }
-                    Ok(())
-                });
-            for m in &memo.therm {
-                cond.cache.absorb_memo(m);
-            }
+            let mut memo = SampleMemo::default();
+            let skip = skip.get(c * PROGRESS_CHUNK..).unwrap_or(&[]);
+            let solved = solve_samples(st, cond, chunk, skip, &mut memo);
+            memo.absorb(cond);
             solved?;
             progress.add(chunk.len() as u64);
             Ok(())
         })?;
-    let after = cond.cache.stats();
+    add_cache_stats(stats, &before, &cond.cache.stats());
+    stats.seconds.thermal += t1.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// A worker's memos for [`solve_samples`] (one per worker and run of
+/// samples; neighbouring samples mostly repeat a key). Its hits reach the
+/// cache's counters through [`SampleMemo::absorb`].
+#[derive(Default)]
+pub(super) struct SampleMemo(TempMemo);
+
+impl SampleMemo {
+    /// Adds the memo's hits to the thermal cache's counters (and clears
+    /// them, so that a memo may be absorbed again later).
+    pub(super) fn absorb(&mut self, cond: &Conditions) {
+        for m in &mut self.0.therm {
+            cond.cache.absorb_memo(m);
+            m.hits = 0;
+        }
+    }
+}
+
+/// Step 4 for the samples of `samples` whose `skip` flag is not set (a
+/// sample beyond `skip`'s end is solved), on the calling thread, through
+/// the worker's `memo`: the temperatures of their surfaces and specular
+/// backgrounds. A result is a function of the sample alone (the memos only
+/// skip repeated work).
+pub(super) fn solve_samples(
+    st: &Static,
+    cond: &Conditions,
+    samples: &mut [Sample],
+    skip: &[bool],
+    memo: &mut SampleMemo,
+) -> anyhow::Result<()> {
+    for (k, s) in samples.iter_mut().enumerate() {
+        if skip.get(k).copied().unwrap_or(false) {
+            continue;
+        }
+        if let Some(surf) = s.surface.as_mut() {
+            surf.temp_k = temperature(st, cond, surf, &mut memo.0)?;
+        }
+        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+            bg.temp_k = temperature(st, cond, bg, &mut memo.0)?;
+        }
+    }
+    Ok(())
+}
+
+/// Adds the thermal cache's work between two of its snapshots to `stats`.
+pub(super) fn add_cache_stats(stats: &mut Stats, before: &CacheStats, after: &CacheStats) {
     stats.thermal_solves += after.misses - before.misses;
     stats.thermal_cache_hits += after.hits - before.hits;
     stats.thermal_steps += after.steps - before.steps;
@@ -348,8 +386,6 @@ pub(super) fn solve_temperatures_except(
     stats.thermal_solve_core_s += (after.solve_ns - before.solve_ns) as f64 * 1e-9;
     stats.thermal_checkpoints += after.checkpoints - before.checkpoints;
     stats.thermal_resumed += after.resumed - before.resumed;
-    stats.seconds.thermal += t1.elapsed().as_secs_f64();
-    Ok(())
 }
 
 #[cfg(test)]
