@@ -122,7 +122,11 @@ pub struct Stats {
     pub seconds: StageTimes,
 }
 
-/// Wall time per stage, s.
+/// Wall time per stage, s. Where one worker runs several stages for one
+/// piece of work (adaptive sampling: a coarse block traced and solved, a
+/// refined pixel from its first level to its radiometry), that part's
+/// wall time is split between the stages in the proportions of the
+/// workers' time in each.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct StageTimes {
     /// Steps 1-3: the rays, s.
