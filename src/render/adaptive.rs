@@ -334,7 +334,7 @@ fn level_one(
 /// same side of the horizon (the sky dome varies smoothly between their
 /// directions; a background surface has its own history).
 fn same_bounce(a: &Sample, b: &Sample) -> bool {
-    match (&a.bounce, &b.bounce) {
+    match (a.bounce.as_deref(), b.bounce.as_deref()) {
         (None, None) => true,
         (Some((da, None)), Some((db, None))) => (da.z > 0.0) == (db.z > 0.0),
         _ => false,
@@ -439,7 +439,12 @@ fn cells_differ(a: &Sample, b: &Sample, threshold_k: f64, recent: &[usize]) -> b
     if !differ(a, b, threshold_k) {
         return false;
     }
-    match (&a.surface, &b.surface, &a.bounce, &b.bounce) {
+    match (
+        &a.surface,
+        &b.surface,
+        a.bounce.as_deref(),
+        b.bounce.as_deref(),
+    ) {
         (Some(x), Some(y), None, None) => {
             recent.iter().any(|&k| x.history.get(k) != y.history.get(k))
         }

@@ -50,8 +50,8 @@ pub fn band_samples(sample_width: u32, n: u32) -> u64 {
 
 /// Samples per band: a frame is traced, solved and turned into plane rows
 /// one band of sample rows at a time, so memory holds one band of
-/// samples (about 15-30 MB; adaptive sampling: two coarse bands and a
-/// chunk of refined pixels' samples) besides the planes. 2^17, not 2^18:
+/// samples (about 15-30 MB; adaptive sampling: two coarse bands and, per
+/// worker, one refined pixel's samples) besides the planes. 2^17, not 2^18:
 /// the default 2048² airfield render peaked at 646 MiB with 2^18 and
 /// peaks at 578-581 MiB with 2^17 (the same bits; issue 29's 0.6 GiB
 /// target), while a band still holds hundreds of blocks for the workers.

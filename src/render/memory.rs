@@ -88,6 +88,10 @@ pub fn machine_memory_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
+/// The workers an adaptive render's estimate allows for, each holding the
+/// samples of one refined pixel at a time ([`estimate`]).
+const REFINING_WORKERS: f64 = 256.0;
+
 /// Estimates the peak memory of rendering `scene` (one frame).
 pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let sc = &scene.scene;
@@ -97,13 +101,14 @@ pub fn estimate(scene: &LoadedScene) -> MemoryEstimate {
     let adaptive = sc.render.sampling == crate::scene::spec::Sampling::Adaptive && n > 1.0;
     let (samples, held) = if adaptive {
         // Adaptive sampling ([`super::adaptive`]) holds two bands of coarse
-        // samples (one per pixel) and one chunk of refined pixels (about a
-        // band of samples, plus their 16 first-level samples each); which
+        // samples (one per pixel) and, per worker, the samples of the one
+        // refined pixel it carries (its n×n grid and 16 first-level
+        // samples; up to [`REFINING_WORKERS`] workers allowed for); which
         // pixels are refined is not known before the render, so `samples`
         // counts the coarse ones.
         let bt = super::blocks::band_target() as f64;
         let coarse_band = ((bt / w).floor() / 16.0).floor().max(1.0) * 16.0 * w;
-        let refined = (bt * (1.0 + 16.0 / (n * n))).min(w * h * (n * n + 16.0));
+        let refined = (REFINING_WORKERS * (n * n + 16.0)).min(w * h * (n * n + 16.0));
         (w * h, (w * h).min(2.0 * coarse_band) + refined)
     } else {
         let samples = w * n * h * n;

@@ -122,7 +122,7 @@ fn same_radiometry(a: &Sample, b: &Sample) -> bool {
         _ => false,
     };
     surf(&a.surface, &b.surface)
-        && match (&a.bounce, &b.bounce) {
+        && match (a.bounce.as_deref(), b.bounce.as_deref()) {
             (None, None) => true,
             (Some((_, x)), Some((_, y))) => surf(x, y),
             _ => false,
@@ -507,7 +507,7 @@ impl<'a> RadiometryContext<'a> {
         let mut eps_view = vec![0.0; wl.len()];
         st.emissivity[m].spectrum_at(view_angle, wl, &mut eps_view);
         let eps_band = band_mean(&eps_view);
-        let (rdir, bg) = s.bounce.as_ref().expect("specular samples have a bounce");
+        let (rdir, bg) = s.bounce.as_deref().expect("specular samples have a bounce");
         // What the mirror ray sees: the sky (eq. 2), or a background (eq. 3)
         // that is either a facet or the ground beyond the scene.
         enum Mirror<'m> {

@@ -354,7 +354,7 @@ impl Ctx<'_> {
             view_azimuth_deg: azimuth_deg(-s.dir.as_dvec3()),
             sun_incidence_deg: angle_deg(sun_dir.normalize(), surf.normal),
         });
-        let bounce = match &s.bounce {
+        let bounce = match s.bounce.as_deref() {
             None => None,
             Some((d, bg)) => Some(BounceReport {
                 dir: d.to_array(),

@@ -73,8 +73,9 @@ pub struct Sample {
     /// What the primary ray hit (`None`: the sky or outside the scene).
     pub surface: Option<Surface>,
     /// For specular materials: the reflected direction and the background
-    /// facet it hits (`None`: the sky).
-    pub bounce: Option<(Vec3, Option<Surface>)>,
+    /// facet it hits (`None`: the sky). Boxed: few samples are specular,
+    /// and a sample without it is half the size (less to move and cache).
+    pub bounce: Option<Box<(Vec3, Option<Surface>)>>,
 }
 
 impl Sample {

@@ -369,7 +369,7 @@ pub(super) fn solve_samples(
         if let Some(surf) = s.surface.as_mut() {
             surf.temp_k = temperature(st, cond, surf, &mut memo.0)?;
         }
-        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+        if let Some((_, Some(bg))) = s.bounce.as_deref_mut() {
             bg.temp_k = temperature(st, cond, bg, &mut memo.0)?;
         }
     }

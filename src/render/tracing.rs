@@ -94,7 +94,7 @@ pub(super) fn trace_sample_histories_guided<'g>(
             guides.push(guide(i, surf));
             targets.push(surf);
         }
-        if let Some((_, Some(bg))) = s.bounce.as_mut() {
+        if let Some((_, Some(bg))) = s.bounce.as_deref_mut() {
             guides.push(None);
             targets.push(bg);
         }
@@ -158,7 +158,7 @@ pub(super) fn trace_geometry(
     tracer.intersect(&bounce_rays, &mut bhits);
     add(&c.specular, bounce_rays.len());
     for ((r, h), &i) in bounce_rays.iter().zip(&bhits).zip(&bounce_of) {
-        samples[i].bounce = Some((r.dir, h.as_ref().map(|h| surface_of(st, r, h))));
+        samples[i].bounce = Some(Box::new((r.dir, h.as_ref().map(|h| surface_of(st, r, h)))));
     }
     samples
 }

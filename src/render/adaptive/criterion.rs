@@ -66,7 +66,7 @@ fn surfaces_differ(a: Option<&Surface>, b: Option<&Surface>, threshold_k: Option
 /// left out.
 fn differ_by(a: &Sample, b: &Sample, threshold_k: Option<f64>) -> bool {
     surfaces_differ(a.surface.as_ref(), b.surface.as_ref(), threshold_k)
-        || match (&a.bounce, &b.bounce) {
+        || match (a.bounce.as_deref(), b.bounce.as_deref()) {
             (None, None) => false,
             (Some((da, x)), Some((db, y))) => {
                 // (a mirror ray that leaves the scene: sky above, ground below)
@@ -138,7 +138,7 @@ impl Midpoints {
             let points: Vec<&Surface> = samples
                 .iter()
                 .flat_map(|s| {
-                    let bg = s.bounce.as_ref().and_then(|(_, b)| b.as_ref());
+                    let bg = s.bounce.as_deref().and_then(|(_, b)| b.as_ref());
                     s.surface.iter().chain(bg)
                 })
                 .collect();
@@ -146,7 +146,7 @@ impl Midpoints {
         };
         let mut lit = lit.into_iter();
         for s in &mut samples {
-            let bg = s.bounce.as_mut().and_then(|(_, b)| b.as_mut());
+            let bg = s.bounce.as_deref_mut().and_then(|(_, b)| b.as_mut());
             for surf in s.surface.iter_mut().chain(bg) {
                 let flag = lit.next().unwrap_or(false);
                 surf.history = SunFlags::from_switches(flag, &[], 1);
