@@ -163,15 +163,21 @@ impl Midpoints {
 /// The refinement criterion for pixel `me` against one neighbour `other`
 /// (module docs, step 2): their coarse samples [`differ`], and the edge
 /// between them may cross `me`'s half. Where they differ in geometry or sun
-/// state and the sample `mid` halfway between them is known, the edge lies
+/// state and the sample `mid()` halfway between them is known (looked up
+/// only then), the edge lies
 /// on the side whose centre `mid` differs from; when `mid` differs from
 /// neither (or from both), both pixels are refined, as they are for a
 /// difference in temperature alone.
-fn edge_in(me: &Sample, other: &Sample, mid: Option<&Sample>, threshold_k: f64) -> bool {
+fn edge_in<'a>(
+    me: &Sample,
+    other: &Sample,
+    mid: impl FnOnce() -> Option<&'a Sample>,
+    threshold_k: f64,
+) -> bool {
     if !differ(me, other, threshold_k) {
         return false;
     }
-    match mid {
+    match mid() {
         Some(m) if differ_in_geometry(me, other) => {
             differ_in_geometry(me, m) || !differ_in_geometry(m, other)
         }
@@ -210,7 +216,7 @@ pub(super) fn pixel_refined(
     border
         || (NEIGHBOURS.iter().zip(nb)).any(|(&d, o)| {
             o.is_some_and(|o| {
-                let mid = midpoint(x, y, d, n).and_then(|p| mids.get(p));
+                let mid = || midpoint(x, y, d, n).and_then(|p| mids.get(p));
                 edge_in(me, o, mid, threshold_k)
             })
         })
@@ -261,25 +267,25 @@ mod tests {
         let (mid_grass, mid_asphalt) = (ground(1, 0.5, true, 0.0), ground(2, 0.5, true, 0.0));
         // Edge between the midpoint and the asphalt centre: the asphalt
         // pixel's half.
-        assert!(!edge_in(&grass, &asphalt, Some(&mid_grass), 0.05));
-        assert!(edge_in(&asphalt, &grass, Some(&mid_grass), 0.05));
-        assert!(edge_in(&grass, &asphalt, Some(&mid_asphalt), 0.05));
-        assert!(!edge_in(&asphalt, &grass, Some(&mid_asphalt), 0.05));
+        assert!(!edge_in(&grass, &asphalt, || Some(&mid_grass), 0.05));
+        assert!(edge_in(&asphalt, &grass, || Some(&mid_grass), 0.05));
+        assert!(edge_in(&grass, &asphalt, || Some(&mid_asphalt), 0.05));
+        assert!(!edge_in(&asphalt, &grass, || Some(&mid_asphalt), 0.05));
         // A shadow edge (sun flag now) is placed the same way.
         let shaded = ground(1, 1.0, false, 300.0);
-        assert!(!edge_in(&grass, &shaded, Some(&mid_grass), 0.05));
-        assert!(edge_in(&shaded, &grass, Some(&mid_grass), 0.05));
+        assert!(!edge_in(&grass, &shaded, || Some(&mid_grass), 0.05));
+        assert!(edge_in(&shaded, &grass, || Some(&mid_grass), 0.05));
         // A midpoint like neither side, or none: both.
         let other = ground(3, 0.5, true, 0.0);
-        assert!(edge_in(&grass, &asphalt, Some(&other), 0.05));
-        assert!(edge_in(&asphalt, &grass, Some(&other), 0.05));
-        assert!(edge_in(&grass, &asphalt, None, 0.05));
+        assert!(edge_in(&grass, &asphalt, || Some(&other), 0.05));
+        assert!(edge_in(&asphalt, &grass, || Some(&other), 0.05));
+        assert!(edge_in(&grass, &asphalt, || None, 0.05));
         // Temperature alone: both, whatever the midpoint.
         let warm = ground(1, 1.0, true, 301.0);
-        assert!(edge_in(&grass, &warm, Some(&mid_grass), 0.05));
-        assert!(edge_in(&warm, &grass, Some(&mid_grass), 0.05));
+        assert!(edge_in(&grass, &warm, || Some(&mid_grass), 0.05));
+        assert!(edge_in(&warm, &grass, || Some(&mid_grass), 0.05));
         // Alike: neither.
         let near = ground(1, 1.0, true, 300.01);
-        assert!(!edge_in(&grass, &near, Some(&mid_asphalt), 0.05));
+        assert!(!edge_in(&grass, &near, || Some(&mid_asphalt), 0.05));
     }
 }
