@@ -408,17 +408,16 @@ fn check_recent(
             None => true,
         })
         .collect();
-    let histories: Vec<Option<super::sunflags::SunFlags>> = given
-        .iter()
-        .zip(&own)
-        .map(|(g, &o)| g.filter(|_| !o).map(|d| d.history.clone()))
-        .collect();
-    add(&c.donated, histories.iter().flatten().count());
-    for (smp, h) in fine.iter_mut().zip(histories) {
-        if let (Some(surf), Some(h)) = (smp.surface.as_mut(), h) {
-            surf.history = h;
+    let mut donated = 0;
+    for ((smp, g), &o) in fine.iter_mut().zip(given).zip(&own) {
+        if let (Some(d), false) = (g, o) {
+            donated += 1;
+            if let Some(surf) = smp.surface.as_mut() {
+                surf.history = d.history.clone();
+            }
         }
     }
+    add(&c.donated, donated);
     own
 }
 
@@ -550,7 +549,7 @@ fn level_two(
     let c0 = n / 2;
     let first = 1 + (m * m) as Slot;
     let mut slots = Vec::with_capacity((n * n) as usize);
-    let mut pos = Vec::new();
+    let mut pos = Vec::with_capacity((n * n) as usize);
     for gy in 0..n {
         for gx in 0..n {
             let (i, j) = (gx / s, gy / s);

@@ -492,7 +492,10 @@ pub(super) fn sun_flags_at(
     c: &Counters,
 ) -> Vec<bool> {
     let mut flags = vec![false; points.len() * idx.len()];
-    let (mut rays, mut of) = (Vec::new(), Vec::new());
+    let (mut rays, mut of) = (
+        Vec::with_capacity(flags.len()),
+        Vec::with_capacity(flags.len()),
+    );
     for (p, s) in points.iter().enumerate() {
         let origin = offset_origin(s.point, s.normal);
         for (j, &k) in idx.iter().enumerate() {
