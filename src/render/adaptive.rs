@@ -180,13 +180,14 @@ fn coarse_band(
     Ok(out)
 }
 
-/// The stages a refined pixel's worker time is split into ([`StageClock`]).
+/// The stages a worker's time on a coarse block or a refined pixel is
+/// split into ([`StageClock`]).
 const TRACE: usize = 0;
 const THERMAL: usize = 1;
 const RADIOMETRY: usize = 2;
 
-/// A worker's clock over one refined pixel: each lap's time (ns) is added
-/// to its stage's counter.
+/// A worker's clock over one piece of work (a coarse block, a refined
+/// pixel): each lap's time (ns) is added to its stage's counter.
 struct StageClock<'a> {
     ns: &'a [AtomicU64; 3],
     last: Instant,
