@@ -323,6 +323,9 @@ pub(super) fn trace_histories_guided(
     force: &[usize],
     c: &Counters,
 ) {
+    if targets.is_empty() {
+        return; // (nothing to trace or count)
+    }
     let guide = |p: usize| guides.get(p).copied().flatten();
     // Solar-history rays from every surface point (primary and
     // background): groups of 16 points, one packet per group whose origins
