@@ -197,39 +197,20 @@ fn air_height_m(meta: &HashMap<String, String>) -> String {
 /// Runs `irsig therm` on one station-day: the excerpt and the model's
 /// rows by UTC time (`time_utc` → column name → value).
 fn run_model(name: &str, material: &str) -> (Excerpt, HashMap<String, HashMap<String, f64>>) {
-    let air = air_height_m(&read_excerpt(name).meta);
-    run_model_in(name, MATERIALS, material, &air)
-}
-
-/// As [`run_model`], with the air-temperature height above the surface
-/// (above its displacement plane, for a canopy) given: `air_height`, m.
-fn run_model_at(
-    name: &str,
-    material: &str,
-    air_height: &str,
-) -> (Excerpt, HashMap<String, HashMap<String, f64>>) {
-    run_model_in(name, MATERIALS, material, air_height)
-}
-
-/// [`run_model`] with the material library `library`.
-fn run_model_with(
-    name: &str,
-    library: &str,
-    material: &str,
-) -> (Excerpt, HashMap<String, HashMap<String, f64>>) {
-    let air = air_height_m(&read_excerpt(name).meta);
-    run_model_in(name, library, material, &air)
+    run_model_in(name, MATERIALS, material, None)
 }
 
 /// [`run_model`] with the material library `library` and the air height
-/// `air_height` (m) given.
+/// `air_height` (m above the surface, or above its displacement plane for
+/// a canopy; `None`: the excerpt's `# air_height_m:`, [`air_height_m`]).
 fn run_model_in(
     name: &str,
     library: &str,
     material: &str,
-    air_height: &str,
+    air_height: Option<&str>,
 ) -> (Excerpt, HashMap<String, HashMap<String, f64>>) {
     let x = read_excerpt(name);
+    let air = air_height.map_or_else(|| air_height_m(&x.meta), str::to_string);
     let m = |k: &str| {
         x.meta
             .get(k)
@@ -265,7 +246,7 @@ fn run_model_in(
             "--wind-height-m",
             &wind_height_m(&x.meta),
             "--air-height-m",
-            air_height,
+            &air,
             "--csv",
         ])
         .output()
@@ -297,7 +278,7 @@ fn run_model_in(
 /// and returns the errors (model − measured, K) of the whole day, the
 /// day-time (GHI > 10 W/m²) and the night-time rows.
 fn compare_with(name: &str, library: &str, material: &str) -> (Stats, Stats, Stats) {
-    compare_rows(name, run_model_with(name, library, material))
+    compare_rows(name, run_model_in(name, library, material, None))
 }
 
 /// The errors of a model run against its excerpt: whole day, day-time
@@ -527,10 +508,11 @@ fn station_ssw_20130830_desert_sand_hottest() {
 /// forest's displacement plane ([`THA_AIR_ABOVE_DISPLACEMENT_M`]).
 #[test]
 fn station_tha_20140607_spruce_forest() {
-    let run = run_model_at(
+    let run = run_model_in(
         "de-tha-20140607",
+        MATERIALS,
         THA_MATERIAL,
-        THA_AIR_ABOVE_DISPLACEMENT_M,
+        Some(THA_AIR_ABOVE_DISPLACEMENT_M),
     );
     check_stats(
         "de-tha-20140607",
@@ -627,10 +609,11 @@ fn latent_against_closure_of(
             passes anyway (h_c 110-260 W/(m2 K): 140 W/m2 of misplaced flux is 0.6 K); \
             docs/validation-stations.md"]
 fn station_tha_20140607_transpiration_against_closure_corrected_latent_heat() {
-    let (_, rows) = run_model_at(
+    let (_, rows) = run_model_in(
         "de-tha-20140607",
+        MATERIALS,
         THA_MATERIAL,
-        THA_AIR_ABOVE_DISPLACEMENT_M,
+        Some(THA_AIR_ABOVE_DISPLACEMENT_M),
     );
     let (n, m, c, _) = latent_against_closure_of("de-tha-20140607", THA_MATERIAL, rows);
     assert!(n >= 18, "{n} daytime rows");
