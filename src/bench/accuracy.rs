@@ -515,46 +515,55 @@ pub fn to_csv(rows: &[AccuracyRow]) -> String {
          object_edge_surface_temp_max_k,object_edge_apparent_temp_rms_k,\
          object_edge_apparent_temp_p99_k,object_edge_apparent_temp_max_k\n",
     );
+    // The error columns, to 1e-5.
+    let errors = |csv: &mut String, vs: &[f64]| {
+        for v in vs {
+            *csv += &format!(",{v:.5}");
+        }
+    };
     for r in rows {
         csv += &format!(
             "{},{},{:.3},{:.2},{},{}",
             r.knob, r.value, r.wall_s, r.cpu_s, r.rays, r.thermal_solves
         );
-        for v in [
-            r.surface_temp_rms_k,
-            r.surface_temp_p99_k,
-            r.surface_temp_max_k,
-            r.radiance_rms_pct,
-            r.radiance_p99_pct,
-            r.radiance_max_pct,
-            r.apparent_temp_rms_k,
-            r.apparent_temp_p99_k,
-            r.apparent_temp_max_k,
-        ] {
-            csv += &format!(",{v:.5}");
-        }
+        errors(
+            &mut csv,
+            &[
+                r.surface_temp_rms_k,
+                r.surface_temp_p99_k,
+                r.surface_temp_max_k,
+                r.radiance_rms_pct,
+                r.radiance_p99_pct,
+                r.radiance_max_pct,
+                r.apparent_temp_rms_k,
+                r.apparent_temp_p99_k,
+                r.apparent_temp_max_k,
+            ],
+        );
         csv += &format!(",{}", r.edge_pixels);
-        for v in [
-            r.edge_surface_temp_rms_k,
-            r.edge_surface_temp_p99_k,
-            r.edge_surface_temp_max_k,
-            r.edge_apparent_temp_rms_k,
-            r.edge_apparent_temp_p99_k,
-            r.edge_apparent_temp_max_k,
-        ] {
-            csv += &format!(",{v:.5}");
-        }
+        errors(
+            &mut csv,
+            &[
+                r.edge_surface_temp_rms_k,
+                r.edge_surface_temp_p99_k,
+                r.edge_surface_temp_max_k,
+                r.edge_apparent_temp_rms_k,
+                r.edge_apparent_temp_p99_k,
+                r.edge_apparent_temp_max_k,
+            ],
+        );
         csv += &format!(",{}", r.object_edge_pixels);
-        for v in [
-            r.object_edge_surface_temp_rms_k,
-            r.object_edge_surface_temp_p99_k,
-            r.object_edge_surface_temp_max_k,
-            r.object_edge_apparent_temp_rms_k,
-            r.object_edge_apparent_temp_p99_k,
-            r.object_edge_apparent_temp_max_k,
-        ] {
-            csv += &format!(",{v:.5}");
-        }
+        errors(
+            &mut csv,
+            &[
+                r.object_edge_surface_temp_rms_k,
+                r.object_edge_surface_temp_p99_k,
+                r.object_edge_surface_temp_max_k,
+                r.object_edge_apparent_temp_rms_k,
+                r.object_edge_apparent_temp_p99_k,
+                r.object_edge_apparent_temp_max_k,
+            ],
+        );
         csv += "\n";
     }
     csv
