@@ -83,7 +83,7 @@ use rayon::prelude::*;
 use super::assemble::{FramePlanes, PixelValues};
 use super::blocks::{BLOCK, band_target, block_pixels};
 use super::cancel;
-use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, Stats, add};
+use super::frame::{Counters, Frame, ProgressFn, Stage, StageProgress, StageTimes, Stats, add};
 use super::pixel::{EvalMemo, RadiometryContext};
 use super::prepare::{Conditions, Static};
 use super::sample::{Sample, Surface};
@@ -128,7 +128,7 @@ fn coarse_band(
     // Each block traced and solved by one worker (its samples stay in the
     // worker's cache); the stage times split the wall time in the
     // proportions of the workers' time in each.
-    let stage_ns: [AtomicU64; 3] = Default::default();
+    let mut stage_ns = StageNs::default();
     type Traced = (Vec<(u32, u32)>, Vec<Sample>);
     let traced: Vec<Traced> = blocks
         .par_iter()
@@ -170,11 +170,7 @@ fn coarse_band(
                 }
             }
         });
-    let wall = t0.elapsed().as_secs_f64();
-    let ns = stage_ns.map(|a| a.into_inner() as f64);
-    let total = (ns[TRACE] + ns[THERMAL]).max(1.0);
-    stats.seconds.trace += wall * ns[TRACE] / total;
-    stats.seconds.thermal += wall * ns[THERMAL] / total;
+    stage_ns.split_into(t0.elapsed().as_secs_f64(), &mut stats.seconds);
     add_cache_stats(stats, &before, &cond.cache.stats());
     stats.samples += out.len() as u64;
     Ok(out)
@@ -186,15 +182,36 @@ const TRACE: usize = 0;
 const THERMAL: usize = 1;
 const RADIOMETRY: usize = 2;
 
+/// The workers' time in each stage (ns), summed over the pieces of work
+/// of one parallel step ([`StageClock`]).
+#[derive(Default)]
+struct StageNs([AtomicU64; 3]);
+
+impl StageNs {
+    /// Adds the step's wall time `wall_s` to `seconds`, split between the
+    /// stages in the proportions of the workers' time in each, and clears
+    /// the counters.
+    fn split_into(&mut self, wall_s: f64, seconds: &mut StageTimes) {
+        let ns = self
+            .0
+            .each_mut()
+            .map(|a| std::mem::take(a.get_mut()) as f64);
+        let total = ns.iter().sum::<f64>().max(1.0);
+        seconds.trace += wall_s * ns[TRACE] / total;
+        seconds.thermal += wall_s * ns[THERMAL] / total;
+        seconds.radiometry += wall_s * ns[RADIOMETRY] / total;
+    }
+}
+
 /// A worker's clock over one piece of work (a coarse block, a refined
 /// pixel): each lap's time (ns) is added to its stage's counter.
 struct StageClock<'a> {
-    ns: &'a [AtomicU64; 3],
+    ns: &'a StageNs,
     last: Instant,
 }
 
 impl<'a> StageClock<'a> {
-    fn new(ns: &'a [AtomicU64; 3]) -> Self {
+    fn new(ns: &'a StageNs) -> Self {
         StageClock {
             ns,
             last: Instant::now(),
@@ -205,7 +222,7 @@ impl<'a> StageClock<'a> {
     fn lap(&mut self, stage: usize) {
         let now = Instant::now();
         let d = now.duration_since(self.last).as_nanos() as u64;
-        self.ns[stage].fetch_add(d, Ordering::Relaxed);
+        self.ns.0[stage].fetch_add(d, Ordering::Relaxed);
         self.last = now;
     }
 }
@@ -751,7 +768,7 @@ pub fn render_adaptive(
     };
     let mut prev_row: Vec<Sample> = Vec::new();
     let mut kept: Vec<Sample> = Vec::new();
-    let mut stage_ns: [AtomicU64; 3] = Default::default();
+    let mut stage_ns = StageNs::default();
     let samples_refined = AtomicU64::new(0);
     for (b, &(y0, y1)) in bands.iter().enumerate() {
         let next = match bands.get(b + 1) {
@@ -856,14 +873,7 @@ pub fn render_adaptive(
                 )
                 .collect::<anyhow::Result<_>>()?;
             values.extend(vals);
-            let wall = t0.elapsed().as_secs_f64();
-            let ns = stage_ns
-                .each_mut()
-                .map(|a| std::mem::take(a.get_mut()) as f64);
-            let total = ns.iter().sum::<f64>().max(1.0);
-            stats.seconds.trace += wall * ns[TRACE] / total;
-            stats.seconds.thermal += wall * ns[THERMAL] / total;
-            stats.seconds.radiometry += wall * ns[RADIOMETRY] / total;
+            stage_ns.split_into(t0.elapsed().as_secs_f64(), &mut stats.seconds);
         }
         add_cache_stats(&mut stats, &before, &cond.cache.stats());
         let mut slot = vec![u32::MAX; band_rows * wu];
