@@ -108,6 +108,7 @@ fn coarse_rows(width: u32) -> u32 {
 
 /// Steps 1-4 for the coarse samples of output rows `y0..y1` (`y0` a
 /// multiple of [`BLOCK`]) of a `w`×`h` image, row-major.
+/// Each worker's time goes to `stage_ns` (the caller splits the wall time).
 #[allow(clippy::too_many_arguments)]
 fn coarse_band(
     st: &Static,
@@ -116,26 +117,22 @@ fn coarse_band(
     (w, h, n): (u32, u32, u32),
     (y0, y1): (u32, u32),
     c: &Counters,
-    stats: &mut Stats,
+    stage_ns: &StageNs,
     progress: &StageProgress,
 ) -> anyhow::Result<Vec<Sample>> {
-    let t0 = Instant::now();
-    let before = cond.cache.stats();
     let blocks: Vec<(u32, u32)> = (y0..y1)
         .step_by(BLOCK as usize)
         .flat_map(|by| (0..w).step_by(BLOCK as usize).map(move |bx| (bx, by)))
         .collect();
     // Each block traced and solved by one worker (its samples stay in the
-    // worker's cache); the stage times split the wall time in the
-    // proportions of the workers' time in each.
-    let mut stage_ns = StageNs::default();
+    // worker's cache).
     type Traced = (Vec<(u32, u32)>, Vec<Sample>);
     let traced: Vec<Traced> = blocks
         .par_iter()
         .map_init(SampleMemo::default, |memo, &(bx, by)| {
             let px = block_pixels(bx, by, w, h);
             cancel::check()?;
-            let mut clock = StageClock::new(&stage_ns);
+            let mut clock = StageClock::new(stage_ns);
             let fine: Vec<(u32, u32)> = px.iter().map(|&(x, y)| centre(x, y, n)).collect();
             let mut s = trace_block(st, cond, cam, &fine, c);
             clock.lap(TRACE);
@@ -170,9 +167,6 @@ fn coarse_band(
                 }
             }
         });
-    stage_ns.split_into(t0.elapsed().as_secs_f64(), &mut stats.seconds);
-    add_cache_stats(stats, &before, &cond.cache.stats());
-    stats.samples += out.len() as u64;
     Ok(out)
 }
 
@@ -719,10 +713,186 @@ fn grid_owners(slots: &[Slot], l1_donated: &[bool], donor: &[Option<Slot>]) -> V
         .collect()
 }
 
+/// A band's coarse samples and their neighbours in the rows above and
+/// below: the coarse sample of pixel (`x`, `y`), if in the image and known.
+struct Coarse<'a> {
+    w: u32,
+    h: u32,
+    /// The band's first row and its samples (row-major).
+    y0: u32,
+    cur: &'a [Sample],
+    /// The last row of the band above, and the band below (`None` while it
+    /// is being traced: only the band's rows but its last may be refined).
+    prev_row: &'a [Sample],
+    next: Option<&'a [Sample]>,
+}
+
+impl<'a> Coarse<'a> {
+    fn at(&self, x: i64, y: i64) -> Option<&'a Sample> {
+        if x < 0 || x >= self.w as i64 || y < 0 || y >= self.h as i64 {
+            return None;
+        }
+        let (x, y) = (x as usize, y as u32);
+        let band_rows = self.cur.len() / self.w as usize;
+        if y < self.y0 {
+            self.prev_row.get(x)
+        } else if y >= self.y0 + band_rows as u32 {
+            self.next.and_then(|s| s.get(x))
+        } else {
+            self.cur.get((y - self.y0) as usize * self.w as usize + x)
+        }
+    }
+}
+
+/// What the refinement of a band's rows shares (steps 2-4 and the
+/// radiometry: [`Refiner::rows`]).
+struct Refiner<'a> {
+    st: &'a Static,
+    cond: &'a Conditions,
+    cam: &'a Camera,
+    ctx: &'a RadiometryContext<'a>,
+    dims: (u32, u32, u32),
+    threshold_k: f64,
+    recent: &'a [usize],
+    counters: &'a Counters,
+    stage_ns: &'a StageNs,
+    samples_refined: &'a AtomicU64,
+    radiometry: &'a StageProgress<'a>,
+}
+
+impl Refiner<'_> {
+    /// Steps 2-4 and the radiometry for rows `r0..r1` of the band (`r`
+    /// counted from its first row), filled into `planes`; the workers' time
+    /// goes to the stage counters.
+    fn rows(
+        &self,
+        coarse: &Coarse,
+        (r0, r1): (usize, usize),
+        planes: &mut FramePlanes,
+    ) -> anyhow::Result<RowsDone> {
+        let (st, cond, cam, c) = (self.st, self.cond, self.cam, self.counters);
+        let (w, h, n) = self.dims;
+        let wu = w as usize;
+        let (y0, cur) = (coarse.y0, coarse.cur);
+        let pixel_xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
+        let nb_of = |i: usize| {
+            let (x, y) = pixel_xy(i);
+            NEIGHBOURS.map(|(dx, dy)| coarse.at(x as i64 + dx, y as i64 + dy))
+        };
+        let span = r0 * wu..r1 * wu;
+        // The samples halfway between pixels whose coarse samples differ in
+        // geometry or sun state: which side the edge lies on.
+        let mut clock = StageClock::new(self.stage_ns);
+        let wanted: Vec<(u32, u32)> = (span.clone())
+            .into_par_iter()
+            .flat_map_iter(|i| wanted_midpoints(pixel_xy(i), n, &cur[i], nb_of(i)))
+            .collect();
+        let mids = Midpoints::trace(st, cond, cam, wanted, c);
+        clock.lap(TRACE);
+        let refined: Vec<usize> = (span.clone())
+            .into_par_iter()
+            .filter(|&i| {
+                let here = (pixel_xy(i), (w, h, n));
+                pixel_refined(here, &cur[i], &nb_of(i), &mids, self.threshold_k)
+            })
+            .collect();
+        let mut done = RowsDone {
+            refined: refined.len() as u64,
+            coarse: (span.len() - refined.len()) as u64,
+            radiometry_samples: 0,
+        };
+        // The refined pixels' values, each pixel by one worker from its
+        // first level to its radiometry (its samples stay in the worker's
+        // cache): first level, its temperatures, second level, its
+        // temperatures, radiometry.
+        let cell_threshold_k = self.threshold_k * CELL_THRESHOLD_FACTOR;
+        let recent = self.recent;
+        let maker = planes.maker();
+        let values: Vec<PixelValues> = refined
+            .par_iter()
+            .map_init(
+                || (SampleMemo::default(), EvalMemo::default()),
+                |(tm, memo), &i| {
+                    cancel::check()?;
+                    let (x, y) = pixel_xy(i);
+                    let mut clock = StageClock::new(self.stage_ns);
+                    let hood = hood_of(&cur[i], |dx, dy| coarse.at(x as i64 + dx, y as i64 + dy));
+                    let (mut l1, l1_donated) =
+                        level_one(st, cond, cam, (x, y), n, (&hood, recent), c);
+                    clock.lap(TRACE);
+                    solve_samples(st, cond, &mut l1, &l1_donated, tm)?;
+                    clock.lap(THERMAL);
+                    let nb = nb_of(i);
+                    let cells = refined_cells(&l1, &cur[i], &nb, n, (cell_threshold_k, recent));
+                    let refined_here = cells.iter().filter(|&&r| r).count();
+                    add(&c.cells_refined, refined_here);
+                    add(&c.cells_coarse, cells.len() - refined_here);
+                    let cx = (&cur[i], &l1[..], &cells[..]);
+                    let mut two = level_two(st, cond, cam, (x, y), n, cx, recent, c);
+                    let solved: Vec<bool> = two.donor.iter().map(|d| d.is_some()).collect();
+                    clock.lap(TRACE);
+                    solve_samples(st, cond, &mut two.fine, &solved, tm)?;
+                    tm.absorb(cond);
+                    clock.lap(THERMAL);
+                    add(self.samples_refined, l1.len() + two.fine.len());
+                    let owners = grid_owners(&two.slots, &l1_donated, &two.donor);
+                    let px: Vec<&Sample> = (two.slots.iter())
+                        .map(|&sl| slot_sample(sl, &cur[i], &l1, &two.fine))
+                        .collect();
+                    let v = maker.pixel_shared(self.ctx, &px, Some(&owners), n as usize, memo);
+                    clock.lap(RADIOMETRY);
+                    v
+                },
+            )
+            .collect::<anyhow::Result<_>>()?;
+        let mut slot = vec![u32::MAX; span.len()];
+        for (k, &i) in refined.iter().enumerate() {
+            slot[i - span.start] = k as u32;
+        }
+        let row_done = || self.radiometry.add(w as u64);
+        let mut clock = StageClock::new(self.stage_ns);
+        done.radiometry_samples =
+            planes.fill_rows(y0 + r0 as u32, r1 - r0, &row_done, &|maker, x, r, memo| {
+                let i = (r0 + r) * wu + x;
+                match slot[i - span.start] {
+                    u32::MAX => maker.pixel(self.ctx, &[&cur[i]], 1, memo),
+                    k => Ok(values[k as usize]),
+                }
+            })?;
+        clock.lap(RADIOMETRY);
+        Ok(done)
+    }
+}
+
+/// What [`Refiner::rows`] counts: pixels refined and left coarse, samples
+/// whose band integral was evaluated.
+struct RowsDone {
+    refined: u64,
+    coarse: u64,
+    radiometry_samples: u64,
+}
+
+impl RowsDone {
+    fn add_to(&self, stats: &mut Stats) {
+        stats.adaptive_pixels_refined += self.refined;
+        stats.adaptive_pixels_coarse += self.coarse;
+        stats.radiometry_samples += self.radiometry_samples;
+    }
+}
+
 /// Renders one frame with adaptive sampling (module docs); `n` =
 /// `render.supersample` > 1. With [`Static::keep_samples`] the frame keeps
 /// its coarse samples (one per pixel: `sample_width` = the image's width),
 /// else none.
+///
+/// The bands are pipelined: while the coarse pass traces and solves the
+/// band below, the rows of the band above but its last are refined and
+/// filled (their neighbours are all known); the last row follows once the
+/// band below is done. Every value is a function of its pixel and the
+/// keys alone, so the overlap changes no bit. The stage seconds split the
+/// frame's wall time in the proportions of the workers' time in each stage
+/// (a parallel step that no worker clocks itself — the side test's
+/// midpoints, a band's fill — counts with its wall time).
 pub fn render_adaptive(
     st: &Static,
     cond: &Conditions,
@@ -750,148 +920,73 @@ pub fn render_adaptive(
     let radiometry = StageProgress::new(progress, Stage::Radiometry, (w * h) as u64);
     let counters = Counters::default();
     let recent = recent_samples(cond);
-    let cell_threshold_k = threshold_k * CELL_THRESHOLD_FACTOR;
-    let chunk_pixels = (band_target() as usize / (n * n) as usize).max(1);
     let dims = (w, h, n);
-    let mut cur = match bands.first() {
-        Some(&b) => coarse_band(
+    let before = cond.cache.stats();
+    let mut stage_ns = StageNs::default();
+    let samples_refined = AtomicU64::new(0);
+    let refiner = Refiner {
+        st,
+        cond,
+        cam: &cam,
+        ctx: &ctx,
+        dims,
+        threshold_k,
+        recent: &recent,
+        counters: &counters,
+        stage_ns: &stage_ns,
+        samples_refined: &samples_refined,
+        radiometry: &radiometry,
+    };
+    let trace_coarse = |b: (u32, u32)| {
+        coarse_band(
             st,
             cond,
             &cam,
             dims,
             b,
             &counters,
-            &mut stats,
+            &stage_ns,
             &therm_progress,
-        )?,
+        )
+    };
+    let t0 = Instant::now();
+    let mut cur = match bands.first() {
+        Some(&b) => trace_coarse(b)?,
         None => Vec::new(),
     };
     let mut prev_row: Vec<Sample> = Vec::new();
     let mut kept: Vec<Sample> = Vec::new();
-    let mut stage_ns = StageNs::default();
-    let samples_refined = AtomicU64::new(0);
     for (b, &(y0, y1)) in bands.iter().enumerate() {
-        let next = match bands.get(b + 1) {
-            Some(&nb) => Some(coarse_band(
-                st,
-                cond,
-                &cam,
-                dims,
-                nb,
-                &counters,
-                &mut stats,
-                &therm_progress,
-            )?),
-            None => None,
-        };
+        stats.samples += cur.len() as u64;
         let band_rows = (y1 - y0) as usize;
-        // The coarse sample of pixel (x, y), if in the image.
-        let at = |x: i64, y: i64| -> Option<&Sample> {
-            if x < 0 || x >= w as i64 || y < 0 || y >= h as i64 {
-                return None;
-            }
-            let (x, y) = (x as usize, y as u32);
-            if y < y0 {
-                prev_row.get(x)
-            } else if y >= y1 {
-                next.as_ref().and_then(|s| s.get(x))
-            } else {
-                cur.get((y - y0) as usize * wu + x)
-            }
+        let coarse = Coarse {
+            w,
+            h,
+            y0,
+            cur: &cur[..],
+            prev_row: &prev_row[..],
+            next: None,
         };
-        let pixel_xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
-        let nb_of = |i: usize| {
-            let (x, y) = pixel_xy(i);
-            NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy))
+        // The band below traced beside the rows of this one that do not
+        // border it.
+        let (next, last) = match bands.get(b + 1) {
+            Some(&nb) => {
+                let (next, done) = rayon::join(
+                    || trace_coarse(nb),
+                    || refiner.rows(&coarse, (0, band_rows - 1), &mut planes),
+                );
+                done?.add_to(&mut stats);
+                (Some(next?), band_rows - 1)
+            }
+            None => (None, 0),
         };
-        // The samples halfway between pixels whose coarse samples differ in
-        // geometry or sun state: which side the edge lies on.
-        let t_mid = Instant::now();
-        let wanted: Vec<(u32, u32)> = (0..band_rows * wu)
-            .into_par_iter()
-            .flat_map_iter(|i| wanted_midpoints(pixel_xy(i), n, &cur[i], nb_of(i)))
-            .collect();
-        let mids = Midpoints::trace(st, cond, &cam, wanted, &counters);
-        stats.seconds.trace += t_mid.elapsed().as_secs_f64();
-        let refined: Vec<usize> = (0..band_rows * wu)
-            .into_par_iter()
-            .filter(|&i| {
-                let here = (pixel_xy(i), (w, h, n));
-                pixel_refined(here, &cur[i], &nb_of(i), &mids, threshold_k)
-            })
-            .collect();
-        stats.adaptive_pixels_refined += refined.len() as u64;
-        stats.adaptive_pixels_coarse += (band_rows * wu - refined.len()) as u64;
-        // The refined pixels' values, a chunk of pixels (about a band of
-        // samples) at a time, each pixel by one worker from its first level
-        // to its radiometry (its samples stay in the worker's cache): first
-        // level, its temperatures, second level, its temperatures,
-        // radiometry. The stage times split the chunk's wall time in the
-        // proportions of the workers' time in each stage.
-        let mut values: Vec<PixelValues> = Vec::with_capacity(refined.len());
-        let xy = |i: usize| ((i % wu) as u32, y0 + (i / wu) as u32);
-        let before = cond.cache.stats();
-        for chunk in refined.chunks(chunk_pixels) {
-            let t0 = Instant::now();
-            let maker = planes.maker();
-            let vals: Vec<PixelValues> = chunk
-                .par_iter()
-                .map_init(
-                    || (SampleMemo::default(), EvalMemo::default()),
-                    |(tm, memo), &i| {
-                        cancel::check()?;
-                        let (x, y) = xy(i);
-                        let mut clock = StageClock::new(&stage_ns);
-                        let hood = hood_of(&cur[i], |dx, dy| at(x as i64 + dx, y as i64 + dy));
-                        let (mut l1, l1_donated) =
-                            level_one(st, cond, &cam, (x, y), n, (&hood, &recent), &counters);
-                        clock.lap(TRACE);
-                        solve_samples(st, cond, &mut l1, &l1_donated, tm)?;
-                        clock.lap(THERMAL);
-                        let nb = NEIGHBOURS.map(|(dx, dy)| at(x as i64 + dx, y as i64 + dy));
-                        let cells =
-                            refined_cells(&l1, &cur[i], &nb, n, (cell_threshold_k, &recent));
-                        let refined_here = cells.iter().filter(|&&r| r).count();
-                        add(&counters.cells_refined, refined_here);
-                        add(&counters.cells_coarse, cells.len() - refined_here);
-                        let cx = (&cur[i], &l1[..], &cells[..]);
-                        let mut two = level_two(st, cond, &cam, (x, y), n, cx, &recent, &counters);
-                        let solved: Vec<bool> = two.donor.iter().map(|d| d.is_some()).collect();
-                        clock.lap(TRACE);
-                        solve_samples(st, cond, &mut two.fine, &solved, tm)?;
-                        tm.absorb(cond);
-                        clock.lap(THERMAL);
-                        add(&samples_refined, l1.len() + two.fine.len());
-                        let owners = grid_owners(&two.slots, &l1_donated, &two.donor);
-                        let px: Vec<&Sample> = (two.slots.iter())
-                            .map(|&sl| slot_sample(sl, &cur[i], &l1, &two.fine))
-                            .collect();
-                        let v = maker.pixel_shared(&ctx, &px, Some(&owners), n as usize, memo);
-                        clock.lap(RADIOMETRY);
-                        v
-                    },
-                )
-                .collect::<anyhow::Result<_>>()?;
-            values.extend(vals);
-            stage_ns.split_into(t0.elapsed().as_secs_f64(), &mut stats.seconds);
-        }
-        add_cache_stats(&mut stats, &before, &cond.cache.stats());
-        let mut slot = vec![u32::MAX; band_rows * wu];
-        for (k, &i) in refined.iter().enumerate() {
-            slot[i] = k as u32;
-        }
-        let t2 = Instant::now();
-        let band = &cur;
-        let row_done = || radiometry.add(w as u64);
-        stats.radiometry_samples +=
-            planes.fill_rows(y0, band_rows, &row_done, &|maker, x, r, memo| {
-                let i = r * wu + x;
-                match slot[i] {
-                    u32::MAX => maker.pixel(&ctx, &[&band[i]], 1, memo),
-                    k => Ok(values[k as usize]),
-                }
-            })?;
-        stats.seconds.radiometry += t2.elapsed().as_secs_f64();
+        let around = Coarse {
+            next: next.as_deref(),
+            ..coarse
+        };
+        refiner
+            .rows(&around, (last, band_rows), &mut planes)?
+            .add_to(&mut stats);
         trace_progress.add(1);
         if st.keep_samples {
             kept.extend(cur.iter().cloned());
@@ -899,6 +994,8 @@ pub fn render_adaptive(
         prev_row = cur.split_off((band_rows - 1) * wu);
         cur = next.unwrap_or_default();
     }
+    stage_ns.split_into(t0.elapsed().as_secs_f64(), &mut stats.seconds);
+    add_cache_stats(&mut stats, &before, &cond.cache.stats());
     counters.flush(&mut stats);
     stats.samples += samples_refined.into_inner();
     stats.adaptive_refined_density = n;
