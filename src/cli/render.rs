@@ -153,6 +153,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         super::log::warn_or_refuse(&implausible, a.strict)?;
         // On the same pool: the EXR blocks are compressed in parallel.
         write_rendered(&a.output, &image, formats, None)?;
+        // (the conditions freed beside the rest of the command; not the
+        // scene: Embree's globals must outlive its scene)
+        crate::render::drop_in_background(cond);
         Ok(image)
     })?;
     let s = &image.frame.stats;

@@ -63,7 +63,9 @@ pub fn render_at(
     progress: ProgressFn,
 ) -> anyhow::Result<Rendered> {
     let cond = prepare_conditions(st, image_time)?;
-    render_conditions(st, &cond, progress)
+    let image = render_conditions(st, &cond, progress);
+    super::prepare::drop_in_background(cond);
+    image
 }
 
 /// Renders the prepared scene `st` under prepared conditions `cond` (see

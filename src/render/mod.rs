@@ -39,7 +39,10 @@ pub mod weather;
 pub use blocks::band_samples;
 pub use frame::{Frame, Progress, ProgressFn, Stage, StageTimes, Stats};
 pub use image::{Rendered, render_at, render_conditions, render_scene};
-pub use prepare::{Conditions, Reused, Static, derive_static, prepare_conditions, prepare_static};
+pub use prepare::{
+    Conditions, Reused, Static, derive_static, drop_in_background, prepare_conditions,
+    prepare_static,
+};
 pub use run::{
     output_pixel_samples, render, render_with, thread_pool, trace_frame, trace_frame_with,
     trace_samples,

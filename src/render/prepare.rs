@@ -452,3 +452,14 @@ pub fn prepare_conditions(st: &Static, image_time: DateTime<Utc>) -> anyhow::Res
         atmosphere_report,
     })
 }
+
+/// Drops `value` on a thread of its own, so that the caller goes on (a
+/// render's thermal cache and sky-view patches are millions of small
+/// allocations: tens of ms of frees on one core after a 512² frame). A
+/// process that exits meanwhile leaves the rest to the OS. If no thread
+/// can be started, `value` is dropped here.
+pub fn drop_in_background<T: Send + 'static>(value: T) {
+    let _ = std::thread::Builder::new()
+        .name("irsig-drop".into())
+        .spawn(move || drop(value));
+}
