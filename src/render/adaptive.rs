@@ -177,12 +177,12 @@ const THERMAL: usize = 1;
 const RADIOMETRY: usize = 2;
 
 /// The workers' time in each stage (ns), summed over the pieces of work
-/// of one parallel step ([`StageClock`]).
+/// of a frame ([`StageClock`]).
 #[derive(Default)]
 struct StageNs([AtomicU64; 3]);
 
 impl StageNs {
-    /// Adds the step's wall time `wall_s` to `seconds`, split between the
+    /// Adds the wall time `wall_s` to `seconds`, split between the
     /// stages in the proportions of the workers' time in each, and clears
     /// the counters.
     fn split_into(&mut self, wall_s: f64, seconds: &mut StageTimes) {
@@ -718,8 +718,9 @@ fn grid_owners(slots: &[Slot], l1_donated: &[bool], donor: &[Option<Slot>]) -> V
 struct Coarse<'a> {
     w: u32,
     h: u32,
-    /// The band's first row and its samples (row-major).
+    /// The band's rows `y0..y1` and their samples (row-major).
     y0: u32,
+    y1: u32,
     cur: &'a [Sample],
     /// The last row of the band above, and the band below (`None` while it
     /// is being traced: only the band's rows but its last may be refined).
@@ -733,10 +734,9 @@ impl<'a> Coarse<'a> {
             return None;
         }
         let (x, y) = (x as usize, y as u32);
-        let band_rows = self.cur.len() / self.w as usize;
         if y < self.y0 {
             self.prev_row.get(x)
-        } else if y >= self.y0 + band_rows as u32 {
+        } else if y >= self.y1 {
             self.next.and_then(|s| s.get(x))
         } else {
             self.cur.get((y - self.y0) as usize * self.w as usize + x)
@@ -963,6 +963,7 @@ pub fn render_adaptive(
             w,
             h,
             y0,
+            y1,
             cur: &cur[..],
             prev_row: &prev_row[..],
             next: None,
