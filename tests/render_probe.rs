@@ -618,3 +618,74 @@ fn probe_shows_the_snow_state() {
         irsig::therm::aero::SNOW_STABLE_FLOOR
     );
 }
+
+/// `irsig probe` shows the slab under the surface (issue #30: the layered
+/// `sand_desert`): the terrain scene with its land cover set to
+/// `sand_desert`, probed at the nadir centre pixel, reports the two layers
+/// of the library's table (read here with `toml`, not irsig's reader), top
+/// first, with its optical constants and a resolved deep-ground back; the
+/// text names them.
+#[test]
+fn probe_shows_the_layers_of_the_slab() {
+    let scene = terrain_km().display().to_string();
+    let set = sets(&[
+        "sensor.pose.altitude.altitude_m=2000",
+        "sensor.pose.altitude.view_zenith_deg=0",
+        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
+        "sensor.width_px=41",
+        "sensor.height_px=41",
+        "sensor.fov_h_deg=5",
+        "render.supersample=1",
+        r#"terrain.terrain.land_cover.classes={"1"="sand_desert","2"="sand_desert"}"#,
+    ]);
+    let probe = |json: bool| {
+        let mut args = vec![
+            "probe".to_string(),
+            scene.clone(),
+            "--pixel".into(),
+            "20,20".into(),
+        ];
+        if json {
+            args.push("--json".into());
+        }
+        args.extend(set.clone());
+        run(&args)
+    };
+    let lib: toml::Table = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/materials.toml"),
+    )
+    .unwrap()
+    .parse()
+    .unwrap();
+    let want = lib["material"]["sand_desert"]["layers"].as_array().unwrap();
+    let v: Value = serde_json::from_str(&probe(true)).expect("probe JSON");
+    let s = v["samples"].as_array().expect("samples");
+    let hit = &s[s.len() / 2]["hit"];
+    assert_eq!(hit["material"], "sand_desert", "{hit}");
+    let slab = &hit["thermal"]["slab"];
+    let got = slab["layers"].as_array().expect("layers");
+    assert_eq!(got.len(), 2, "{slab}");
+    for (g, w) in got.iter().zip(want) {
+        for k in [
+            "thickness_m",
+            "conductivity_w_mk",
+            "density_kg_m3",
+            "specific_heat_j_kgk",
+        ] {
+            assert_eq!(f(&g[k]), w[k].as_float().unwrap(), "{k}: {slab}");
+        }
+    }
+    let t = |k: &str| lib["material"]["sand_desert"][k].as_float().unwrap();
+    assert_eq!(f(&slab["solar_absorptivity"]), t("solar_absorptivity"));
+    assert_eq!(f(&slab["thermal_emissivity"]), t("thermal_emissivity"));
+    let deep = f(&slab["back"]["deep_ground"]["temp_c"]);
+    assert!(
+        (-40.0..60.0).contains(&deep),
+        "a resolved deep ground: {slab}"
+    );
+    let text = probe(false);
+    assert!(
+        text.contains("slab, 2 layers top first: 0.015 m k 0.240 W m-1 K-1"),
+        "{text}"
+    );
+}

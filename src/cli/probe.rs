@@ -13,6 +13,7 @@ use chrono::Duration;
 
 use crate::radiometry::RadianceTerms;
 use crate::render::probe::{PixelProbe, SurfaceReport, case_name, probe_scene};
+use crate::therm::slab::BackBoundary;
 use crate::therm::surface::SurfaceKind;
 use crate::trace::Backend;
 use crate::units::ZERO_C_K;
@@ -129,6 +130,34 @@ fn write_surface(o: &mut String, pad: &str, s: &SurfaceReport, with_series: bool
             .as_deref()
             .unwrap_or("none (air temperature)"),
         th.ground_temp_k
+    );
+    let sl = &th.slab;
+    let layers: Vec<String> = sl
+        .layers
+        .iter()
+        .map(|l| {
+            format!(
+                "{:.3} m k {:.3} W m-1 K-1 rho {:.0} kg m-3 c {:.0} J kg-1 K-1",
+                l.thickness_m, l.conductivity_w_mk, l.density_kg_m3, l.specific_heat_j_kgk
+            )
+        })
+        .collect();
+    let back = match sl.back {
+        BackBoundary::Insulated => "insulated".to_string(),
+        BackBoundary::ExposedToAir { area_factor } => {
+            format!("exposed to air (exposed area {area_factor})")
+        }
+        BackBoundary::DeepGround { temp_k: Some(t) } => format!("deep ground at {t:.2} K"),
+        BackBoundary::DeepGround { temp_k: None } => "deep ground".to_string(),
+    };
+    let _ = writeln!(
+        o,
+        "{pad}slab, {} layer{} top first: {}; back {back}; solar absorptivity {:.3}, emissivity {:.3}",
+        layers.len(),
+        if layers.len() == 1 { "" } else { "s" },
+        layers.join("; "),
+        sl.solar_absorptivity,
+        sl.thermal_emissivity
     );
     let _ = writeln!(
         o,

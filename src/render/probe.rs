@@ -161,6 +161,10 @@ pub struct HistoryReport {
 pub struct ThermalReport {
     /// Surface kind and its parameters (solid, vegetation, water, snow).
     pub surface: crate::therm::surface::SurfaceKind,
+    /// The slab under the surface: its layers (top first; one for a
+    /// homogeneous slab), optical constants and back boundary, as the solve
+    /// used them (the deep-ground temperature resolved).
+    pub slab: SlabReport,
     /// The ground tilted facets see (material name) and its temperature at
     /// the image time, K.
     pub ground_material: Option<String>,
@@ -187,6 +191,30 @@ pub struct ThermalReport {
     /// One record per thermal step, seconds since the history start, with
     /// every surface flux term (W m⁻²).
     pub series: Vec<StepRecord>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+/// The construction a point's thermal solve used.
+pub struct SlabReport {
+    /// Layers, top first: thickness, k, ρ, c (a homogeneous slab is one).
+    pub layers: Vec<crate::therm::slab::Layer>,
+    /// Absorptivity for sunlight.
+    pub solar_absorptivity: f64,
+    /// Thermal emissivity.
+    pub thermal_emissivity: f64,
+    /// What the back face sees.
+    pub back: crate::therm::slab::BackBoundary,
+}
+
+impl SlabReport {
+    fn of(m: &crate::therm::slab::SlabMaterial) -> SlabReport {
+        SlabReport {
+            layers: m.layer_list(),
+            solar_absorptivity: m.solar_absorptivity,
+            thermal_emissivity: m.thermal_emissivity,
+            back: m.back,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -320,6 +348,7 @@ impl Ctx<'_> {
             },
             thermal: ThermalReport {
                 surface: cond.slabs[s.material as usize].surface,
+                slab: SlabReport::of(&cond.slabs[s.material as usize]),
                 ground_material: cond
                     .ground_material
                     .map(|g| self.st.scene.materials[g as usize].name.clone()),
