@@ -23,17 +23,20 @@
 //! large ground triangle beside a hangar, or one whose centroid lies under
 //! a decal). A triangle side is first traced at its centroid and at its
 //! three corners (moved [`CORNER_INSET`] of the way to the centroid); where
-//! these agree within [`UNIFORM_TOLERANCE`] the centroid's value holds for
-//! the whole side (open ground: exactly the analytic value), otherwise the
+//! all four are seen and agree within [`UNIFORM_TOLERANCE`] the centroid's
+//! value holds for the whole side (open ground: exactly the analytic
+//! value), otherwise the
 //! side is traced on a regular barycentric grid of level `n` (nodes
 //! [`GRID_SPACING_M`] apart, `n` from [`MIN_GRID_LEVEL`] to
 //! [`MAX_GRID_LEVEL`]) and a point takes the piecewise-linear interpolation
 //! of its grid cell. A sample point whose normal ray meets the scene within
 //! [`COVER_DISTANCE_M`] lies *under* another surface (a decal, a slab laid
-//! on the ground): no camera sees it, so it does not count; a covered grid
-//! node takes the mean of its uncovered neighbours (repeated outward), so
-//! the visible ground next to a decal keeps its open sky instead of a ramp
-//! towards the covered part.
+//! on the ground), and one whose every sky ray meets the scene
+//! ([`ENCLOSED`]) lies inside a building the ground runs under: no camera
+//! outside sees either, so they do not count; such a grid node takes the
+//! mean of its seen neighbours (repeated outward), so the visible ground
+//! next to a decal or a hangar keeps its own sky instead of a ramp towards
+//! the hidden part, and a side with no seen node takes [`OPEN_SKY`].
 
 use glam::Vec3;
 
@@ -112,6 +115,15 @@ pub const GRID_SPACING_M: f32 = 2.0;
 pub const MIN_GRID_LEVEL: u32 = 4;
 /// Largest grid level: 153 nodes per side at most.
 pub const MAX_GRID_LEVEL: u32 = 16;
+/// A sample whose blocked fraction is at least this is enclosed (every sky
+/// ray meets the scene: the ground inside a building) and, like a covered
+/// one, not seen from outside.
+pub const ENCLOSED: f32 = 1.0;
+/// The blocked fraction of a side none of whose samples is uncovered
+/// (centroid, corners and grid nodes all under a cover): 0, the open sky.
+/// Such a side is seen, if at all, along a sliver beside its cover, whose
+/// edge (at most [`COVER_DISTANCE_M`] high) hides only the lowest sky.
+pub const OPEN_SKY: f32 = 0.0;
 /// A sample point whose normal ray meets the scene within this distance is
 /// taken as covered (under a decal or slab), m.
 pub const COVER_DISTANCE_M: f32 = 0.25;
@@ -146,12 +158,14 @@ impl SkyPatch {
     /// Traces the side of triangle `v` facing `normal` (unit).
     pub fn trace(tracer: &dyn Tracer, v: [Vec3; 3], normal: Vec3) -> SkyPatch {
         let c = (v[0] + v[1] + v[2]) / 3.0;
+        // A sample under a cover or enclosed (every sky ray blocked: inside
+        // a building the ground runs under) is one no camera outside sees.
         let sample = |p: Vec3| -> Option<f32> {
             if is_covered(tracer, p, normal) {
-                None
-            } else {
-                Some(blocked_sky_fraction(tracer, p, normal) as f32)
+                return None;
             }
+            let b = blocked_sky_fraction(tracer, p, normal) as f32;
+            (b < ENCLOSED).then_some(b)
         };
         let centre = sample(c);
         let corners: Vec<Option<f32>> = v
@@ -163,13 +177,13 @@ impl SkyPatch {
             .chain(corners.iter().flatten())
             .copied()
             .collect();
-        if open.is_empty() {
-            // Wholly covered: never seen; keep the centroid's traced value.
-            return SkyPatch::Uniform(blocked_sky_fraction(tracer, c, normal) as f32);
-        }
+        // One value for the side only where all four samples are seen and
+        // agree; a side with a covered or enclosed sample (a large grass
+        // triangle that runs under an apron slab or a hangar) is traced on
+        // the grid, so the part of it that is seen takes its own values.
         let lo = open.iter().copied().fold(f32::INFINITY, f32::min);
         let hi = open.iter().copied().fold(f32::NEG_INFINITY, f32::max);
-        if hi - lo <= UNIFORM_TOLERANCE {
+        if open.len() == 4 && hi - lo <= UNIFORM_TOLERANCE {
             return SkyPatch::Uniform(
                 centre.unwrap_or(open.iter().sum::<f32>() / open.len() as f32),
             );
@@ -188,6 +202,12 @@ impl SkyPatch {
                 values[i as usize * w + j as usize] = sample(c + (p - c) * (1.0 - CORNER_INSET));
             }
         }
+        let Some(lo) = values.iter().flatten().copied().reduce(f32::min) else {
+            // Every node covered too: whatever part is seen is a sliver
+            // beside the cover, open to the sky but for the cover's low
+            // edge (at most COVER_DISTANCE_M high).
+            return SkyPatch::Uniform(OPEN_SKY);
+        };
         fill_covered(&mut values, n);
         let values = values.into_iter().map(|x| x.unwrap_or(lo)).collect();
         SkyPatch::Grid { n, values }
@@ -381,6 +401,78 @@ mod tests {
             let f = patch.at(b1, b2);
             assert!(f < 0.05, "{q}: {f}");
         }
+    }
+
+    /// The airfield's white strip (issue #30): a 60 m ground triangle
+    /// whose centroid and two corners lie under a slab (5 cm above it) and
+    /// whose third corner lies inside a closed hangar (every sky ray
+    /// blocked), with open ground between them. The old rule took the one
+    /// uncovered sample, the enclosed corner (1.0), for the whole side, so
+    /// the open ground, which a camera sees, had no sky. Now covered and
+    /// enclosed samples both leave the side to the grid: across the open
+    /// part the patch follows the point's own traced fraction within 0.03
+    /// (nodes 3.75 m apart), and a side with every sample covered takes the
+    /// open sky.
+    #[test]
+    fn covered_and_enclosed_samples_do_not_set_the_side() {
+        let mut p = vec![
+            Vec3::new(-40.0, -30.0, 0.05),
+            Vec3::new(40.0, -30.0, 0.05),
+            Vec3::new(40.0, 5.0, 0.05),
+            Vec3::new(-40.0, 5.0, 0.05),
+        ];
+        let mut tris = vec![[0, 1, 2], [0, 2, 3]];
+        // A closed box x −6..6, y 30..46, z 0..10: four walls and a roof.
+        let (x0, x1, y0, y1, h) = (-6.0, 6.0, 30.0, 46.0, 10.0);
+        let base = p.len() as u32;
+        for (x, y) in [(x0, y0), (x1, y0), (x1, y1), (x0, y1)] {
+            p.push(Vec3::new(x, y, 0.0));
+            p.push(Vec3::new(x, y, h));
+        }
+        for k in 0..4u32 {
+            let (a, b) = (base + 2 * k, base + 2 * ((k + 1) % 4));
+            tris.push([a, b, b + 1]);
+            tris.push([a, b + 1, a + 1]);
+        }
+        tris.push([base + 1, base + 3, base + 5]);
+        tris.push([base + 1, base + 5, base + 7]);
+        let g = std::sync::Arc::new(Geometry::new(p, tris).unwrap());
+        let tracer = build(Backend::Embree, &g).unwrap();
+        let tri = [
+            Vec3::new(-30.0, -20.0, 0.0),
+            Vec3::new(30.0, -20.0, 0.0),
+            Vec3::new(0.0, 40.0, 0.0),
+        ];
+        let c = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let inset = |q: Vec3| c + (q - c) * (1.0 - CORNER_INSET);
+        assert!(is_covered(tracer.as_ref(), c, Vec3::Z));
+        assert!(is_covered(tracer.as_ref(), inset(tri[0]), Vec3::Z));
+        assert!(is_covered(tracer.as_ref(), inset(tri[1]), Vec3::Z));
+        assert!(!is_covered(tracer.as_ref(), inset(tri[2]), Vec3::Z));
+        assert_eq!(
+            blocked_sky_fraction(tracer.as_ref(), inset(tri[2]), Vec3::Z),
+            1.0
+        );
+        let patch = SkyPatch::trace(tracer.as_ref(), tri, Vec3::Z);
+        assert!(patch.uniform().is_none(), "{patch:?}");
+        for q in [
+            Vec3::new(0.0, 10.0, 0.0),
+            Vec3::new(0.0, 18.0, 0.0),
+            Vec3::new(2.0, 24.0, 0.0),
+            Vec3::new(-3.0, 14.0, 0.0),
+        ] {
+            let own = blocked_sky_fraction(tracer.as_ref(), q, Vec3::Z);
+            let (b1, b2) = barycentric(tri, q);
+            let f = patch.at(b1, b2);
+            assert!(own < 0.5 && (f - own).abs() < 0.03, "{q}: {f} vs {own}");
+        }
+        let under = [
+            Vec3::new(-20.0, -20.0, 0.0),
+            Vec3::new(20.0, -20.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.0),
+        ];
+        let patch = SkyPatch::trace(tracer.as_ref(), under, Vec3::Z);
+        assert_eq!(patch.uniform(), Some(OPEN_SKY as f64));
     }
 
     #[test]
