@@ -606,6 +606,34 @@ fn probe_and_render_take_unset() {
     assert!(rc != 0 && e.contains("unset `sensor.pose.look_at`"), "{e}");
 }
 
+/// `irsig probe` of the centre pixel of a 41×41 nadir view of the terrain
+/// scene from 2 km (one ray per pixel) with both land-cover classes set to
+/// `cover` and the overrides `extra`; JSON with `json`.
+fn terrain_cover_probe(cover: &str, extra: &[&str], json: bool) -> String {
+    let classes = format!(r#"terrain.terrain.land_cover.classes={{"1"="{cover}","2"="{cover}"}}"#);
+    let base = [
+        "sensor.pose.altitude.altitude_m=2000",
+        "sensor.pose.altitude.view_zenith_deg=0",
+        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
+        "sensor.width_px=41",
+        "sensor.height_px=41",
+        "sensor.fov_h_deg=5",
+        "render.supersample=1",
+        &classes,
+    ];
+    let mut args = vec![
+        "probe".to_string(),
+        terrain_km().display().to_string(),
+        "--pixel".into(),
+        "20,20".into(),
+    ];
+    if json {
+        args.push("--json".into());
+    }
+    args.extend(sets(&[&base[..], extra].concat()));
+    run(&args)
+}
+
 /// `irsig probe` shows the snow state (issue #30): the terrain scene with
 /// its land cover set to `snow`, probed at the nadir centre pixel. In the
 /// scene's August weather the snow is held at 0 °C and melts (text:
@@ -615,36 +643,13 @@ fn probe_and_render_take_unset() {
 /// (`aero::SNOW_STABLE_FLOOR`), above Louis's value at the same Ri.
 #[test]
 fn probe_shows_the_snow_state() {
-    let scene = terrain_km().display().to_string();
-    let base = [
-        "sensor.pose.altitude.altitude_m=2000",
-        "sensor.pose.altitude.view_zenith_deg=0",
-        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
-        "sensor.width_px=41",
-        "sensor.height_px=41",
-        "sensor.fov_h_deg=5",
-        "render.supersample=1",
-        r#"terrain.terrain.land_cover.classes={"1"="snow","2"="snow"}"#,
-    ];
     let cold = [
         "weather.constant.air_min_c=-12",
         "weather.constant.air_max_c=-3",
         "weather.constant.dew_point_c=-14",
         "time.local=2001-08-08T03:00:00",
     ];
-    let probe = |extra: &[&str], json: bool| {
-        let mut args = vec![
-            "probe".to_string(),
-            scene.clone(),
-            "--pixel".into(),
-            "20,20".into(),
-        ];
-        if json {
-            args.push("--json".into());
-        }
-        args.extend(sets(&[&base[..], extra].concat()));
-        run(&args)
-    };
+    let probe = |extra: &[&str], json: bool| terrain_cover_probe("snow", extra, json);
     let thermal = |extra: &[&str]| -> Value {
         let v: Value = serde_json::from_str(&probe(extra, true)).expect("probe JSON");
         let s = v["samples"].as_array().expect("samples");
@@ -686,30 +691,7 @@ fn probe_shows_the_snow_state() {
 /// text names them.
 #[test]
 fn probe_shows_the_layers_of_the_slab() {
-    let scene = terrain_km().display().to_string();
-    let set = sets(&[
-        "sensor.pose.altitude.altitude_m=2000",
-        "sensor.pose.altitude.view_zenith_deg=0",
-        "sensor.pose.altitude.target_m=[113.3,-206.7,0]",
-        "sensor.width_px=41",
-        "sensor.height_px=41",
-        "sensor.fov_h_deg=5",
-        "render.supersample=1",
-        r#"terrain.terrain.land_cover.classes={"1"="sand_desert","2"="sand_desert"}"#,
-    ]);
-    let probe = |json: bool| {
-        let mut args = vec![
-            "probe".to_string(),
-            scene.clone(),
-            "--pixel".into(),
-            "20,20".into(),
-        ];
-        if json {
-            args.push("--json".into());
-        }
-        args.extend(set.clone());
-        run(&args)
-    };
+    let probe = |json: bool| terrain_cover_probe("sand_desert", &[], json);
     let lib: toml::Table = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/materials.toml"),
     )
