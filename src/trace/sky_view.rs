@@ -31,8 +31,9 @@
 //! [`MAX_GRID_LEVEL`]) and a point takes the piecewise-linear interpolation
 //! of its grid cell. A sample point whose normal ray meets the scene within
 //! [`COVER_DISTANCE_M`] lies *under* another surface (a decal, a slab laid
-//! on the ground), and one whose every sky ray meets the scene
-//! ([`ENCLOSED`]) lies inside a building the ground runs under: no camera
+//! on the ground), and one whose every ray above the horizon meets the
+//! scene is *enclosed* (inside a building the ground runs under,
+//! [`above_horizon_fraction`]): no camera
 //! outside sees either, so they do not count; such a grid node takes the
 //! mean of its seen neighbours (repeated outward), so the visible ground
 //! next to a decal or a hangar keeps its own sky instead of a ramp towards
@@ -102,6 +103,18 @@ pub fn blocked_sky_fraction(tracer: &dyn Tracer, point: Vec3, normal: Vec3) -> f
     blocked.iter().filter(|b| **b).count() as f64 / SKY_RAYS as f64
 }
 
+/// The part of [`blocked_sky_fraction`]'s rays about `normal` that point
+/// above the horizon: the largest fraction the scene can hide (1 for a
+/// horizontal facet). A point whose blocked fraction reaches it is
+/// enclosed.
+pub fn above_horizon_fraction(normal: Vec3) -> f64 {
+    cosine_directions(normal)
+        .iter()
+        .filter(|d| d.z > 0.0)
+        .count() as f64
+        / SKY_RAYS as f64
+}
+
 /// Corner samples are moved this fraction of the way towards the centroid
 /// (a corner shared with a wall would otherwise see into it).
 pub const CORNER_INSET: f32 = 0.02;
@@ -115,10 +128,6 @@ pub const GRID_SPACING_M: f32 = 2.0;
 pub const MIN_GRID_LEVEL: u32 = 4;
 /// Largest grid level: 153 nodes per side at most.
 pub const MAX_GRID_LEVEL: u32 = 16;
-/// A sample whose blocked fraction is at least this is enclosed (every sky
-/// ray meets the scene: the ground inside a building) and, like a covered
-/// one, not seen from outside.
-pub const ENCLOSED: f32 = 1.0;
 /// The blocked fraction of a side none of whose samples is uncovered
 /// (centroid, corners and grid nodes all under a cover): 0, the open sky.
 /// Such a side is seen, if at all, along a sliver beside its cover, whose
@@ -158,14 +167,16 @@ impl SkyPatch {
     /// Traces the side of triangle `v` facing `normal` (unit).
     pub fn trace(tracer: &dyn Tracer, v: [Vec3; 3], normal: Vec3) -> SkyPatch {
         let c = (v[0] + v[1] + v[2]) / 3.0;
-        // A sample under a cover or enclosed (every sky ray blocked: inside
-        // a building the ground runs under) is one no camera outside sees.
+        // A sample under a cover or enclosed (every ray above the horizon
+        // blocked: inside a building the ground runs under) is one no camera
+        // outside sees.
+        let enclosed = above_horizon_fraction(normal) as f32;
         let sample = |p: Vec3| -> Option<f32> {
             if is_covered(tracer, p, normal) {
                 return None;
             }
             let b = blocked_sky_fraction(tracer, p, normal) as f32;
-            (b < ENCLOSED).then_some(b)
+            (b < enclosed).then_some(b)
         };
         let centre = sample(c);
         let corners: Vec<Option<f32>> = v
@@ -411,7 +422,7 @@ mod tests {
     /// the open ground, which a camera sees, had no sky. Now covered and
     /// enclosed samples both leave the side to the grid: across the open
     /// part the patch follows the point's own traced fraction within 0.03
-    /// (nodes 3.75 m apart), and a side with every sample covered takes the
+    /// (nodes about 4 m apart), and a side with every sample covered takes the
     /// open sky.
     #[test]
     fn covered_and_enclosed_samples_do_not_set_the_side() {
