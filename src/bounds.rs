@@ -302,6 +302,10 @@ pub mod args {
     pub const SLOPE: Arg = Arg::new("--slope", Bound::new("slope", 0.0, 180.0, "degrees"));
     /// `--aspect` / `aspect`.
     pub const ASPECT: Arg = Arg::new("--aspect", Bound::new("aspect", -360.0, 360.0, "degrees"));
+    /// `irsig therm --sky-view` / `therm(sky_view=)`: the facet's sky view
+    /// factor (no more than its open sky, (1 + cos β)/2, checked with the
+    /// slope).
+    pub const SKY_VIEW: Arg = Arg::new("--sky-view", Bound::new("sky_view", 0.0, 1.0, ""));
     /// `irsig sun --pressure-hpa` / `sun(pressure_hpa=)`: refraction.
     pub const SUN_PRESSURE: Arg = Arg::new(
         "--pressure-hpa",
@@ -331,6 +335,7 @@ pub mod args {
         ELEVATION,
         SLOPE,
         ASPECT,
+        SKY_VIEW,
         SUN_PRESSURE,
         SUN_TEMP,
         SUN_DELTA_T,

@@ -172,6 +172,7 @@ fn therm_arguments_out_of_range_are_refused_not_panics() {
         convection: irsig::therm::balance::Convection::mcadams(),
         facet_height_m: 0.0,
         shadow: Vec::new(),
+        sky_view: None,
     };
     let e = format!(
         "{:#}",

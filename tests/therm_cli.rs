@@ -458,3 +458,105 @@ fn therm_reports_the_stability_function() {
         assert_eq!((ri, f), (0.0, 1.0));
     }
 }
+
+/// `irsig therm --sky-view F` (issue #30: the per-point sky view of a
+/// render, which `irsig probe` prints, in the 1-D tool): F = 1 on a
+/// horizontal facet is the default bit for bit; at F = 0.5 every row's sky
+/// longwave is half the open facet's and the other half of the hemisphere
+/// sends `ε·0.5·σ·T_air⁴` (the forcing has no ground temperature: the air's
+/// stands in), checked against that closed form at every row; the surface
+/// is warmer at night under the half-hidden sky. Out of range, or more
+/// than the open sky of a wall ((1 + cos 90°)/2 = 0.5), it is refused.
+#[test]
+fn therm_takes_a_sky_view_factor() {
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    std::fs::write(&mats, MATS).unwrap();
+    let forcing = format!("{DATA}therm_ref_forcing.csv");
+    let go = |extra: &[&str]| {
+        let mut args = vec![
+            "therm",
+            "--materials",
+            mats.to_str().unwrap(),
+            "--material",
+            "asphalt",
+            "--forcing",
+            &forcing,
+            "--lat",
+            "36.1",
+            "--lon",
+            "-79.95",
+            "--from",
+            "2021-05-04T05:00:00Z",
+            "--to",
+            "2021-05-05T05:00:00Z",
+            "--csv",
+        ];
+        args.extend_from_slice(extra);
+        irsig(&args)
+    };
+    let table = |out: std::process::Output| -> Vec<std::collections::HashMap<String, f64>> {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<String> = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        lines
+            .map(|l| {
+                head.iter()
+                    .zip(l.split(','))
+                    .filter_map(|(h, v)| Some((h.clone(), v.parse().ok()?)))
+                    .collect()
+            })
+            .collect()
+    };
+    let open = go(&[]);
+    assert_eq!(
+        open.stdout,
+        go(&["--sky-view", "1"]).stdout,
+        "F = 1 is the default"
+    );
+    let (open, half) = (table(open), table(go(&["--sky-view", "0.5"])));
+    assert_eq!(open.len(), half.len());
+    let (eps, sigma) = (0.93, 5.670374419e-8);
+    let mut warmer_nights = 0;
+    for (a, b) in open.iter().zip(&half) {
+        assert_eq!(b["sky_view"], 0.5);
+        let sky = b["sky_longwave_in_w_m2"] - 0.5 * a["sky_longwave_in_w_m2"];
+        assert!(sky.abs() < 2e-3, "sky longwave {b:?} against {a:?}");
+        let gnd = eps * 0.5 * sigma * b["air_temp_k"].powi(4);
+        assert!(
+            (b["ground_longwave_in_w_m2"] - gnd).abs() < 0.05,
+            "ground longwave {} against {gnd}",
+            b["ground_longwave_in_w_m2"]
+        );
+        if a["absorbed_direct_w_m2"] + a["absorbed_diffuse_w_m2"] == 0.0 {
+            assert!(b["surface_temp_k"] > a["surface_temp_k"], "{b:?} {a:?}");
+            warmer_nights += 1;
+        }
+    }
+    assert!(warmer_nights > 20, "{warmer_nights} night rows");
+    for (extra, want) in [
+        (&["--sky-view", "1.5"][..], "--sky-view 1.5: out of range"),
+        (&["--sky-view", "NaN"][..], "--sky-view"),
+        (
+            &["--slope", "90", "--sky-view", "0.8"][..],
+            "more than the open sky of a facet of slope 90°",
+        ),
+    ] {
+        let out = go(extra);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(want),
+            "{extra:?}: {err}"
+        );
+    }
+}

@@ -546,6 +546,7 @@ def therm(
     site_roughness_m: float = 0.03,
     facet_height_m: float = 0.0,
     shadow: Optional[str] = None,
+    sky_view: Optional[float] = None,
 ):
     """Surface temperature and every flux term of one material and facet
     over time, as ``irsig therm`` (its flags are the keywords, with the
@@ -554,7 +555,9 @@ def therm(
     ``air_temp_k``, ``sunlit``, the surface fluxes in W m-2, ...,
     ``surface_temp_c``). ``df.attrs`` holds the material's properties, the
     orientation, the thermal settings and the weather estimators used.
-    ``start``/``stop``: RFC 3339 instants or datetimes (naive = UTC)."""
+    ``start``/``stop``: RFC 3339 instants or datetimes (naive = UTC).
+    ``sky_view``: the facet's sky view factor where the scene hides part of
+    its sky (``irsig therm --sky-view``; ``None``: its open sky)."""
     import pandas as pd
 
     out = _json.loads(
@@ -563,7 +566,7 @@ def therm(
             None if weather is None else _os.fspath(weather), None if forcing is None else _os.fspath(forcing),
             typical_year, float(elevation), float(slope), float(aspect), float(step_min), float(spin_up_h),
             spin_up_start, convection, float(wind_height_m), float(air_height_m), float(site_roughness_m),
-            float(facet_height_m), shadow,
+            float(facet_height_m), shadow, None if sky_view is None else float(sky_view),
         )
     )
     rows = [{**{k: v for k, v in r.items() if k != "surface"}, **r["surface"]} for r in out["rows"]]

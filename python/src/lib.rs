@@ -723,7 +723,7 @@ fn atmos_show(
     typical_year = false, elevation = 0.0, slope = 0.0, aspect = 180.0, step_min = 15.0,
     spin_up_h = 24.0, spin_up_start = "mean-forcing", convection = "surface-layer",
     wind_height_m = 10.0, air_height_m = 2.0, site_roughness_m = 0.03, facet_height_m = 0.0,
-    shadow = None,
+    shadow = None, sky_view = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 fn therm(
@@ -749,6 +749,7 @@ fn therm(
     site_roughness_m: f64,
     facet_height_m: f64,
     shadow: Option<&str>,
+    sky_view: Option<f64>,
 ) -> PyResult<String> {
     use irsig::scene::lookup::load_material;
     use irsig::therm::balance::{Convection, Orientation};
@@ -803,6 +804,7 @@ fn therm(
                 .map(parse_shadow_ranges)
                 .transpose()?
                 .unwrap_or_default(),
+            sky_view,
         })
     };
     let run = build().map_err(to_py)?;

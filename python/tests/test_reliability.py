@@ -44,6 +44,7 @@ def therm(tmp_path, **kw):
     ({"spin_up_h": 1e12}, "spin_up_h"),        # chrono overflow panic
     ({"slope": float("nan")}, "slope"),
     ({"elevation": 1e300}, "elevation"),
+    ({"sky_view": 1.5}, "sky_view"),
 ])
 def test_therm_arguments_out_of_range_name_the_argument(tmp_path, kw, name):
     with pytest.raises(irsig.IrsigError) as e:
@@ -56,6 +57,14 @@ def test_therm_arguments_out_of_range_name_the_argument(tmp_path, kw, name):
 def test_therm_in_range_still_runs(tmp_path):
     df = therm(tmp_path, step_min=30.0)
     assert len(df) == 5 and df["surface_temp_k"].between(250, 350).all()
+
+
+def test_therm_takes_a_sky_view(tmp_path):
+    df = therm(tmp_path, step_min=30.0, sky_view=0.5)
+    assert (df["sky_view"] == 0.5).all()
+    with pytest.raises(irsig.IrsigError) as e:
+        therm(tmp_path, slope=90.0, sky_view=0.8)
+    assert "open sky" in str(e.value) and "--" not in str(e.value), str(e.value)
 
 
 @pytest.mark.parametrize("threads", [0, 1025, 100000, 2**31])

@@ -110,6 +110,12 @@ pub struct Args {
     /// Facet aspect (azimuth of the downslope direction, clockwise from north), degrees.
     #[arg(long, default_value_t = 180.0)]
     pub aspect: f64,
+    /// The facet's sky view factor where the scene hides part of its sky
+    /// (the value `irsig probe` prints for a surface point; the rest of the
+    /// hemisphere at the ground temperature of the forcing, else the air's);
+    /// default: the open sky of its slope, (1 + cos β)/2.
+    #[arg(long)]
+    pub sky_view: Option<f64>,
     /// First output time (RFC 3339).
     #[arg(long)]
     pub from: String,
@@ -171,6 +177,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     ] {
         arg.check_flag(v).map_err(anyhow::Error::msg)?;
     }
+    if let Some(f) = a.sky_view {
+        args::SKY_VIEW.check_flag(f).map_err(anyhow::Error::msg)?;
+    }
     let mat = load_material(&a.materials, &a.material)?;
     let from = parse_time(&a.from).context("--from")?;
     let to = parse_time(&a.to).context("--to")?;
@@ -229,6 +238,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             Some(s) => parse_shadow_ranges(s)?,
             None => Vec::new(),
         },
+        sky_view: a.sky_view,
     };
     let series = facet_series(&run)?;
     for l in &series.estimator_lines {

@@ -150,6 +150,14 @@ pub struct FacetRun {
     pub facet_height_m: f64,
     /// Time ranges in which the facet is shaded.
     pub shadow: Vec<ShadowRange>,
+    /// The facet's sky view factor, when the scene hides part of its sky
+    /// (a point beside a wall: the `sky view factor` that `irsig probe`
+    /// prints for a render's surface point); `None`: the open sky of its
+    /// orientation, (1 + cos β)/2. At most that; the rest of the
+    /// hemisphere is taken at the forcing's ground temperature (a forcing
+    /// CSV's `ground_temp_k`, else the air temperature; a render takes the
+    /// ground material's solved temperature).
+    pub sky_view: Option<f64>,
 }
 
 /// One output row: the time, then the step's record (flattened), then the
@@ -287,6 +295,18 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
     check(&args::ELEVATION, run.site.elevation_m)?;
     check(&args::SLOPE, run.orientation.slope_deg)?;
     check(&args::ASPECT, run.orientation.aspect_deg)?;
+    let open_sky = run.orientation.sky_view_factor();
+    if let Some(f) = run.sky_view {
+        check(&args::SKY_VIEW, f)?;
+        if f > open_sky + 1e-12 {
+            bail!(
+                "sky view {}: more than the open sky of a facet of slope {}°, (1 + cos β)/2 = {}",
+                crate::bounds::num(f),
+                crate::bounds::num(run.orientation.slope_deg),
+                crate::bounds::num(open_sky)
+            );
+        }
+    }
     // Every time below is from, to or start plus at most their span: with
     // the years bounded (1900-2200) and the spin-up a year at most, none
     // overflows; the step count is bounded before the forcing is built.
@@ -391,7 +411,8 @@ pub fn facet_series(run: &FacetRun) -> anyhow::Result<FacetSeries> {
     };
     let model = SlabModel::new(&material, run.orientation, &settings)
         .with_context(|| format!("material '{}'", run.material_name))?
-        .with_height(run.facet_height_m);
+        .with_height(run.facet_height_m)
+        .with_blocked_sky(run.sky_view.map_or(0.0, |f| open_sky - f));
     let sol = model.solve(&forcing, shadow.as_ref(), true)?;
     let from_s = (from - start).num_milliseconds() as f64 / 1e3;
     let rows = sol

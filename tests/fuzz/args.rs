@@ -70,8 +70,9 @@ fn arguments_therm() {
         convection: irsig::therm::balance::Convection::mcadams(),
         facet_height_m: 0.0,
         shadow: Vec::new(),
+        sky_view: None,
     };
-    let strategy = prop::collection::vec((0usize..8, hostile()), 1..4);
+    let strategy = prop::collection::vec((0usize..9, hostile()), 1..4);
     campaign("arguments-therm", strategy, |edits, tally| {
         let mut run = base.clone();
         for (k, v) in &edits {
@@ -83,7 +84,8 @@ fn arguments_therm() {
                 4 => run.site.longitude_deg = *v,
                 5 => run.site.elevation_m = *v,
                 6 => run.orientation.slope_deg = *v,
-                _ => run.orientation.aspect_deg = *v,
+                7 => run.orientation.aspect_deg = *v,
+                _ => run.sky_view = Some(*v),
             }
         }
         let steps = (2.0 + run.spin_up_h) * 60.0 / run.step_min;
@@ -96,9 +98,13 @@ fn arguments_therm() {
             (args::ELEVATION, run.site.elevation_m),
             (args::SLOPE, run.orientation.slope_deg),
             (args::ASPECT, run.orientation.aspect_deg),
+            (args::SKY_VIEW, run.sky_view.unwrap_or(0.0)),
         ]
         .iter()
-        .all(|(a, v)| a.bound.contains(*v));
+        .all(|(a, v)| a.bound.contains(*v))
+            && run
+                .sky_view
+                .is_none_or(|f| f <= run.orientation.sky_view_factor() + 1e-12);
         if valid && steps > 20_000.0 {
             // In range but long: marched by the long run only.
             tally.ok();
