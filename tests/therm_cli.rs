@@ -23,16 +23,22 @@ fn irsig(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
-/// The CSV output over the compared 48 h equals the scipy reference of the
-/// same case (asphalt) within 0.1 K, one row per 15 min, and the flux
-/// columns add up to the net surface flux (to the 1e-3 W/m² print rounding).
-#[test]
-fn therm_csv_matches_reference() {
-    let dir = tempfile::tempdir().unwrap();
-    let mats = dir.path().join("m.toml");
-    std::fs::write(&mats, MATS).unwrap();
+/// The standard output of a run that must succeed (its error otherwise).
+fn stdout_ok(out: std::process::Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// `irsig therm --csv` of [`MATS`]'s asphalt (written to `mats`) on the
+/// committed TMY3 forcing from the start of its second day to `to`, with
+/// the flags `extra`.
+fn therm_ref(mats: &std::path::Path, to: &str, extra: &[&str]) -> std::process::Output {
     let forcing = format!("{DATA}therm_ref_forcing.csv");
-    let out = irsig(&[
+    let mut args = vec![
         "therm",
         "--materials",
         mats.to_str().unwrap(),
@@ -47,14 +53,27 @@ fn therm_csv_matches_reference() {
         "--from",
         "2021-05-04T05:00:00Z",
         "--to",
-        "2021-05-06T05:00:00Z",
-        // The reference starts from the steady state at its first sample.
-        "--convection",
-        "mcadams",
-        "--spin-up-start",
-        "first-sample",
+        to,
         "--csv",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    irsig(&args)
+}
+
+/// The CSV output over the compared 48 h equals the scipy reference of the
+/// same case (asphalt) within 0.1 K, one row per 15 min, and the flux
+/// columns add up to the net surface flux (to the 1e-3 W/m² print rounding).
+#[test]
+fn therm_csv_matches_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let mats = dir.path().join("m.toml");
+    std::fs::write(&mats, MATS).unwrap();
+    // The reference starts from the steady state at its first sample.
+    let out = therm_ref(
+        &mats,
+        "2021-05-06T05:00:00Z",
+        &["--convection", "mcadams", "--spin-up-start", "first-sample"],
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -387,34 +406,12 @@ fn therm_reports_the_stability_function() {
     let dir = tempfile::tempdir().unwrap();
     let mats = dir.path().join("m.toml");
     std::fs::write(&mats, MATS).unwrap();
-    let forcing = format!("{DATA}therm_ref_forcing.csv");
     let go = |conv: &str| {
-        let out = irsig(&[
-            "therm",
-            "--materials",
-            mats.to_str().unwrap(),
-            "--material",
-            "asphalt",
-            "--forcing",
-            &forcing,
-            "--lat",
-            "36.1",
-            "--lon",
-            "-79.95",
-            "--from",
-            "2021-05-04T05:00:00Z",
-            "--to",
+        let text = stdout_ok(therm_ref(
+            &mats,
             "2021-05-05T05:00:00Z",
-            "--convection",
-            conv,
-            "--csv",
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = String::from_utf8(out.stdout).unwrap();
+            &["--convection", conv],
+        ));
         let mut lines = text.lines();
         let head: Vec<&str> = lines.next().unwrap().split(',').collect();
         let c = |n: &str| head.iter().position(|h| *h == n).unwrap();
@@ -472,36 +469,9 @@ fn therm_takes_a_sky_view_factor() {
     let dir = tempfile::tempdir().unwrap();
     let mats = dir.path().join("m.toml");
     std::fs::write(&mats, MATS).unwrap();
-    let forcing = format!("{DATA}therm_ref_forcing.csv");
-    let go = |extra: &[&str]| {
-        let mut args = vec![
-            "therm",
-            "--materials",
-            mats.to_str().unwrap(),
-            "--material",
-            "asphalt",
-            "--forcing",
-            &forcing,
-            "--lat",
-            "36.1",
-            "--lon",
-            "-79.95",
-            "--from",
-            "2021-05-04T05:00:00Z",
-            "--to",
-            "2021-05-05T05:00:00Z",
-            "--csv",
-        ];
-        args.extend_from_slice(extra);
-        irsig(&args)
-    };
+    let go = |extra: &[&str]| therm_ref(&mats, "2021-05-05T05:00:00Z", extra);
     let table = |out: std::process::Output| -> Vec<std::collections::HashMap<String, f64>> {
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = String::from_utf8(out.stdout).unwrap();
+        let text = stdout_ok(out);
         let mut lines = text.lines();
         let head: Vec<String> = lines
             .next()
