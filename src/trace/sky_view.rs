@@ -90,11 +90,7 @@ fn local_directions() -> &'static [[f32; 3]; SKY_RAYS] {
 /// directions are above the horizon (z > 0) and hit the scene.
 pub fn blocked_sky_fraction(tracer: &dyn Tracer, point: Vec3, normal: Vec3) -> f64 {
     let org = offset_origin(point, normal);
-    let rays: Vec<Ray> = cosine_directions(normal)
-        .into_iter()
-        .filter(|d| d.z > 0.0)
-        .map(|d| Ray::new(org, d))
-        .collect();
+    let rays: Vec<Ray> = sky_directions(normal).map(|d| Ray::new(org, d)).collect();
     if rays.is_empty() {
         return 0.0;
     }
@@ -108,11 +104,13 @@ pub fn blocked_sky_fraction(tracer: &dyn Tracer, point: Vec3, normal: Vec3) -> f
 /// horizontal facet). A point whose blocked fraction reaches it is
 /// enclosed.
 pub fn above_horizon_fraction(normal: Vec3) -> f64 {
-    cosine_directions(normal)
-        .iter()
-        .filter(|d| d.z > 0.0)
-        .count() as f64
-        / SKY_RAYS as f64
+    sky_directions(normal).count() as f64 / SKY_RAYS as f64
+}
+
+/// The [`cosine_directions`] about `normal` that point above the horizon
+/// (z > 0): the rays [`blocked_sky_fraction`] traces.
+fn sky_directions(normal: Vec3) -> impl Iterator<Item = Vec3> {
+    cosine_directions(normal).into_iter().filter(|d| d.z > 0.0)
 }
 
 /// Corner samples are moved this fraction of the way towards the centroid
